@@ -1,0 +1,35 @@
+//! Subcommand implementations for the `kairos` binary.
+
+pub mod solve;
+
+use std::path::Path;
+
+use kairos::diagnostic::Source;
+
+/// Exit code for bad input (unreadable or malformed files, bad arguments).
+pub const BAD_INPUT: u8 = 2;
+
+/// Why a subcommand did not succeed, and the exit code that says so.
+pub struct Failure {
+    /// 1: a run or an expectation failed; 2: bad input.
+    pub code: u8,
+    /// What to print on standard error.
+    pub message: String,
+}
+
+impl Failure {
+    /// A failure caused by the input.
+    pub fn bad_input(message: impl ToString) -> Self {
+        Failure {
+            code: BAD_INPUT,
+            message: message.to_string(),
+        }
+    }
+}
+
+/// Reads a file into a [`Source`] named by its path as given.
+pub fn read_source(path: &Path) -> Result<Source, Failure> {
+    std::fs::read_to_string(path)
+        .map(|text| Source::new(path.display().to_string(), text))
+        .map_err(|e| Failure::bad_input(format!("error: cannot read {}: {e}", path.display())))
+}

@@ -1,0 +1,13 @@
+//! kairos — a timed model-based executive.
+//!
+//! A *timed model-based program* states how a system's hidden states should evolve over time
+//! (an RMPL control program) and how its hardware behaves and fails (timed, probabilistic
+//! constraint automata). The executive estimates the hidden state from commands and observations
+//! and chooses commands that reach the program's goals; both are optimal constraint problems
+//! solved by OPSAT, a conflict-directed A*. See `ARCHITECTURE.md` for the map of the modules.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod diagnostic;
+pub mod logic;
+pub mod opsat;

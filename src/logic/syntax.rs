@@ -1,0 +1,475 @@
+//! The constraint language's syntax tree and parser (`grammar/constraint.pest`).
+//!
+//! Parsing knows nothing about which names exist; [`super::resolve`] turns an [`Expr`] into a
+//! [`super::Formula`] against a [`super::VarTable`]. Every node keeps its byte span so errors found
+//! later still point at the text.
+
+use pest::Parser;
+use pest::error::{ErrorVariant, InputLocation};
+use pest::iterators::Pair;
+
+use crate::diagnostic::{Diagnostic, Span};
+
+mod grammar {
+    #![allow(missing_docs)]
+    /// The generated parser for `grammar/constraint.pest`.
+    #[derive(pest_derive::Parser)]
+    #[grammar = "../grammar/constraint.pest"]
+    pub struct ConstraintParser;
+}
+use grammar::{ConstraintParser, Rule};
+
+/// A name as written, with where it was written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Name {
+    /// The text (`engine.temp`).
+    pub text: String,
+    /// Where it is.
+    pub span: Span,
+}
+
+/// A comparison operator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CmpOp {
+    /// `=`
+    Eq,
+    /// `!=`, `≠`
+    Ne,
+    /// `<`
+    Lt,
+    /// `<=`, `≤`
+    Le,
+    /// `>`
+    Gt,
+    /// `>=`, `≥`
+    Ge,
+}
+
+impl CmpOp {
+    /// Applies an ordering comparison to two numbers (`Eq`/`Ne` compare exactly).
+    pub fn holds(self, left: f64, right: f64) -> bool {
+        match self {
+            CmpOp::Eq => left == right,
+            CmpOp::Ne => left != right,
+            CmpOp::Lt => left < right,
+            CmpOp::Le => left <= right,
+            CmpOp::Gt => left > right,
+            CmpOp::Ge => left >= right,
+        }
+    }
+
+    /// The ASCII spelling.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            CmpOp::Eq => "=",
+            CmpOp::Ne => "!=",
+            CmpOp::Lt => "<",
+            CmpOp::Le => "<=",
+            CmpOp::Gt => ">",
+            CmpOp::Ge => ">=",
+        }
+    }
+
+    /// True for `<`, `<=`, `>`, `>=`.
+    pub fn is_ordering(self) -> bool {
+        !matches!(self, CmpOp::Eq | CmpOp::Ne)
+    }
+}
+
+/// A time unit on a clock bound.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimeUnit {
+    /// `ms`
+    Milliseconds,
+    /// `s`, `sec`, or no unit
+    Seconds,
+    /// `min`, `mins`
+    Minutes,
+    /// `h`
+    Hours,
+}
+
+impl TimeUnit {
+    /// How many seconds one unit is.
+    pub fn seconds(self) -> f64 {
+        match self {
+            TimeUnit::Milliseconds => 0.001,
+            TimeUnit::Seconds => 1.0,
+            TimeUnit::Minutes => 60.0,
+            TimeUnit::Hours => 3600.0,
+        }
+    }
+}
+
+/// The right-hand side of a comparison.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Operand {
+    /// A value or a variable name.
+    Name(Name),
+    /// A number with an optional unit.
+    Quantity {
+        /// The number as written.
+        value: f64,
+        /// The unit, if one was written.
+        unit: Option<TimeUnit>,
+        /// Where it is.
+        span: Span,
+    },
+}
+
+/// A parsed, unresolved formula.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Expr {
+    /// What kind of formula.
+    pub kind: ExprKind,
+    /// Where it is.
+    pub span: Span,
+}
+
+/// The forms of [`Expr`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum ExprKind {
+    /// `true` or `false`.
+    Constant(bool),
+    /// `left op right`.
+    Compare {
+        /// The variable or clock compared.
+        left: Name,
+        /// The operator.
+        op: CmpOp,
+        /// A value, another variable, or a time.
+        right: Operand,
+    },
+    /// `P(variable = value) op probability`.
+    Confidence {
+        /// The variable.
+        variable: Name,
+        /// The value.
+        value: Name,
+        /// The operator.
+        op: CmpOp,
+        /// The threshold.
+        probability: f64,
+        /// Where the threshold is.
+        probability_span: Span,
+    },
+    /// `not e`.
+    Not(Box<Expr>),
+    /// `a and b and ...` (two or more).
+    And(Vec<Expr>),
+    /// `a or b or ...` (two or more).
+    Or(Vec<Expr>),
+    /// `a => b`.
+    Implies(Box<Expr>, Box<Expr>),
+}
+
+/// Parses a whole text as one formula.
+pub fn parse(text: &str) -> Result<Expr, Diagnostic> {
+    parse_at(text, 0)
+}
+
+/// Parses a fragment that sits at byte `offset` of a larger file: spans in the result, and in the
+/// error, are positions in that file. The RMPL parser uses this for the guards and goals it finds.
+pub fn parse_at(fragment: &str, offset: usize) -> Result<Expr, Diagnostic> {
+    let mut pairs = ConstraintParser::parse(Rule::formula, fragment)
+        .map_err(|e| syntax_error(&e).shifted(offset))?;
+    let formula = pairs.next().and_then(|p| p.into_inner().next());
+    match formula {
+        Some(expr) => Ok(build_expr(expr, offset)),
+        None => Err(Diagnostic::new("empty formula", offset..offset).expected("a formula")),
+    }
+}
+
+fn syntax_error(error: &pest::error::Error<Rule>) -> Diagnostic {
+    let span = match error.location {
+        InputLocation::Pos(p) => p..p,
+        InputLocation::Span((a, b)) => a..b,
+    };
+    let expected = match &error.variant {
+        ErrorVariant::ParsingError { positives, .. } => describe_expected(positives),
+        ErrorVariant::CustomError { message } => message.clone(),
+    };
+    Diagnostic::new("syntax error in formula", span).expected(expected)
+}
+
+/// Turns the grammar rules pest could have accepted into words.
+fn describe_expected(rules: &[Rule]) -> String {
+    let mut words: Vec<&str> = rules.iter().filter_map(|r| rule_words(*r)).collect();
+    words.dedup();
+    match words.as_slice() {
+        [] => "end of formula".to_string(),
+        [one] => format!("expected {one}"),
+        [rest @ .., last] => format!("expected {} or {last}", rest.join(", ")),
+    }
+}
+
+fn rule_words(rule: Rule) -> Option<&'static str> {
+    Some(match rule {
+        Rule::EOI => "end of formula",
+        Rule::expr | Rule::disjunction | Rule::conjunction | Rule::negation => "a formula",
+        Rule::comparison | Rule::name | Rule::ident => "a name",
+        Rule::constant => "`true`/`false`",
+        Rule::confidence => "`P(x = v)`",
+        Rule::not_op => "`not`",
+        Rule::and_op => "`and`",
+        Rule::or_op => "`or`",
+        Rule::implies_op => "`=>`",
+        Rule::cmp_op | Rule::eq_op => "a comparison (`=`, `!=`, `>=`, ...)",
+        Rule::operand | Rule::quantity => "a value or a number",
+        Rule::number => "a number",
+        Rule::unit => "a time unit",
+        _ => return None,
+    })
+}
+
+fn span_of(pair: &Pair<'_, Rule>, offset: usize) -> Span {
+    let s = pair.as_span();
+    s.start() + offset..s.end() + offset
+}
+
+fn build_name(pair: Pair<'_, Rule>, offset: usize) -> Name {
+    Name {
+        span: span_of(&pair, offset),
+        text: pair.as_str().to_string(),
+    }
+}
+
+// The builders below walk a tree the grammar has already validated, so the shape of each rule's
+// children is known; `next_child` documents that and degrades to a panic-free default otherwise.
+fn next_child<'i>(pairs: &mut pest::iterators::Pairs<'i, Rule>) -> Pair<'i, Rule> {
+    pairs
+        .next()
+        .unwrap_or_else(|| unreachable!("the constraint grammar fixes the children of every rule"))
+}
+
+fn build_expr(pair: Pair<'_, Rule>, offset: usize) -> Expr {
+    let span = span_of(&pair, offset);
+    match pair.as_rule() {
+        Rule::expr => {
+            let mut inner = pair.into_inner();
+            let left = build_expr(next_child(&mut inner), offset);
+            match (inner.next(), inner.next()) {
+                (Some(_implies), Some(right)) => Expr {
+                    kind: ExprKind::Implies(Box::new(left), Box::new(build_expr(right, offset))),
+                    span,
+                },
+                _ => left,
+            }
+        }
+        Rule::disjunction | Rule::conjunction => {
+            let is_or = pair.as_rule() == Rule::disjunction;
+            let mut parts: Vec<Expr> = pair
+                .into_inner()
+                .filter(|p| !matches!(p.as_rule(), Rule::or_op | Rule::and_op))
+                .map(|p| build_expr(p, offset))
+                .collect();
+            if parts.len() == 1 {
+                return parts.remove(0);
+            }
+            let kind = if is_or {
+                ExprKind::Or(parts)
+            } else {
+                ExprKind::And(parts)
+            };
+            Expr { kind, span }
+        }
+        Rule::negation => {
+            let children: Vec<Pair<'_, Rule>> = pair.into_inner().collect();
+            let (nots, primary) = children.split_at(children.len() - 1);
+            let mut expr = build_expr(primary[0].clone(), offset);
+            for not in nots.iter().rev() {
+                let start = not.as_span().start() + offset;
+                expr = Expr {
+                    span: start..expr.span.end,
+                    kind: ExprKind::Not(Box::new(expr)),
+                };
+            }
+            expr
+        }
+        Rule::constant => Expr {
+            kind: ExprKind::Constant(pair.as_str().eq_ignore_ascii_case("true")),
+            span,
+        },
+        Rule::comparison => {
+            let mut inner = pair.into_inner();
+            let left = build_name(next_child(&mut inner), offset);
+            let op = build_op(next_child(&mut inner).as_str());
+            let right = build_operand(next_child(&mut inner), offset);
+            Expr {
+                kind: ExprKind::Compare { left, op, right },
+                span,
+            }
+        }
+        Rule::confidence => {
+            let mut inner = pair.into_inner();
+            let variable = build_name(next_child(&mut inner), offset);
+            let _eq = next_child(&mut inner);
+            let value = build_name(next_child(&mut inner), offset);
+            let op = build_op(next_child(&mut inner).as_str());
+            let number = next_child(&mut inner);
+            Expr {
+                kind: ExprKind::Confidence {
+                    variable,
+                    value,
+                    op,
+                    probability: parse_number(number.as_str()),
+                    probability_span: span_of(&number, offset),
+                },
+                span,
+            }
+        }
+        rule => unreachable!("rule {rule:?} is not a formula"),
+    }
+}
+
+fn build_operand(pair: Pair<'_, Rule>, offset: usize) -> Operand {
+    let inner = next_child(&mut pair.into_inner());
+    match inner.as_rule() {
+        Rule::name => Operand::Name(build_name(inner, offset)),
+        _ => {
+            let span = span_of(&inner, offset);
+            let mut parts = inner.into_inner();
+            let value = parse_number(next_child(&mut parts).as_str());
+            let unit = parts.next().map(|u| build_unit(u.as_str()));
+            Operand::Quantity { value, unit, span }
+        }
+    }
+}
+
+fn parse_number(text: &str) -> f64 {
+    // The grammar only admits decimal numbers, which always parse.
+    text.parse().unwrap_or(f64::NAN)
+}
+
+fn build_op(text: &str) -> CmpOp {
+    match text {
+        "=" => CmpOp::Eq,
+        "!=" | "≠" => CmpOp::Ne,
+        "<" => CmpOp::Lt,
+        "<=" | "≤" => CmpOp::Le,
+        ">" => CmpOp::Gt,
+        _ => CmpOp::Ge,
+    }
+}
+
+fn build_unit(text: &str) -> TimeUnit {
+    match text {
+        "ms" => TimeUnit::Milliseconds,
+        "min" | "mins" => TimeUnit::Minutes,
+        "h" => TimeUnit::Hours,
+        _ => TimeUnit::Seconds,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kind(text: &str) -> ExprKind {
+        parse(text).unwrap_or_else(|e| panic!("{text}: {e:?}")).kind
+    }
+
+    #[test]
+    fn precedence_is_not_and_or_implies() {
+        // a or b and not c => d  ==  (a or (b and (not c))) => d
+        let ExprKind::Implies(left, _) = kind("a = x or b = x and not c = x => d = x") else {
+            panic!("implication at the top");
+        };
+        let ExprKind::Or(parts) = left.kind else {
+            panic!("or below it");
+        };
+        assert!(matches!(parts[1].kind, ExprKind::And(_)));
+    }
+
+    #[test]
+    fn ascii_and_unicode_spellings_parse_alike() {
+        let strip = |e: Expr| format!("{:?}", e.kind).replace(char::is_numeric, "");
+        let ascii = parse("!(a = on) & b != off | c >= 3 => d <= 4").unwrap();
+        let unicode = parse("¬(a = on) ∧ b ≠ off ∨ c ≥ 3 ⇒ d ≤ 4").unwrap();
+        assert_eq!(strip(ascii), strip(unicode));
+        let words = parse("not (a = on) and b != off or c >= 3 => d <= 4").unwrap();
+        let ascii = parse("!(a = on) && b != off || c >= 3 => d <= 4").unwrap();
+        assert_eq!(strip(words), strip(ascii));
+    }
+
+    #[test]
+    fn clock_bounds_take_units() {
+        let ExprKind::Compare { right, .. } = kind("t1 >= 270 min") else {
+            panic!()
+        };
+        assert!(matches!(
+            right,
+            Operand::Quantity { value, unit: Some(TimeUnit::Minutes), .. } if value == 270.0
+        ));
+        for (text, unit) in [
+            ("t >= 5ms", TimeUnit::Milliseconds),
+            ("t >= 5 s", TimeUnit::Seconds),
+            ("t >= 5 sec", TimeUnit::Seconds),
+            ("t >= 5 mins", TimeUnit::Minutes),
+            ("t >= 5 h", TimeUnit::Hours),
+        ] {
+            let ExprKind::Compare {
+                right: Operand::Quantity { unit: u, .. },
+                ..
+            } = kind(text)
+            else {
+                panic!("{text}")
+            };
+            assert_eq!(u, Some(unit), "{text}");
+        }
+    }
+
+    #[test]
+    fn values_may_contain_dashes_and_names_dots() {
+        let ExprKind::Compare { left, right, .. } = kind("att = entry-orient") else {
+            panic!()
+        };
+        assert_eq!(left.text, "att");
+        assert!(matches!(right, Operand::Name(n) if n.text == "entry-orient"));
+        let ExprKind::Compare { left, .. } = kind("engine.temp = nominal") else {
+            panic!()
+        };
+        assert_eq!(left.text, "engine.temp");
+    }
+
+    #[test]
+    fn confidence_atoms_parse() {
+        let ExprKind::Confidence {
+            variable,
+            value,
+            op,
+            probability,
+            ..
+        } = kind("P(lander = separated) >= 0.95")
+        else {
+            panic!()
+        };
+        assert_eq!(
+            (variable.text.as_str(), value.text.as_str()),
+            ("lander", "separated")
+        );
+        assert_eq!((op, probability), (CmpOp::Ge, 0.95));
+    }
+
+    #[test]
+    fn keywords_are_not_names_but_prefixes_are() {
+        assert!(parse("and = x").is_err());
+        assert!(matches!(kind("android = x"), ExprKind::Compare { .. }));
+        assert!(matches!(kind("TRUE"), ExprKind::Constant(true)));
+        assert!(matches!(kind("x = notified"), ExprKind::Compare { .. }));
+    }
+
+    #[test]
+    fn spans_are_shifted_by_the_fragment_offset() {
+        let expr = parse_at("x = on", 10).unwrap();
+        assert_eq!(expr.span, 10..16);
+        let error = parse_at("x = ", 10).unwrap_err();
+        assert_eq!(error.span.start, 14);
+        assert!(error.expected.contains("a value or a number"), "{error:?}");
+    }
+
+    #[test]
+    fn comments_and_newlines_are_whitespace() {
+        assert!(parse("x = on // the x\n and /* y */ y = off").is_ok());
+    }
+}

@@ -1,0 +1,224 @@
+//! Optimal constraint satisfaction problems and their answers (thesis §6.2.3).
+
+use std::time::{Duration, Instant};
+
+use super::theory::Literal;
+use crate::logic::{ValueId, VarId, VarTable};
+
+/// One value a decision variable may take, and what choosing it costs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Choice {
+    /// The value.
+    pub value: ValueId,
+    /// Its cost: −log p for estimation, −reward for goal interpretation.
+    pub cost: f64,
+}
+
+/// A decision variable: a theory variable and the values OPSAT may choose for it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Decision {
+    /// The theory variable.
+    pub var: VarId,
+    /// Its allowed values, cheapest first (ties in value order).
+    pub choices: Vec<Choice>,
+}
+
+/// Why an OCSP could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OcspError {
+    /// Each variable is decided once.
+    #[error("variable {0:?} is already a decision variable")]
+    DuplicateDecision(VarId),
+    /// Costs are added up and ordered; NaN has no place in either.
+    #[error("a cost is not a number")]
+    NanCost,
+}
+
+/// An OCSP ⟨x, f, C⟩: decision variables `x` with an additive cost per value (mutually
+/// preferentially independent), constraints `C` given by a [`super::Theory`] plus per-problem
+/// assumptions. Solutions are full assignments of the decision variables consistent with `C`,
+/// cheapest first. Variables of the theory that are not decisions are free (existentially
+/// quantified).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Ocsp {
+    decisions: Vec<Decision>,
+    assumptions: Vec<Literal>,
+}
+
+impl Ocsp {
+    /// An OCSP with no decision variables and no assumptions.
+    pub fn new() -> Self {
+        Ocsp::default()
+    }
+
+    /// Makes `var` a decision variable with these values and costs. A value with an infinite
+    /// cost (probability zero) is left out.
+    pub fn decide(
+        &mut self,
+        var: VarId,
+        choices: impl IntoIterator<Item = (ValueId, f64)>,
+    ) -> Result<&mut Self, OcspError> {
+        if self.decisions.iter().any(|d| d.var == var) {
+            return Err(OcspError::DuplicateDecision(var));
+        }
+        let mut choices: Vec<Choice> = choices
+            .into_iter()
+            .map(|(value, cost)| Choice { value, cost })
+            .collect();
+        if choices.iter().any(|c| c.cost.is_nan()) {
+            return Err(OcspError::NanCost);
+        }
+        choices.retain(|c| c.cost != f64::INFINITY);
+        choices.sort_by(|a, b| a.cost.total_cmp(&b.cost).then(a.value.cmp(&b.value)));
+        self.decisions.push(Decision { var, choices });
+        Ok(self)
+    }
+
+    /// Adds a literal every solution must be consistent with (an observation, a goal).
+    pub fn assume(&mut self, literal: Literal) -> &mut Self {
+        self.assumptions.push(literal);
+        self
+    }
+
+    /// The decision variables, in the order they were declared.
+    pub fn decisions(&self) -> &[Decision] {
+        &self.decisions
+    }
+
+    /// The per-problem assumptions.
+    pub fn assumptions(&self) -> &[Literal] {
+        &self.assumptions
+    }
+}
+
+/// A feasible full assignment of the decision variables.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// One value per decision variable, in declaration order.
+    pub assignment: Vec<(VarId, ValueId)>,
+    /// The summed cost.
+    pub cost: f64,
+}
+
+impl Solution {
+    /// `x = v, y = w, ...` with names.
+    pub fn describe(&self, table: &VarTable) -> String {
+        self.assignment
+            .iter()
+            .map(|&(x, v)| table.assignment(x, v).to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// The literals stating this assignment.
+    pub fn literals(&self) -> Vec<Literal> {
+        self.assignment
+            .iter()
+            .map(|&(x, v)| Literal::Is(x, v))
+            .collect()
+    }
+}
+
+/// Limits on one call; when one is reached the call returns what it has found.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Budget {
+    /// At most this many search nodes (candidates examined).
+    pub max_nodes: Option<u64>,
+    /// At most this much time.
+    pub max_time: Option<Duration>,
+}
+
+/// Which limit stopped a search early.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cut {
+    /// [`Budget::max_nodes`] was reached.
+    Nodes,
+    /// [`Budget::max_time`] was reached.
+    Time,
+}
+
+/// How OPSAT searches. The defaults are conflict-directed A* with decomposition.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SearchOptions {
+    /// Learn conflicts from inconsistent candidates and jump over every candidate containing
+    /// them. Off, the search tests candidates one by one in best-first order (the baseline the
+    /// benchmarks compare against).
+    pub use_conflicts: bool,
+    /// Solve independent sub-problems separately and merge their solution streams.
+    pub decompose: bool,
+    /// Limits for the call.
+    pub budget: Budget,
+}
+
+impl Default for SearchOptions {
+    fn default() -> Self {
+        SearchOptions {
+            use_conflicts: true,
+            decompose: true,
+            budget: Budget::default(),
+        }
+    }
+}
+
+/// Work done by one call.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SearchStats {
+    /// Search nodes popped from the frontier.
+    pub nodes: u64,
+    /// Candidates tested against the theory.
+    pub consistency_checks: u64,
+    /// Conflicts learned.
+    pub conflicts: u64,
+    /// Independent sub-problems the OCSP split into.
+    pub components: u64,
+}
+
+/// The answer to [`Ocsp::best`](super::Ocsp::best): solutions, cheapest first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solutions {
+    /// The solutions found, in non-decreasing cost, each assignment once.
+    pub solutions: Vec<Solution>,
+    /// Set when a budget stopped the search before `k` solutions were found or the space was
+    /// exhausted; the solutions are then the best found so far, still in order.
+    pub cut: Option<Cut>,
+    /// Work done.
+    pub stats: SearchStats,
+}
+
+/// Counts nodes and watches the clock for one call.
+#[derive(Debug)]
+pub(crate) struct Meter {
+    budget: Budget,
+    started: Instant,
+    pub(crate) stats: SearchStats,
+}
+
+impl Meter {
+    pub(crate) fn new(budget: Budget) -> Self {
+        Meter {
+            budget,
+            started: Instant::now(),
+            stats: SearchStats::default(),
+        }
+    }
+
+    /// Charges one node; says which limit is exceeded, if any.
+    pub(crate) fn charge_node(&mut self) -> Result<(), Cut> {
+        if self
+            .budget
+            .max_nodes
+            .is_some_and(|max| self.stats.nodes >= max)
+        {
+            return Err(Cut::Nodes);
+        }
+        if self
+            .budget
+            .max_time
+            .is_some_and(|max| self.started.elapsed() >= max)
+        {
+            return Err(Cut::Time);
+        }
+        self.stats.nodes += 1;
+        Ok(())
+    }
+}

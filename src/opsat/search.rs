@@ -1,0 +1,241 @@
+//! Conflict-directed A* over one independent sub-problem (Williams & Ragno; thesis §6.2.3).
+//!
+//! # The search space
+//! A *node* is a set of full assignments described per decision variable by a slot:
+//! `Fixed(i)` (the variable takes its `i`-th cheapest choice) or `From(i)` (it takes its `i`-th
+//! cheapest choice or a dearer one). Costs are additive and independent per variable, so the
+//! cheapest assignment of a node — its *best completion* — takes choice `i` in every slot, and
+//! its cost is exactly the node's least cost. The frontier pops nodes by that cost.
+//!
+//! # Expansion
+//! A popped node's best completion `c` is either
+//! - *known bad*: it contains a learned conflict `K`;
+//! - *tested bad*: the theory refutes it and returns a conflict `K ⊆ c`, which is learned;
+//! - *good*: it is the next solution; then `K = c`.
+//!
+//! In each case the node is replaced by children that together hold exactly its assignments that
+//! do not contain `K`. For the free variables `y1..yr` of `K` (those in `From` slots), child `j`
+//! fixes `y1..y(j-1)` to their values in `K` and excludes `yj`'s value (`From(i+1)`): every
+//! assignment avoiding `K` differs from it first at exactly one `yj`, so the children are
+//! disjoint and cover the rest. These are the constituent kernels of `K` expanded systematically,
+//! so every assignment is reached at most once and none is lost. Excluded values are always the
+//! cheapest remaining ones, which is why `From(i)` (a prefix excluded) suffices.
+//!
+//! Each node is popped at its exact least cost, so solutions come out cheapest first; a conflict
+//! prunes every assignment containing it without testing them one by one.
+
+use std::cmp::{Ordering, Reverse};
+use std::collections::HashMap;
+
+use priority_queue::PriorityQueue;
+
+use super::ocsp::{Cut, Meter, Ocsp};
+use super::theory::{Consistency, Literal, Theory};
+use crate::logic::VarId;
+
+/// A cost ordered totally (costs are never NaN; [`Ocsp::decide`] refuses them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Cost(pub(crate) f64);
+
+impl Eq for Cost {}
+
+impl PartialOrd for Cost {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Cost {
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+/// Frontier priority: cheapest first, then first created (deterministic ties).
+pub(crate) type Priority = Reverse<(Cost, u64)>;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Slot {
+    Fixed(u32),
+    From(u32),
+}
+
+impl Slot {
+    fn choice(self) -> u32 {
+        match self {
+            Slot::Fixed(i) | Slot::From(i) => i,
+        }
+    }
+}
+
+/// A set of assignments (see the module documentation).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+struct Node(Box<[Slot]>);
+
+/// A conflict over this sub-problem: (member position, choice index) pairs, sorted.
+type Conflict = Vec<(usize, u32)>;
+
+/// A solution of one sub-problem: a choice index per member, and its cost.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct PartialSolution {
+    pub(crate) choices: Vec<u32>,
+    pub(crate) cost: f64,
+}
+
+/// Best-first enumeration of the solutions of one sub-problem.
+pub(crate) struct ComponentSearch {
+    /// Indices into the OCSP's decisions.
+    members: Vec<usize>,
+    position: HashMap<VarId, usize>,
+    frontier: PriorityQueue<Node, Priority>,
+    created: u64,
+    conflicts: Vec<Conflict>,
+}
+
+impl ComponentSearch {
+    /// A search over the decisions `members` of `ocsp`, starting from the node of all
+    /// assignments.
+    pub(crate) fn new(ocsp: &Ocsp, members: Vec<usize>) -> Self {
+        let position = members
+            .iter()
+            .enumerate()
+            .map(|(p, &d)| (ocsp.decisions()[d].var, p))
+            .collect();
+        let mut search = ComponentSearch {
+            members,
+            position,
+            frontier: PriorityQueue::new(),
+            created: 0,
+            conflicts: Vec::new(),
+        };
+        let root = Node(vec![Slot::From(0); search.members.len()].into_boxed_slice());
+        search.push(ocsp, root);
+        search
+    }
+
+    /// The decisions this search assigns.
+    pub(crate) fn members(&self) -> &[usize] {
+        &self.members
+    }
+
+    /// The next solution, cheapest first; `Ok(None)` when there are no more; `Err` when the
+    /// budget ran out (the search can be resumed with a new meter).
+    pub(crate) fn next(
+        &mut self,
+        ocsp: &Ocsp,
+        theory: &mut Theory,
+        use_conflicts: bool,
+        meter: &mut Meter,
+    ) -> Result<Option<PartialSolution>, Cut> {
+        loop {
+            if self.frontier.is_empty() {
+                return Ok(None);
+            }
+            meter.charge_node()?;
+            let Some((node, Reverse((cost, _)))) = self.frontier.pop() else {
+                return Ok(None);
+            };
+            let candidate: Vec<u32> = node.0.iter().map(|s| s.choice()).collect();
+            if let Some(known) = self.known_conflict(&candidate) {
+                let known = known.clone();
+                self.split(ocsp, &node, &known);
+                continue;
+            }
+            meter.stats.consistency_checks += 1;
+            let mut assumptions = ocsp.assumptions().to_vec();
+            assumptions.extend(self.literals(ocsp, &candidate));
+            match theory.consistent(&assumptions) {
+                Consistency::Consistent => {
+                    let whole: Conflict = candidate.iter().copied().enumerate().collect();
+                    self.split(ocsp, &node, &whole);
+                    return Ok(Some(PartialSolution {
+                        choices: candidate,
+                        cost: cost.0,
+                    }));
+                }
+                Consistency::Conflict(literals) => {
+                    let conflict = if use_conflicts {
+                        self.conflict_over_members(ocsp, &literals)
+                    } else {
+                        candidate.iter().copied().enumerate().collect()
+                    };
+                    if conflict.is_empty() {
+                        // The per-problem assumptions alone are inconsistent: nothing is feasible.
+                        self.frontier.clear();
+                        return Ok(None);
+                    }
+                    self.split(ocsp, &node, &conflict);
+                    if use_conflicts {
+                        meter.stats.conflicts += 1;
+                        self.conflicts.push(conflict);
+                    }
+                }
+            }
+        }
+    }
+
+    fn known_conflict(&self, candidate: &[u32]) -> Option<&Conflict> {
+        self.conflicts
+            .iter()
+            .find(|k| k.iter().all(|&(p, c)| candidate[p] == c))
+    }
+
+    fn literals<'a>(
+        &'a self,
+        ocsp: &'a Ocsp,
+        choices: &'a [u32],
+    ) -> impl Iterator<Item = Literal> + 'a {
+        self.members.iter().zip(choices).map(|(&d, &c)| {
+            let decision = &ocsp.decisions()[d];
+            Literal::Is(decision.var, decision.choices[c as usize].value)
+        })
+    }
+
+    /// The theory's conflict restricted to this sub-problem's decisions (the per-problem
+    /// assumptions hold in every candidate, so they can be dropped).
+    fn conflict_over_members(&self, ocsp: &Ocsp, literals: &[Literal]) -> Conflict {
+        let mut conflict: Conflict = literals
+            .iter()
+            .filter_map(|literal| {
+                let Literal::Is(var, value) = *literal else {
+                    return None;
+                };
+                let &p = self.position.get(&var)?;
+                let choices = &ocsp.decisions()[self.members[p]].choices;
+                let c = choices.iter().position(|c| c.value == value)?;
+                Some((p, c as u32))
+            })
+            .collect();
+        conflict.sort_unstable();
+        conflict.dedup();
+        conflict
+    }
+
+    /// Replaces `node` by the children that hold its assignments not containing `conflict`
+    /// (systematic expansion over the constituent kernels; see the module documentation).
+    fn split(&mut self, ocsp: &Ocsp, node: &Node, conflict: &Conflict) {
+        let mut prefix = node.0.clone();
+        for &(p, c) in conflict {
+            if let Slot::From(_) = node.0[p] {
+                let mut child = prefix.clone();
+                child[p] = Slot::From(c + 1);
+                self.push(ocsp, Node(child));
+                prefix[p] = Slot::Fixed(c);
+            }
+        }
+    }
+
+    /// Adds a node to the frontier unless it is empty (some slot has no choice left).
+    fn push(&mut self, ocsp: &Ocsp, node: Node) {
+        let mut cost = 0.0;
+        for (&d, slot) in self.members.iter().zip(node.0.iter()) {
+            match ocsp.decisions()[d].choices.get(slot.choice() as usize) {
+                Some(choice) => cost += choice.cost,
+                None => return,
+            }
+        }
+        self.created += 1;
+        self.frontier
+            .push(node, Reverse((Cost(cost), self.created)));
+    }
+}

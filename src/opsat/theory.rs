@@ -1,0 +1,543 @@
+//! The consistency and entailment theory every OPSAT caller queries (DESIGN.md §7).
+//!
+//! A [`Theory`] is a set of constraints over finite-domain variables, encoded once into an
+//! incremental SAT solver:
+//! - each variable `x` with domain `{v1..vn}` gets one Boolean per value, with "exactly one" clauses;
+//! - each constraint is Tseitin-encoded (one definition literal per `and`/`or` node);
+//! - a formula used in a query is encoded the first time it is seen and its definition literal
+//!   is cached, so later queries with it only change assumptions.
+//!
+//! Queries are complete: [`Theory::consistent`] either proves a set of assumptions consistent with
+//! the constraints or returns a [`Consistency::Conflict`] — a subset of the assumptions that is
+//! itself inconsistent (the *conflict* conflict-directed A* learns from); [`Theory::entails`] is
+//! the refutation of the formula's negation. Clock bounds and confidence atoms are decided
+//! outside the theory ([`Formula::ground`]); a formula that still holds one is refused.
+
+use std::collections::HashMap;
+
+use petgraph::unionfind::UnionFind;
+
+use super::sat::{Outcome, SatBackend, SatLit, SatSolver, new_solver};
+use crate::logic::{Atom, Formula, ValueId, VarId, VarTable};
+
+/// A formula the theory has encoded for use in assumptions (see [`Theory::define`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Definition(u32);
+
+/// Something a query may assume.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Literal {
+    /// `x = v`
+    Is(VarId, ValueId),
+    /// `x != v`
+    IsNot(VarId, ValueId),
+    /// A defined formula holds.
+    Holds(Definition),
+    /// A defined formula does not hold.
+    Fails(Definition),
+}
+
+impl std::ops::Not for Literal {
+    type Output = Literal;
+    fn not(self) -> Literal {
+        match self {
+            Literal::Is(x, v) => Literal::IsNot(x, v),
+            Literal::IsNot(x, v) => Literal::Is(x, v),
+            Literal::Holds(d) => Literal::Fails(d),
+            Literal::Fails(d) => Literal::Holds(d),
+        }
+    }
+}
+
+/// The answer to [`Theory::consistent`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Consistency {
+    /// The constraints and the assumptions have a common model.
+    Consistent,
+    /// These assumptions (a subset of those given) cannot hold together with the constraints.
+    Conflict(Vec<Literal>),
+}
+
+/// Why the theory refused a formula.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum TheoryError {
+    /// Clock and confidence atoms must be grounded before a formula reaches the theory.
+    #[error("a clock or confidence atom must be decided before the formula reaches the theory")]
+    ExternalAtom,
+}
+
+/// How a theory is built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TheoryOptions {
+    /// Which SAT solver to run on.
+    pub backend: SatBackend,
+    /// Shrink each conflict to a minimal one by deletion (one SAT call per member).
+    pub minimize_conflicts: bool,
+}
+
+impl Default for TheoryOptions {
+    /// batsat, with minimal conflicts: both chosen by measurement (BENCHMARKS.md).
+    fn default() -> Self {
+        TheoryOptions {
+            backend: SatBackend::Batsat,
+            minimize_conflicts: true,
+        }
+    }
+}
+
+/// Counts of the work a theory has done, for benchmarks and budgets.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TheoryStats {
+    /// Calls to [`Theory::consistent`].
+    pub consistency_checks: u64,
+    /// Calls to [`Theory::entails`].
+    pub entailment_checks: u64,
+    /// SAT solver calls, including those spent minimising conflicts.
+    pub sat_calls: u64,
+}
+
+/// Constraints over finite-domain variables, encoded once, queried many times.
+pub struct Theory {
+    table: VarTable,
+    solver: Box<dyn SatSolver>,
+    options: TheoryOptions,
+    /// `value_lits[x][v]` is true exactly when `x = v`.
+    value_lits: Vec<Vec<SatLit>>,
+    constant_true: SatLit,
+    /// Definition literal of each defined formula, by [`Definition`] number.
+    definitions: Vec<SatLit>,
+    definition_vars: Vec<Vec<VarId>>,
+    defined: HashMap<Formula, Definition>,
+    /// Variables linked by some constraint share a root (OPSAT's decomposition).
+    component_root: Vec<usize>,
+    stats: TheoryStats,
+}
+
+impl Theory {
+    /// Encodes `constraints` over the variables of `table` with the default options.
+    pub fn new(table: VarTable, constraints: &[Formula]) -> Result<Theory, TheoryError> {
+        Theory::with_options(table, constraints, TheoryOptions::default())
+    }
+
+    /// Encodes `constraints` over the variables of `table`.
+    pub fn with_options(
+        table: VarTable,
+        constraints: &[Formula],
+        options: TheoryOptions,
+    ) -> Result<Theory, TheoryError> {
+        let mut solver = new_solver(options.backend);
+        let constant_true = solver.new_var();
+        solver.add_clause(&[constant_true]);
+        let mut value_lits = Vec::with_capacity(table.len());
+        for (_, variable) in table.variables() {
+            let lits: Vec<SatLit> = (0..variable.domain_size())
+                .map(|_| solver.new_var())
+                .collect();
+            solver.add_clause(&lits);
+            for (i, &a) in lits.iter().enumerate() {
+                for &b in &lits[i + 1..] {
+                    solver.add_clause(&[!a, !b]);
+                }
+            }
+            value_lits.push(lits);
+        }
+        let mut links = UnionFind::new(table.len());
+        for constraint in constraints {
+            if let Some((first, rest)) = constraint.variables().split_first() {
+                rest.iter().for_each(|x| {
+                    links.union(first.index(), x.index());
+                });
+            }
+        }
+        let component_root = (0..table.len()).map(|i| links.find(i)).collect();
+        let mut theory = Theory {
+            table,
+            solver,
+            options,
+            value_lits,
+            constant_true,
+            definitions: Vec::new(),
+            definition_vars: Vec::new(),
+            defined: HashMap::new(),
+            component_root,
+            stats: TheoryStats::default(),
+        };
+        for constraint in constraints {
+            theory.assert(constraint)?;
+        }
+        Ok(theory)
+    }
+
+    /// The variables the theory is over.
+    pub fn table(&self) -> &VarTable {
+        &self.table
+    }
+
+    /// The options it was built with.
+    pub fn options(&self) -> TheoryOptions {
+        self.options
+    }
+
+    /// Work done so far.
+    pub fn stats(&self) -> TheoryStats {
+        self.stats
+    }
+
+    /// Encodes a formula (once; later calls return the same definition) so that queries may
+    /// assume it holds ([`Literal::Holds`]) or fails ([`Literal::Fails`]).
+    pub fn define(&mut self, formula: &Formula) -> Result<Literal, TheoryError> {
+        if let Some(&definition) = self.defined.get(formula) {
+            return Ok(Literal::Holds(definition));
+        }
+        let lit = self.encode(formula)?;
+        let definition = Definition(self.definitions.len() as u32);
+        self.definitions.push(lit);
+        self.definition_vars.push(formula.variables());
+        self.defined.insert(formula.clone(), definition);
+        Ok(Literal::Holds(definition))
+    }
+
+    /// The variables a defined formula mentions.
+    pub fn definition_variables(&self, definition: Definition) -> &[VarId] {
+        &self.definition_vars[definition.0 as usize]
+    }
+
+    /// Variables that share a constraint, directly or through others, have the same root; OPSAT
+    /// splits problems along these components.
+    pub fn component_root(&self, var: VarId) -> usize {
+        self.component_root[var.index()]
+    }
+
+    /// Are the constraints and `assumptions` consistent? If not, which assumptions conflict?
+    /// With `minimize_conflicts` the conflict is minimal: dropping any member makes it consistent.
+    pub fn consistent(&mut self, assumptions: &[Literal]) -> Consistency {
+        self.stats.consistency_checks += 1;
+        let sat_assumptions: Vec<SatLit> = assumptions.iter().map(|&l| self.sat_lit(l)).collect();
+        match self.solve(&sat_assumptions) {
+            Outcome::Satisfiable => Consistency::Consistent,
+            Outcome::Unsatisfiable { core } => {
+                let core = if self.options.minimize_conflicts {
+                    self.minimize(core)
+                } else {
+                    core
+                };
+                let conflict = core
+                    .iter()
+                    .filter_map(|c| {
+                        let i = sat_assumptions.iter().position(|a| a == c)?;
+                        Some(assumptions[i])
+                    })
+                    .collect();
+                Consistency::Conflict(conflict)
+            }
+        }
+    }
+
+    /// Do the constraints and `assumptions` entail `formula` (is it true in every model)? From
+    /// inconsistent assumptions everything is entailed.
+    pub fn entails(
+        &mut self,
+        assumptions: &[Literal],
+        formula: &Formula,
+    ) -> Result<bool, TheoryError> {
+        self.stats.entailment_checks += 1;
+        match formula {
+            Formula::True => return Ok(true),
+            Formula::Atom(Atom::Is(x, v)) => {
+                let lit = self.value_lits[x.index()][v.index()];
+                return Ok(self.refutes(assumptions, !lit));
+            }
+            _ => {}
+        }
+        let Literal::Holds(definition) = self.define(formula)? else {
+            unreachable!("define returns Holds");
+        };
+        let lit = self.definitions[definition.0 as usize];
+        Ok(self.refutes(assumptions, !lit))
+    }
+
+    /// True when `assumptions` and `extra` together are inconsistent.
+    fn refutes(&mut self, assumptions: &[Literal], extra: SatLit) -> bool {
+        let mut sat_assumptions: Vec<SatLit> =
+            assumptions.iter().map(|&l| self.sat_lit(l)).collect();
+        sat_assumptions.push(extra);
+        matches!(self.solve(&sat_assumptions), Outcome::Unsatisfiable { .. })
+    }
+
+    fn solve(&mut self, assumptions: &[SatLit]) -> Outcome {
+        self.stats.sat_calls += 1;
+        self.solver.solve(assumptions)
+    }
+
+    /// Deletion-based minimisation: drop each member in turn and keep it out when the rest still
+    /// conflict. A member found necessary stays necessary as the set shrinks, so one pass gives
+    /// a minimal conflict.
+    fn minimize(&mut self, mut core: Vec<SatLit>) -> Vec<SatLit> {
+        // A literal assumed twice would survive every deletion; keep one of each.
+        let mut seen = std::collections::HashSet::new();
+        core.retain(|l| seen.insert(*l));
+        let mut i = 0;
+        while i < core.len() {
+            let trial: Vec<SatLit> = core
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(_, &l)| l)
+                .collect();
+            match self.solve(&trial) {
+                Outcome::Satisfiable => i += 1,
+                Outcome::Unsatisfiable { core: smaller } => {
+                    let kept_before = core[..i].iter().filter(|l| smaller.contains(l)).count();
+                    core.retain(|l| smaller.contains(l));
+                    i = kept_before;
+                }
+            }
+        }
+        core
+    }
+
+    fn sat_lit(&self, literal: Literal) -> SatLit {
+        match literal {
+            Literal::Is(x, v) => self.value_lits[x.index()][v.index()],
+            Literal::IsNot(x, v) => !self.value_lits[x.index()][v.index()],
+            Literal::Holds(d) => self.definitions[d.0 as usize],
+            Literal::Fails(d) => !self.definitions[d.0 as usize],
+        }
+    }
+
+    /// Adds a constraint, avoiding definition literals at the top level.
+    fn assert(&mut self, formula: &Formula) -> Result<(), TheoryError> {
+        match formula {
+            Formula::And(parts) => parts.iter().try_for_each(|p| self.assert(p)),
+            Formula::Or(parts) => {
+                let clause = parts
+                    .iter()
+                    .map(|p| self.encode(p))
+                    .collect::<Result<Vec<_>, _>>()?;
+                self.solver.add_clause(&clause);
+                Ok(())
+            }
+            Formula::Implies(a, b) => {
+                let clause = [!self.encode(a)?, self.encode(b)?];
+                self.solver.add_clause(&clause);
+                Ok(())
+            }
+            other => {
+                let lit = self.encode(other)?;
+                self.solver.add_clause(&[lit]);
+                Ok(())
+            }
+        }
+    }
+
+    /// Tseitin encoding: a literal equivalent to `formula`.
+    fn encode(&mut self, formula: &Formula) -> Result<SatLit, TheoryError> {
+        Ok(match formula {
+            Formula::True => self.constant_true,
+            Formula::False => !self.constant_true,
+            Formula::Atom(Atom::Is(x, v)) => self.value_lits[x.index()][v.index()],
+            Formula::Atom(Atom::Same(x, y)) => {
+                let same = self.same_value(*x, *y);
+                self.encode(&same)?
+            }
+            Formula::Atom(_) => return Err(TheoryError::ExternalAtom),
+            Formula::Not(inner) => !self.encode(inner)?,
+            Formula::And(parts) => {
+                let inputs = parts
+                    .iter()
+                    .map(|p| self.encode(p))
+                    .collect::<Result<Vec<_>, _>>()?;
+                self.and_gate(&inputs)
+            }
+            Formula::Or(parts) => {
+                let inputs = parts
+                    .iter()
+                    .map(|p| self.encode(p).map(|l| !l))
+                    .collect::<Result<Vec<_>, _>>()?;
+                !self.and_gate(&inputs)
+            }
+            Formula::Implies(a, b) => {
+                let inputs = [self.encode(a)?, !self.encode(b)?];
+                !self.and_gate(&inputs)
+            }
+        })
+    }
+
+    /// `x = y` over value names: some value both domains share is held by both.
+    fn same_value(&self, x: VarId, y: VarId) -> Formula {
+        let (vx, vy) = (self.table.variable(x), self.table.variable(y));
+        Formula::Or(
+            vx.value_ids()
+                .filter_map(|a| {
+                    let b = vy.value(vx.value_name(a))?;
+                    Some(Formula::And(vec![Formula::is(x, a), Formula::is(y, b)]))
+                })
+                .collect(),
+        )
+    }
+
+    /// A fresh literal equivalent to the conjunction of `inputs`.
+    fn and_gate(&mut self, inputs: &[SatLit]) -> SatLit {
+        match inputs {
+            [] => self.constant_true,
+            [one] => *one,
+            _ => {
+                let gate = self.solver.new_var();
+                for &input in inputs {
+                    self.solver.add_clause(&[!gate, input]);
+                }
+                let mut clause: Vec<SatLit> = inputs.iter().map(|&l| !l).collect();
+                clause.push(gate);
+                self.solver.add_clause(&clause);
+                gate
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::logic::parse_formula;
+
+    /// Table 6.1's driver in miniature: a driver relays `on` only when it is on.
+    fn driver() -> Theory {
+        let mut table = VarTable::new();
+        table
+            .add_variable("driver", ["off", "on", "failed"])
+            .unwrap();
+        table
+            .add_variable("driver.cmd_out", ["none", "on"])
+            .unwrap();
+        table.add_variable("valve.cmd_in", ["none", "on"]).unwrap();
+        table.add_variable("valve", ["closed", "open"]).unwrap();
+        let constraints = [
+            "driver = off => driver.cmd_out = none",
+            "driver = on => driver.cmd_out = on",
+            "driver.cmd_out = valve.cmd_in",
+            "valve = open => valve.cmd_in = on",
+        ]
+        .map(|c| parse_formula(c, &table).unwrap());
+        Theory::new(table, &constraints).unwrap()
+    }
+
+    fn is(theory: &Theory, var: &str, value: &str) -> Literal {
+        let table = theory.table();
+        let x = table.variable_id(var).unwrap();
+        Literal::Is(x, table.variable(x).value(value).unwrap())
+    }
+
+    fn formula(theory: &Theory, text: &str) -> Formula {
+        parse_formula(text, theory.table()).unwrap()
+    }
+
+    #[test]
+    fn conflicts_are_subsets_of_the_assumptions_and_inconsistent() {
+        let mut theory = driver();
+        let assumptions = [
+            is(&theory, "valve", "open"),
+            is(&theory, "driver", "off"),
+            is(&theory, "valve.cmd_in", "on"),
+        ];
+        let Consistency::Conflict(conflict) = theory.consistent(&assumptions) else {
+            panic!("an open valve needs an `on` command, which an off driver never relays");
+        };
+        assert!(conflict.iter().all(|l| assumptions.contains(l)));
+        assert!(matches!(
+            theory.consistent(&conflict),
+            Consistency::Conflict(_)
+        ));
+        // Minimal: driver = off together with either of the others already conflicts.
+        assert_eq!(conflict.len(), 2, "{conflict:?}");
+        assert!(conflict.contains(&is(&theory, "driver", "off")));
+    }
+
+    #[test]
+    fn a_literal_assumed_twice_still_gives_a_minimal_conflict() {
+        let mut theory = driver();
+        let off = is(&theory, "driver", "off");
+        let on = is(&theory, "driver", "on");
+        let Consistency::Conflict(conflict) = theory.consistent(&[off, off, on, on]) else {
+            panic!("a driver cannot be off and on");
+        };
+        assert_eq!(conflict, vec![off, on]);
+    }
+
+    #[test]
+    fn not_entailed_is_not_the_negation_entailed() {
+        // §5.1.1: with the driver failed, nothing is known about the valve command.
+        let mut theory = driver();
+        let failed = [is(&theory, "driver", "failed")];
+        let on = formula(&theory, "valve.cmd_in = on");
+        let not_on = formula(&theory, "not valve.cmd_in = on");
+        assert!(!theory.entails(&failed, &on).unwrap());
+        assert!(!theory.entails(&failed, &not_on).unwrap());
+        // With the driver on, the interconnection entails the command reaches the valve.
+        let on_driver = [is(&theory, "driver", "on")];
+        assert!(theory.entails(&on_driver, &on).unwrap());
+        assert!(!theory.entails(&on_driver, &not_on).unwrap());
+    }
+
+    #[test]
+    fn defined_formulas_are_encoded_once_and_assumable_both_ways() {
+        let mut theory = driver();
+        let f = formula(&theory, "driver = on or driver = failed");
+        let holds = theory.define(&f).unwrap();
+        assert_eq!(theory.define(&f).unwrap(), holds);
+        let off = is(&theory, "driver", "off");
+        assert!(matches!(
+            theory.consistent(&[holds, off]),
+            Consistency::Conflict(_)
+        ));
+        assert_eq!(theory.consistent(&[!holds, off]), Consistency::Consistent);
+    }
+
+    #[test]
+    fn external_atoms_are_refused() {
+        let mut table = VarTable::new();
+        table.add_variable("x", ["a", "b"]).unwrap();
+        table.add_clock("t").unwrap();
+        let f = parse_formula("t >= 3 and x = a", &table).unwrap();
+        let mut theory = Theory::new(table, &[]).unwrap();
+        assert_eq!(theory.entails(&[], &f), Err(TheoryError::ExternalAtom));
+        let grounded = f.ground(&mut |atom| atom.is_external().then_some(true));
+        assert_eq!(theory.define(&grounded).map(|_| ()), Ok(()));
+    }
+
+    #[test]
+    fn variables_are_linked_by_shared_constraints() {
+        let theory = driver();
+        let table = theory.table();
+        let root = |name: &str| theory.component_root(table.variable_id(name).unwrap());
+        assert_eq!(root("driver"), root("valve"));
+        let mut table = VarTable::new();
+        table.add_variable("a", ["x"]).unwrap();
+        table.add_variable("b", ["x"]).unwrap();
+        let theory = Theory::new(table, &[]).unwrap();
+        assert_ne!(
+            theory.component_root(VarId(0)),
+            theory.component_root(VarId(1))
+        );
+    }
+
+    #[test]
+    fn both_backends_agree() {
+        for backend in [SatBackend::Batsat, SatBackend::Varisat] {
+            let plain = driver();
+            let table = plain.table().clone();
+            let constraints = [formula(&plain, "driver = on => valve = open")];
+            let mut theory = Theory::with_options(
+                table,
+                &constraints,
+                TheoryOptions {
+                    backend,
+                    minimize_conflicts: false,
+                },
+            )
+            .unwrap();
+            let open = formula(&theory, "valve = open");
+            let on = [is(&theory, "driver", "on")];
+            assert!(theory.entails(&on, &open).unwrap(), "{backend:?}");
+        }
+    }
+}

@@ -1,0 +1,206 @@
+//! Property tests of the foundation against brute force (DESIGN.md §7, "correctness is checked
+//! against brute-force enumeration on many random small OCSPs"; issue 2 acceptance).
+
+mod support;
+
+use kairos::logic::{Formula, ValueId, VarId};
+use kairos::opsat::{
+    Budget, Consistency, Literal, SatBackend, SearchOptions, Solution, TheoryOptions,
+};
+use proptest::prelude::*;
+use support::random_ocsp::{RandomOcsp, random_ocsp};
+
+const TIE: f64 = 1e-9;
+
+fn as_indices(solution: &Solution) -> Vec<usize> {
+    solution.assignment.iter().map(|(_, v)| v.index()).collect()
+}
+
+/// `found` must be the first `found.len()` entries of `expected` up to the order within groups of
+/// exactly tied costs: costs agree position by position, and each complete tie group holds the
+/// same assignments.
+fn assert_prefix_up_to_ties(found: &[Solution], expected: &[(Vec<usize>, f64)]) {
+    assert!(found.len() <= expected.len(), "more solutions than exist");
+    for (i, solution) in found.iter().enumerate() {
+        assert!(
+            (solution.cost - expected[i].1).abs() < TIE,
+            "solution {i} costs {} but the {i}-th cheapest costs {}",
+            solution.cost,
+            expected[i].1
+        );
+        let tied: Vec<&Vec<usize>> = expected
+            .iter()
+            .filter(|(_, c)| (c - solution.cost).abs() < TIE)
+            .map(|(a, _)| a)
+            .collect();
+        assert!(
+            tied.contains(&&as_indices(solution)),
+            "solution {i} {:?} is not a feasible assignment of that cost",
+            as_indices(solution)
+        );
+    }
+    let mut seen: Vec<Vec<usize>> = found.iter().map(as_indices).collect();
+    seen.sort();
+    seen.dedup();
+    assert_eq!(seen.len(), found.len(), "an assignment was returned twice");
+}
+
+fn all_option_combinations() -> Vec<(TheoryOptions, SearchOptions)> {
+    let mut out = Vec::new();
+    for backend in [SatBackend::Batsat, SatBackend::Varisat] {
+        for minimize_conflicts in [true, false] {
+            for use_conflicts in [true, false] {
+                for decompose in [true, false] {
+                    out.push((
+                        TheoryOptions {
+                            backend,
+                            minimize_conflicts,
+                        },
+                        SearchOptions {
+                            use_conflicts,
+                            decompose,
+                            budget: Budget::default(),
+                        },
+                    ));
+                }
+            }
+        }
+    }
+    out
+}
+
+fn random_literals(problem: &RandomOcsp, picks: &[(usize, usize, bool)]) -> Vec<Literal> {
+    let domains = problem.domains();
+    picks
+        .iter()
+        .map(|&(x, v, positive)| {
+            let x = x % domains.len();
+            let lit = Literal::Is(VarId(x as u32), ValueId((v % domains[x]) as u32));
+            if positive { lit } else { !lit }
+        })
+        .collect()
+}
+
+/// Brute-force consistency of literals (over all variables) with the clauses.
+fn brute_consistent(problem: &RandomOcsp, literals: &[Literal]) -> bool {
+    let domains = problem.domains();
+    let mut values = vec![0; domains.len()];
+    loop {
+        let holds = |l: &Literal| match *l {
+            Literal::Is(x, v) => values[x.index()] == v.index(),
+            Literal::IsNot(x, v) => values[x.index()] != v.index(),
+            _ => unreachable!("only assignments are generated"),
+        };
+        if literals.iter().all(holds) && problem.satisfies(&values) {
+            return true;
+        }
+        let mut i = 0;
+        loop {
+            if i == values.len() {
+                return false;
+            }
+            values[i] += 1;
+            if values[i] < domains[i] {
+                break;
+            }
+            values[i] = 0;
+            i += 1;
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(std::env::var("KAIROS_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(96)))]
+
+    /// best(all) equals brute-force enumeration, for every backend and search variant:
+    /// decomposed and undecomposed, with and without conflicts, agree.
+    #[test]
+    fn best_all_equals_brute_force(problem in random_ocsp(8, 3, 10)) {
+        let expected = problem.brute_force();
+        for (theory_options, search_options) in all_option_combinations() {
+            let (mut theory, ocsp) = problem.build(theory_options);
+            let found = ocsp.best_with(&mut theory, usize::MAX, search_options);
+            prop_assert!(found.cut.is_none());
+            prop_assert_eq!(found.solutions.len(), expected.len(),
+                "{:?} {:?}", theory_options, search_options);
+            assert_prefix_up_to_ties(&found.solutions, &expected);
+        }
+    }
+
+    /// best(k) is the k-prefix of the full order (up to ties), for any k.
+    #[test]
+    fn best_k_is_a_prefix(problem in random_ocsp(8, 2, 10), k in 0usize..20) {
+        let expected = problem.brute_force();
+        let (mut theory, ocsp) = problem.build(TheoryOptions::default());
+        let found = ocsp.best(&mut theory, k);
+        prop_assert_eq!(found.solutions.len(), k.min(expected.len()));
+        assert_prefix_up_to_ties(&found.solutions, &expected);
+    }
+
+    /// A budget cuts the search but what it returns is still a best-first prefix.
+    #[test]
+    fn a_cut_search_returns_the_best_so_far(problem in random_ocsp(8, 2, 10), nodes in 1u64..30) {
+        let expected = problem.brute_force();
+        let (mut theory, ocsp) = problem.build(TheoryOptions::default());
+        let options = SearchOptions {
+            budget: Budget { max_nodes: Some(nodes), max_time: None },
+            ..SearchOptions::default()
+        };
+        let found = ocsp.best_with(&mut theory, usize::MAX, options);
+        assert_prefix_up_to_ties(&found.solutions, &expected);
+        if found.cut.is_none() {
+            prop_assert_eq!(found.solutions.len(), expected.len());
+        }
+        prop_assert!(found.stats.nodes <= nodes);
+    }
+
+    /// consistent() agrees with brute force, and every conflict it returns is a subset of the
+    /// assumptions that is itself inconsistent.
+    #[test]
+    fn conflicts_are_inconsistent_subsets(
+        problem in random_ocsp(6, 3, 12),
+        picks in prop::collection::vec((0usize..16, 0usize..4, prop::bool::weighted(0.7)), 0..8),
+        minimize in any::<bool>(),
+    ) {
+        let literals = random_literals(&problem, &picks);
+        let options = TheoryOptions { minimize_conflicts: minimize, ..TheoryOptions::default() };
+        let (mut theory, _) = problem.build(options);
+        match theory.consistent(&literals) {
+            Consistency::Consistent => prop_assert!(brute_consistent(&problem, &literals)),
+            Consistency::Conflict(conflict) => {
+                prop_assert!(!brute_consistent(&problem, &literals));
+                prop_assert!(conflict.iter().all(|l| literals.contains(l)));
+                prop_assert!(!brute_consistent(&problem, &conflict));
+                if minimize {
+                    for i in 0..conflict.len() {
+                        let mut smaller = conflict.clone();
+                        smaller.remove(i);
+                        prop_assert!(brute_consistent(&problem, &smaller), "not minimal");
+                    }
+                }
+            }
+        }
+    }
+
+    /// entails(A, f) holds exactly when A and not f are inconsistent, by brute force.
+    #[test]
+    fn entailment_is_refutation_of_the_negation(
+        problem in random_ocsp(5, 2, 8),
+        picks in prop::collection::vec((0usize..16, 0usize..4, prop::bool::weighted(0.8)), 0..5),
+        goal in prop::collection::vec((0usize..16, 0usize..4, any::<bool>()), 1..4),
+    ) {
+        let assumptions = random_literals(&problem, &picks);
+        let goal_literals = random_literals(&problem, &goal);
+        let formula = Formula::Or(goal_literals.iter().map(|l| match *l {
+            Literal::Is(x, v) => Formula::is(x, v),
+            Literal::IsNot(x, v) => Formula::is(x, v).negate(),
+            _ => unreachable!(),
+        }).collect());
+        let (mut theory, _) = problem.build(TheoryOptions::default());
+        let entailed = theory.entails(&assumptions, &formula).unwrap();
+        // A and not f: every goal literal negated.
+        let mut counter = assumptions.clone();
+        counter.extend(goal_literals.iter().map(|&l| !l));
+        prop_assert_eq!(entailed, !brute_consistent(&problem, &counter));
+    }
+}
