@@ -11,3 +11,4 @@
 pub mod diagnostic;
 pub mod logic;
 pub mod opsat;
+pub mod report;

@@ -1,0 +1,4 @@
+//! Output for people and tools: Graphviz DOT today; the console mission log, the JSON-lines
+//! trace and the SVG timeline join it with the executive (DESIGN.md §2, §12).
+
+pub mod dot;
