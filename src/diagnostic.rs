@@ -189,7 +189,14 @@ pub fn ron_error(source: &Source, error: &ron::error::SpannedError) -> Diagnosti
 /// its content, between the quotes. Loaders deserialize with serde (which keeps no positions) and
 /// then use this to point errors about a name or a formula at the text that holds it.
 pub fn find_string_literal(text: &str, content: &str) -> Option<Span> {
+    find_string_literals(text, content).into_iter().next()
+}
+
+/// Every string literal with exactly this content in a RON text, in order (the second is where
+/// a duplicate declaration is).
+pub fn find_string_literals(text: &str, content: &str) -> Vec<Span> {
     let bytes = text.as_bytes();
+    let mut found = Vec::new();
     let mut i = 0;
     while i < bytes.len() {
         match bytes[i] {
@@ -223,14 +230,14 @@ pub fn find_string_literal(text: &str, content: &str) -> Option<Span> {
                     j += c.len_utf8();
                 }
                 if unescaped == content {
-                    return Some(start..j);
+                    found.push(start..j);
                 }
                 i = j + 1;
             }
             _ => i += 1,
         }
     }
-    None
+    found
 }
 
 /// The known name closest to `unknown`, if one is close enough to be a likely typo.
@@ -288,6 +295,8 @@ mod tests {
         assert_eq!(&text[span], "x = on");
         assert!(find_string_literal(text, "é \"q\"").is_some());
         assert_eq!(find_string_literal(text, "missing"), None);
+        let twice = "(a: \"n\", b: \"n\")";
+        assert_eq!(find_string_literals(twice, "n"), vec![5..6, 13..14]);
     }
 
     #[test]

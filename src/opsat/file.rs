@@ -25,7 +25,9 @@
 use serde::Deserialize;
 
 use super::{Ocsp, Theory};
-use crate::diagnostic::{Diagnostic, Source, SourceErrors, find_string_literal, ron_error};
+use crate::diagnostic::{
+    Diagnostic, Source, SourceErrors, find_string_literal, find_string_literals, ron_error,
+};
 use crate::logic::{self, DeclarationError, VarId, VarTable};
 
 /// What the per-value numbers of a file mean.
@@ -188,15 +190,16 @@ fn declaration_error(error: &DeclarationError, source: &Source, name: &str) -> D
         DeclarationError::Duplicate(_) | DeclarationError::EmptyDomain(_) => name,
     };
     // A duplicate's second occurrence is the offending one.
-    let text = &source.text;
-    let first = find_string_literal(text, culprit).unwrap_or(0..0);
-    let span = match error {
-        DeclarationError::Duplicate(_) | DeclarationError::DuplicateValue { .. } => {
-            find_string_literal(&text[first.end..], culprit)
-                .map_or(first.clone(), |s| s.start + first.end..s.end + first.end)
-        }
-        _ => first,
+    let occurrences = find_string_literals(&source.text, culprit);
+    let nth = match error {
+        DeclarationError::Duplicate(_) | DeclarationError::DuplicateValue { .. } => 1,
+        _ => 0,
     };
+    let span = occurrences
+        .get(nth)
+        .or(occurrences.first())
+        .cloned()
+        .unwrap_or(0..0);
     Diagnostic::new(error.to_string(), span).expected(match error {
         DeclarationError::BadName(_) => "an identifier (letters, digits, `_`, `-`)",
         DeclarationError::EmptyDomain(_) => "at least one value",
@@ -249,7 +252,7 @@ mod tests {
             "Ocsp(decisions: [Decision(name: \"x\", values: [(\"a\", 1.0)]), Decision(name: \"x\", values: [(\"b\", 1.0)])])",
         );
         assert!(shown.contains("declared twice"), "{shown}");
-        assert!(shown.contains("p.ron:1:68"), "{shown}");
+        assert!(shown.contains("p.ron:1:77"), "{shown}");
 
         let shown = errors("Ocsp(decisions: [Decision(nme: \"x\")])");
         assert!(shown.contains("malformed RON"), "{shown}");
