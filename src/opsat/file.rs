@@ -24,7 +24,7 @@
 
 use serde::Deserialize;
 
-use super::{Ocsp, Theory};
+use super::{Ocsp, Theory, TheoryOptions};
 use crate::diagnostic::{
     Diagnostic, Source, SourceErrors, find_string_literal, find_string_literals, ron_error,
 };
@@ -78,6 +78,12 @@ pub struct OcspInstance {
 
 /// Reads an OCSP file, reporting every problem found with its location.
 pub fn load(source: &Source) -> Result<OcspInstance, SourceErrors> {
+    load_with(source, TheoryOptions::default())
+}
+
+/// Reads an OCSP file and encodes its theory with the given options (benchmarks compare SAT
+/// backends on the shipped examples).
+pub fn load_with(source: &Source, options: TheoryOptions) -> Result<OcspInstance, SourceErrors> {
     let fail = |diagnostics| SourceErrors::new(source.clone(), diagnostics);
     let file: OcspFile =
         ron::from_str(&source.text).map_err(|e| fail(vec![ron_error(source, &e)]))?;
@@ -151,7 +157,7 @@ pub fn load(source: &Source) -> Result<OcspInstance, SourceErrors> {
     if !errors.is_empty() {
         return Err(fail(errors));
     }
-    let theory = Theory::new(table, &constraints)
+    let theory = Theory::with_options(table, &constraints, options)
         .map_err(|e| fail(vec![Diagnostic::new(e.to_string(), 0..0)]))?;
     Ok(OcspInstance {
         theory,

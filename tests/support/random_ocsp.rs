@@ -149,7 +149,10 @@ fn cost() -> impl Strategy<Value = f64> {
     ]
 }
 
-fn clause(domains: Vec<usize>, max_len: usize) -> impl Strategy<Value = Vec<ClauseLiteral>> {
+fn clause(
+    domains: Vec<usize>,
+    lengths: std::ops::RangeInclusive<usize>,
+) -> impl Strategy<Value = Vec<ClauseLiteral>> {
     let n = domains.len();
     prop::collection::vec(
         (
@@ -158,7 +161,7 @@ fn clause(domains: Vec<usize>, max_len: usize) -> impl Strategy<Value = Vec<Clau
             prop::bool::weighted(0.3),
         )
             .prop_map(move |(x, v, positive)| (x, v.index(domains[x]), positive)),
-        1..=max_len,
+        lengths,
     )
 }
 
@@ -180,13 +183,13 @@ pub fn random_ocsp(
                 .map(Vec::len)
                 .chain(aux_domains.iter().copied())
                 .collect();
-            prop::collection::vec(clause(domains, 3), 0..=max_clauses).prop_map(move |clauses| {
-                RandomOcsp {
+            prop::collection::vec(clause(domains, 1..=3), 0..=max_clauses).prop_map(
+                move |clauses| RandomOcsp {
                     decision_costs: decision_costs.clone(),
                     aux_domains: aux_domains.clone(),
                     clauses,
-                }
-            })
+                },
+            )
         })
 }
 
@@ -227,4 +230,24 @@ pub fn sample<S: Strategy>(strategy: S, seed_offset: usize) -> S::Value {
         value = strategy.new_tree(&mut runner).unwrap().current();
     }
     value
+}
+
+/// Unstructured OCSPs of exactly `n` decision variables (domains 2–4) with `clauses` random
+/// clauses of 2–3 literals over all of them.
+pub fn sized_random_ocsp(n: usize, clauses: usize) -> impl Strategy<Value = RandomOcsp> {
+    prop::collection::vec(prop::collection::vec(cost(), 2..=4), n).prop_flat_map(
+        move |mut decision_costs| {
+            for costs in &mut decision_costs {
+                costs.sort_by(f64::total_cmp);
+            }
+            let domains: Vec<usize> = decision_costs.iter().map(Vec::len).collect();
+            prop::collection::vec(clause(domains, 2..=3), clauses).prop_map(move |clauses| {
+                RandomOcsp {
+                    decision_costs: decision_costs.clone(),
+                    aux_domains: Vec::new(),
+                    clauses,
+                }
+            })
+        },
+    )
 }
