@@ -90,6 +90,18 @@ pub enum TimeUnit {
 }
 
 impl TimeUnit {
+    /// The unit a symbol of the grammar's `unit` rule names (`ms`, `s`, `sec`, `min`, `mins`,
+    /// `h`); RMPL reads the units of invocation arguments with it.
+    pub fn from_symbol(symbol: &str) -> Option<TimeUnit> {
+        Some(match symbol {
+            "ms" => TimeUnit::Milliseconds,
+            "s" | "sec" => TimeUnit::Seconds,
+            "min" | "mins" => TimeUnit::Minutes,
+            "h" => TimeUnit::Hours,
+            _ => return None,
+        })
+    }
+
     /// How many seconds one unit is.
     pub fn seconds(self) -> f64 {
         match self {
@@ -330,7 +342,9 @@ fn build_operand(pair: Pair<'_, Rule>, offset: usize) -> Operand {
             let span = span_of(&inner, offset);
             let mut parts = inner.into_inner();
             let value = parse_number(next_child(&mut parts).as_str());
-            let unit = parts.next().map(|u| build_unit(u.as_str()));
+            let unit = parts
+                .next()
+                .map(|u| TimeUnit::from_symbol(u.as_str()).unwrap_or(TimeUnit::Seconds));
             Operand::Quantity { value, unit, span }
         }
     }
@@ -349,15 +363,6 @@ fn build_op(text: &str) -> CmpOp {
         "<=" | "≤" => CmpOp::Le,
         ">" => CmpOp::Gt,
         _ => CmpOp::Ge,
-    }
-}
-
-fn build_unit(text: &str) -> TimeUnit {
-    match text {
-        "ms" => TimeUnit::Milliseconds,
-        "min" | "mins" => TimeUnit::Minutes,
-        "h" => TimeUnit::Hours,
-        _ => TimeUnit::Seconds,
     }
 }
 
