@@ -534,7 +534,14 @@ impl Builder<'_, '_> {
                 let arguments = inner.map(|argument| self.argument(argument)).collect();
                 NodeKind::Invocation { program, arguments }
             }
-            Rule::assertion => NodeKind::Assertion(self.formula(&child(&mut inner))),
+            Rule::assertion => {
+                // The formula's own span, without the parentheses around it.
+                let expr = self.formula(&child(&mut inner));
+                return Node {
+                    span: expr.span.clone(),
+                    kind: NodeKind::Assertion(expr),
+                };
+            }
             other => unreachable!("rule {other:?} is not an RMPL expression"),
         };
         Node { kind, span }

@@ -610,3 +610,169 @@ impl<'a, E: Entailment> Evaluator<'a, E> {
         guard.is_none_or(|condition| self.holds(condition))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::Source;
+    use crate::logic::{VarTable, parse_formula};
+    use crate::sequencer::oracle::{AssignmentOracle, StateEstimate};
+    use crate::sequencer::thca::{Construct, Goal, Origin, ThcaBuilder, Transition};
+
+    fn table() -> VarTable {
+        let mut table = VarTable::new();
+        for name in ["x", "y", "ok"] {
+            table.add_variable(name, ["no", "yes"]).unwrap();
+        }
+        table.add_clock("t").unwrap();
+        table
+    }
+
+    fn origin() -> Origin {
+        Origin {
+            construct: Construct::Assertion,
+            span: 0..0,
+            call_stack: Vec::new(),
+        }
+    }
+
+    struct Hand {
+        builder: ThcaBuilder,
+        table: VarTable,
+    }
+
+    impl Hand {
+        fn new() -> Self {
+            Hand {
+                builder: ThcaBuilder::new("hand", table(), Source::new("hand", "")),
+                table: table(),
+            }
+        }
+
+        fn formula(&mut self, text: &str) -> FormulaId {
+            let formula = parse_formula(text, &self.table).unwrap();
+            self.builder.formula(formula)
+        }
+
+        fn condition(&mut self, text: &str, sense: Sense) -> Condition {
+            Condition {
+                formula: self.formula(text),
+                sense,
+                span: 0..0,
+            }
+        }
+
+        fn primitive(&mut self, parent: Option<LocationId>, goal: Option<&str>) -> LocationId {
+            let goal = goal.map(|g| Goal {
+                formula: self.formula(g),
+                span: 0..0,
+            });
+            self.builder.primitive(parent, origin(), goal, Vec::new())
+        }
+
+        fn go(&mut self, from: LocationId, guard: Option<Condition>, to: &[LocationId]) {
+            let transition = Transition {
+                guard,
+                targets: to.to_vec(),
+            };
+            self.builder.add_transition(from, transition);
+        }
+    }
+
+    fn estimate(assignments: &[(u32, u32)]) -> StateEstimate {
+        StateEstimate::from_assignments(
+            assignments
+                .iter()
+                .map(|&(x, v)| (crate::logic::VarId(x), crate::logic::ValueId(v))),
+        )
+    }
+
+    fn numbers(sequencer: &Sequencer) -> Vec<u32> {
+        sequencer.marking().map(|l| l.id.number()).collect()
+    }
+
+    #[test]
+    fn a_primitive_whose_maintenance_fails_asserts_nothing_and_moves_on() {
+        // Figure 5-3 steps 4, 7 and 8a: a violated primitive's goal is left out of g(i), the
+        // location is not kept, and its transitions are enabled although its goal is not met.
+        let mut hand = Hand::new();
+        let p = hand.primitive(None, Some("x = yes"));
+        let q = hand.primitive(None, Some("y = yes"));
+        let keep = hand.condition("ok = yes", Sense::Entailed);
+        hand.builder.set_maintenance(p, keep);
+        hand.go(p, None, &[q]);
+        hand.builder.add_start(None, p);
+        let thca = hand.builder.build().unwrap();
+        let mut oracle = AssignmentOracle::new(thca.table());
+
+        let mut sequencer = Sequencer::new(thca.clone());
+        let held = estimate(&[(2, 1)]);
+        let step = sequencer.step(0.0, &held, &held, &mut oracle).unwrap();
+        assert_eq!(step.start.goal.conjuncts.len(), 1, "maintenance holds");
+        assert_eq!(numbers(&sequencer), [1], "step 7: awaits its goal");
+
+        let mut sequencer = Sequencer::new(thca);
+        let unknown = estimate(&[]);
+        let step = sequencer
+            .step(0.0, &unknown, &unknown, &mut oracle)
+            .unwrap();
+        assert_eq!(step.start.goal.formula, Formula::True, "step 4");
+        assert!(matches!(
+            step.start.events[..],
+            [Event::MaintenanceViolated { .. }]
+        ));
+        assert_eq!(numbers(&sequencer), [2], "step 8a: progress on violation");
+    }
+
+    #[test]
+    fn a_composite_waits_while_anything_inside_moves() {
+        // Figure 5-3 step 8, composites: enabled only when nothing inside is marked in m(i+1) and
+        // nothing inside has an enabled transition.
+        let mut hand = Hand::new();
+        let c = hand.builder.composite(None, origin());
+        let a = hand.primitive(Some(c), None);
+        let b = hand.primitive(Some(c), None);
+        let after = hand.primitive(None, Some("y = yes"));
+        hand.go(a, None, &[b]);
+        hand.go(c, None, &[after]);
+        hand.builder.add_start(Some(c), a);
+        hand.builder.add_start(None, c);
+        let thca = hand.builder.build().unwrap();
+        let mut oracle = AssignmentOracle::new(thca.table());
+        let mut sequencer = Sequencer::new(thca);
+        let none = estimate(&[]);
+        assert_eq!(numbers(&sequencer), [1, 2], "m_F marks the start inside");
+        sequencer.step(0.0, &none, &none, &mut oracle).unwrap();
+        assert_eq!(
+            numbers(&sequencer),
+            [1, 3],
+            "a moved to b: c stays, re-marked"
+        );
+        sequencer.step(1.0, &none, &none, &mut oracle).unwrap();
+        assert_eq!(numbers(&sequencer), [4], "b finished: c exits");
+    }
+
+    #[test]
+    fn a_bound_on_a_clock_not_yet_started_is_unknown() {
+        // Clocks are active only once initialised (§5.3); an inactive clock's bound is neither
+        // entailed nor refuted, so only guards true whatever its value hold.
+        let mut hand = Hand::new();
+        let p = hand.primitive(None, None);
+        let [q, r, s] = [(); 3].map(|_| hand.primitive(None, Some("y = yes")));
+        let reached = hand.condition("t >= 0", Sense::Entailed);
+        let not_reached = hand.condition("t >= 0", Sense::NotEntailed);
+        let tautology = hand.condition("t >= 0 or not t >= 0", Sense::Entailed);
+        hand.go(p, Some(reached), &[q]);
+        hand.go(p, Some(not_reached), &[r]);
+        hand.go(p, Some(tautology), &[s]);
+        hand.builder.add_start(None, p);
+        let thca = hand.builder.build().unwrap();
+        let mut oracle = AssignmentOracle::new(thca.table());
+        let mut sequencer = Sequencer::new(thca);
+        let none = estimate(&[]);
+        sequencer.step(0.0, &none, &none, &mut oracle).unwrap();
+        let marked: Vec<LocationId> = sequencer.marking().map(|l| l.id).collect();
+        assert_eq!(marked, [r, s]);
+        assert!(!sequencer.is_marked(q));
+    }
+}
