@@ -9,7 +9,7 @@ mod rmpl_support;
 
 use kairos::logic::VarTable;
 use kairos::sequencer::{AssignmentOracle, Event, Sequencer, StateEstimate};
-use rmpl_support::{Figure, load_program, mars_entry_plant, state, updated};
+use rmpl_support::{Figure, load_program, mars_lander_plant, state, updated};
 
 /// One execution cycle of the narrative: the time, how ME's new estimate ŝ(i+1) differs from the
 /// previous one, and what the sequencer must show.
@@ -220,7 +220,7 @@ fn compiled_locations_are_figure_3_4s_with_their_source_lines() {
     // Figure 3-2 it was compiled from.
     let figure = Figure::new(load_program(
         "programs/mars_entry.rmpl",
-        Some(&mars_entry_plant()),
+        Some(&mars_lander_plant()),
     ));
     let expected = [
         (1, 1, "EntrySequence() :: {"),
@@ -261,7 +261,7 @@ fn compiled_locations_are_figure_3_4s_with_their_source_lines() {
 
 #[test]
 fn section_5_4_walk_through() {
-    let plant = mars_entry_plant();
+    let plant = mars_lander_plant();
     let figure = Figure::new(load_program("programs/mars_entry.rmpl", Some(&plant)));
     let table = figure.thca.table().clone();
     let mut oracle = AssignmentOracle::new(&table);
@@ -311,7 +311,7 @@ fn section_5_4_walk_through() {
 fn walk_through_events_name_their_source() {
     // Figure 5-3 step 3 at Cycle N1+1 ("the current system time of 43.8 sec is stored as the
     // initialization time for t1"), step 7 at Cycle N4, step 2 when entry is initiated.
-    let plant = mars_entry_plant();
+    let plant = mars_lander_plant();
     let figure = Figure::new(load_program("programs/mars_entry.rmpl", Some(&plant)));
     let table = figure.thca.table().clone();
     let mut oracle = AssignmentOracle::new(&table);
