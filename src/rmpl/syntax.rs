@@ -242,6 +242,10 @@ fn syntax_error(text: &str, error: &pest::error::Error<Rule>) -> Diagnostic {
     if let Some(close) = word.and_then(|w| did_you_mean(w, expected_keywords)) {
         diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
     }
+    let starts_a_definition = RmplParser::parse(Rule::definition_header, &text[at..]).is_ok();
+    if positives.contains(&Rule::rbrace) && starts_a_definition {
+        diagnostic = diagnostic.note("a `}` closing the program before this one may be missing");
+    }
     diagnostic
 }
 
@@ -252,9 +256,12 @@ fn unknown_combinator(text: &str, at: usize, positives: &[Rule]) -> Option<Diagn
         return None;
     }
     let before = text[..at].trim_end();
-    let start = before
-        .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.'))
-        .map_or(0, |i| i + 1);
+    let word_length = before
+        .bytes()
+        .rev()
+        .take_while(|&b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-' || b == b'.')
+        .count();
+    let start = before.len() - word_length;
     let word = &before[start..];
     let follows = text[at..].trim_start().chars().next();
     let looks_like_a_combinator = !word.is_empty()
@@ -335,6 +342,13 @@ fn rule_words(rule: Rule) -> Option<&'static str> {
     }
     Some(match rule {
         Rule::EOI => "end of file",
+        Rule::lparen => "`(`",
+        Rule::rparen => "`)`",
+        Rule::lbrace => "`{`",
+        Rule::rbrace => "`}`",
+        Rule::comma => "`,`",
+        Rule::semicolon => "`;`",
+        Rule::define => "`::`",
         Rule::definition | Rule::program_name => "a program definition `Name() :: { ... }`",
         Rule::params | Rule::param => "a parameter name",
         Rule::block => "a block `{ ... }`",
@@ -379,10 +393,26 @@ struct Builder<'t, 'e> {
 
 // The builders below walk a tree the grammar has already validated, so the shape of each rule's
 // children is known; `child` documents that.
-fn child<'i>(pairs: &mut pest::iterators::Pairs<'i, Rule>) -> Pair<'i, Rule> {
+fn child<'i>(pairs: &mut impl Iterator<Item = Pair<'i, Rule>>) -> Pair<'i, Rule> {
     pairs
         .next()
         .unwrap_or_else(|| unreachable!("the RMPL grammar fixes the children of every rule"))
+}
+
+/// A pair's children without punctuation.
+fn children<'i>(pair: Pair<'i, Rule>) -> impl Iterator<Item = Pair<'i, Rule>> {
+    pair.into_inner().filter(|p| {
+        !matches!(
+            p.as_rule(),
+            Rule::lparen
+                | Rule::rparen
+                | Rule::lbrace
+                | Rule::rbrace
+                | Rule::comma
+                | Rule::semicolon
+                | Rule::define
+        )
+    })
 }
 
 impl Builder<'_, '_> {
@@ -401,12 +431,12 @@ impl Builder<'_, '_> {
 
     fn definition(&mut self, pair: Pair<'_, Rule>) -> Definition {
         let span = self.span(&pair);
-        let mut inner = pair.into_inner();
+        let mut inner = children(pair);
         let name = self.name(&child(&mut inner));
         let mut params = Vec::new();
         let mut next = child(&mut inner);
         if next.as_rule() == Rule::params {
-            params = next.into_inner().map(|p| self.name(&p)).collect();
+            params = children(next).map(|p| self.name(&p)).collect();
             next = child(&mut inner);
         }
         let body = self.node(next, 0);
@@ -453,7 +483,7 @@ impl Builder<'_, '_> {
             };
         }
         let rule = pair.as_rule();
-        let mut inner = pair.into_inner();
+        let mut inner = children(pair);
         // Lists and postfix chains are not levels of their own: each sits directly in a block,
         // a group or a combinator, which are.
         if matches!(rule, Rule::block | Rule::group) {
@@ -548,7 +578,7 @@ impl Builder<'_, '_> {
     }
 
     fn argument(&mut self, pair: Pair<'_, Rule>) -> Operand {
-        let value = child(&mut pair.into_inner());
+        let value = child(&mut children(pair));
         let span = self.span(&value);
         if value.as_rule() == Rule::name {
             return Operand::Name(self.name(&value));
@@ -703,6 +733,13 @@ mod tests {
         let text = render("P() :: { wen (x = a) donext y = b }");
         assert!(text.contains("unknown combinator `wen`"), "{text}");
         assert!(text.contains("did you mean `when`?"), "{text}");
+    }
+
+    #[test]
+    fn a_word_after_a_multibyte_character_is_cut_at_a_character_boundary() {
+        // Found by the property tests: `∨` is three bytes.
+        assert!(parse("P() :: { (x = a ∨G (y = b)) }").is_err());
+        assert!(render("P() :: { x = a; ∨wen (x = a) donext y = b }").contains("error"));
     }
 
     #[test]
