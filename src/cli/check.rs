@@ -32,13 +32,16 @@ fn check_file(path: &Path) -> Result<String, Failure> {
     }
     let source = read_source(path)?;
     let thca = rmpl::load(&source, &LinkOptions::default()).map_err(Failure::bad_input)?;
-    let clocks = thca.table().clocks().len();
     Ok(format!(
-        "{}: program {} ({} locations, {} variables, {} clocks)",
+        "{}: program {} ({}, {}, {})",
         path.display(),
         thca.name(),
-        thca.locations().len(),
-        thca.table().len(),
-        clocks
+        count(thca.locations().len(), "location"),
+        count(thca.table().len(), "variable"),
+        count(thca.table().clocks().len(), "clock"),
     ))
+}
+
+fn count(n: usize, what: &str) -> String {
+    format!("{n} {what}{}", if n == 1 { "" } else { "s" })
 }
