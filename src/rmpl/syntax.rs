@@ -220,9 +220,15 @@ fn syntax_error(text: &str, error: &pest::error::Error<Rule>) -> Diagnostic {
         ErrorVariant::ParsingError { positives, .. } => positives,
         ErrorVariant::CustomError { .. } => &[],
     };
+    // pest's only custom errors are its call and stack limits, reached by absurd nesting.
     if let ErrorVariant::CustomError { message } = &error.variant {
-        return Diagnostic::new(format!("cannot parse: {message}"), at..at)
-            .expected("a program simpler to parse");
+        return Diagnostic::new(
+            format!("program nested too deeply to parse ({message})"),
+            at..at,
+        )
+        .expected(format!(
+            "at most {MAX_NESTING} nested blocks and combinators"
+        ));
     }
     if let Some(diagnostic) = unknown_combinator(text, at, positives) {
         return diagnostic;
