@@ -28,8 +28,8 @@ pub(crate) struct Expansion<'f> {
     pub assertions: Vec<Expr>,
     /// Everything wrong found so far.
     pub errors: Vec<Diagnostic>,
-    /// The programs being expanded, outermost first, each with the invocation that entered it.
-    active: Vec<(&'f str, Span)>,
+    /// The programs being expanded, outermost first.
+    active: Vec<&'f str>,
 }
 
 impl<'f> Expansion<'f> {
@@ -85,8 +85,7 @@ impl<'f> Expansion<'f> {
 
     /// Expands a definition run on its own (the entry program, or a program checked alone).
     pub fn root(&mut self, definition: &'f Definition) -> Process {
-        self.active
-            .push((&definition.name.text, definition.name.span.clone()));
+        self.active.push(&definition.name.text);
         let process = self.node(&definition.body, &Arguments::new(), &[]);
         self.active.pop();
         process
@@ -192,7 +191,7 @@ impl<'f> Expansion<'f> {
                 .push(self.wrong_argument_count(definition, given.len(), span));
             return nothing;
         }
-        if self.active.iter().any(|(name, _)| *name == program.text) {
+        if self.active.contains(&program.text.as_str()) {
             self.errors.push(self.recursion(program));
             return nothing;
         }
@@ -204,7 +203,7 @@ impl<'f> Expansion<'f> {
             .collect();
         let mut inner_stack = call_stack.to_vec();
         inner_stack.push(span.clone());
-        self.active.push((&definition.name.text, span));
+        self.active.push(&definition.name.text);
         let process = self.node(&definition.body, &inner, &inner_stack);
         self.active.pop();
         process
@@ -260,7 +259,7 @@ impl<'f> Expansion<'f> {
         let chain: Vec<String> = self
             .active
             .iter()
-            .map(|(name, _)| format!("{name}()"))
+            .map(|name| format!("{name}()"))
             .chain(std::iter::once(format!("{}()", program.text)))
             .collect();
         Diagnostic::new(

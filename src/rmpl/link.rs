@@ -1,6 +1,6 @@
 //! Linking: an RMPL file becomes a [`LinkedProgram`] whose formulas refer to variables by id.
 //!
-//! 1. Invocations are inlined ([`super::expand`]) from the entry program and from every other
+//! 1. Invocations are inlined (`expand`) from the entry program and from every other
 //!    program without parameters that no program invokes, so `kairos check` sees them all.
 //! 2. Clocks are the names assigned `= 0` in an assertion.
 //! 3. The variable table is the plant's (ids unchanged, so the executive can hand the formulas to
@@ -78,7 +78,11 @@ pub fn link(
     }
 
     if !errors.is_empty() {
-        errors.sort_by_key(|d| (d.span.start, d.span.end));
+        // Programs expanded more than once (invoked twice, or checked as roots too) repeat their
+        // errors: keep one of each.
+        errors.sort_by(|a, b| {
+            (a.span.start, a.span.end, &a.message).cmp(&(b.span.start, b.span.end, &b.message))
+        });
         errors.dedup();
         return Err(errors);
     }

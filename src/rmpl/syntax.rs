@@ -1,6 +1,6 @@
 //! RMPL's syntax tree and parser (`grammar/rmpl.pest`, combined with `grammar/constraint.pest`).
 //!
-//! The parser knows nothing about which programs or variables exist; [`super::link`] checks the
+//! The parser knows nothing about which programs or variables exist; [`link`](mod@super::link) checks the
 //! names. Every node keeps the byte span of its text so that later errors, THCA locations and
 //! traces point back at the program. Conditions and goals are delimited by the combined grammar
 //! and then parsed into [`Expr`]s by the constraint language's own parser

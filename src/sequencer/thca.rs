@@ -397,6 +397,9 @@ pub enum ThcaError {
     /// A formula id that was not interned by this builder.
     #[error("formula {0} was not interned in this automaton")]
     NoSuchFormula(u32),
+    /// Start locations were added to a location that is not a composite.
+    #[error("location {0} is not a composite and cannot have start locations")]
+    NotComposite(u32),
 }
 
 /// Assembles a [`Thca`]; the RMPL compiler uses it, and tests build automata by hand with it.
@@ -409,6 +412,8 @@ pub struct ThcaBuilder {
     interned: HashMap<Formula, FormulaId>,
     table: VarTable,
     source: Source,
+    /// The first misuse of the builder's methods, reported by `build`.
+    misuse: Option<ThcaError>,
 }
 
 impl ThcaBuilder {
@@ -422,6 +427,7 @@ impl ThcaBuilder {
             interned: HashMap::new(),
             table,
             source,
+            misuse: None,
         }
     }
 
@@ -487,36 +493,50 @@ impl ThcaBuilder {
         id
     }
 
-    /// Sets the maintenance constraint of a location (ignored for an unknown id; `build` reports
-    /// such ids where they matter).
+    /// Sets the maintenance constraint of a location.
     pub fn set_maintenance(&mut self, location: LocationId, condition: Condition) {
-        if let Some(l) = self.locations.get_mut(location.index()) {
+        if let Some(l) = self.existing(location) {
             l.maintenance = Some(condition);
         }
     }
 
     /// Makes `start` a start location of the composite `automaton`, or of the top automaton.
     pub fn add_start(&mut self, automaton: Option<LocationId>, start: LocationId) {
-        match automaton.and_then(|a| self.locations.get_mut(a.index())) {
-            Some(Location {
-                kind: LocationKind::Composite { starts, .. },
-                ..
-            }) => starts.push(start),
-            // Not a composite: `build` reports the start as outside its automaton.
-            Some(_) => self.starts.push(start),
-            None => self.starts.push(start),
+        let Some(automaton) = automaton else {
+            self.starts.push(start);
+            return;
+        };
+        match self.existing(automaton).map(|l| &mut l.kind) {
+            Some(LocationKind::Composite { starts, .. }) => starts.push(start),
+            Some(LocationKind::Primitive { .. }) => {
+                self.misuse
+                    .get_or_insert(ThcaError::NotComposite(automaton.number()));
+            }
+            None => {}
         }
     }
 
     /// Adds a transition out of `from`.
     pub fn add_transition(&mut self, from: LocationId, transition: Transition) {
-        if let Some(l) = self.locations.get_mut(from.index()) {
+        if let Some(l) = self.existing(from) {
             l.transitions.push(transition);
         }
     }
 
+    /// The location with this id, or `None` after recording the misuse for `build`.
+    fn existing(&mut self, id: LocationId) -> Option<&mut Location> {
+        if id.index() >= self.locations.len() {
+            self.misuse
+                .get_or_insert(ThcaError::NoSuchLocation(id.number()));
+        }
+        self.locations.get_mut(id.index())
+    }
+
     /// Checks the structure and returns the automaton.
     pub fn build(mut self) -> Result<Thca, ThcaError> {
+        if let Some(misuse) = self.misuse.take() {
+            return Err(misuse);
+        }
         self.check()?;
         for i in 0..self.locations.len() {
             if let Some(parent) = self.locations[i].parent {
@@ -646,5 +666,22 @@ mod tests {
             },
         );
         assert_eq!(b.build(), Err(ThcaError::NoSuchLocation(10)));
+
+        let mut b = builder();
+        let p = b.primitive(None, origin(), None, Vec::new());
+        let q = b.primitive(None, origin(), None, Vec::new());
+        b.add_start(Some(p), q);
+        assert_eq!(b.build(), Err(ThcaError::NotComposite(1)));
+
+        let mut b = builder();
+        b.set_maintenance(
+            LocationId(3),
+            Condition {
+                formula: FormulaId(0),
+                sense: Sense::Entailed,
+                span: 0..0,
+            },
+        );
+        assert_eq!(b.build(), Err(ThcaError::NoSuchLocation(4)));
     }
 }
