@@ -286,6 +286,10 @@ fn unknown_combinator(text: &str, at: usize, positives: &[Rule]) -> Option<Diagn
     );
     if let Some(close) = did_you_mean(word, KEYWORDS) {
         diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+    } else if follows == Some('(') {
+        diagnostic = diagnostic.note(format!(
+            "to invoke a program, write `{word}(` without a space before the parenthesis"
+        ));
     }
     Some(diagnostic)
 }
@@ -739,6 +743,16 @@ mod tests {
         let text = render("P() :: { wen (x = a) donext y = b }");
         assert!(text.contains("unknown combinator `wen`"), "{text}");
         assert!(text.contains("did you mean `when`?"), "{text}");
+    }
+
+    #[test]
+    fn an_invocation_with_a_space_is_explained() {
+        let text = render("P() :: { DeployLGA () }\nDeployLGA() :: { x = a }");
+        assert!(text.contains("unknown combinator `DeployLGA`"), "{text}");
+        assert!(
+            text.contains("write `DeployLGA(` without a space"),
+            "{text}"
+        );
     }
 
     #[test]
