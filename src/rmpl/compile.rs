@@ -22,10 +22,11 @@
 //! of Figure 3-2 compiles to Figure 3-4's locations 1..12 in the same numbering. The program
 //! itself is the outermost composite.
 
-use super::program::{LinkedProgram, Process, ProcessKind};
+use super::program::{AssertionId, ConditionId, LinkedProgram, Process, ProcessKind};
 use crate::diagnostic::Source;
 use crate::sequencer::{
-    ClockInit, Construct, Goal, LocationId, Origin, Sense, Thca, ThcaBuilder, ThcaError, Transition,
+    ClockInit, Condition, Construct, Goal, LocationId, Origin, Sense, Thca, ThcaBuilder, ThcaError,
+    Transition,
 };
 
 /// Compiles `program` (linked from `source`) to a THCA.
@@ -51,7 +52,7 @@ pub fn compile(program: &LinkedProgram, source: &Source) -> Result<Thca, ThcaErr
 /// A transition to be added once we know where it leads: out of `from` under `guard`.
 struct Exit {
     from: LocationId,
-    guard: Option<crate::sequencer::Condition>,
+    guard: Option<Condition>,
 }
 
 /// What a construct compiled to.
@@ -76,11 +77,7 @@ impl Compiler<'_> {
         }
     }
 
-    fn condition(
-        &mut self,
-        id: super::program::ConditionId,
-        sense: Sense,
-    ) -> crate::sequencer::Condition {
+    fn condition(&mut self, id: ConditionId, sense: Sense) -> Condition {
         let condition = self.program.condition(id);
         self.builder
             .condition(condition.formula.clone(), sense, condition.span.clone())
@@ -98,42 +95,14 @@ impl Compiler<'_> {
             .primitive(Some(parent), origin, None, Vec::new())
     }
 
-    fn transition(
-        &mut self,
-        from: LocationId,
-        guard: Option<crate::sequencer::Condition>,
-        targets: Vec<LocationId>,
-    ) {
+    fn transition(&mut self, from: LocationId, guard: Option<Condition>, targets: Vec<LocationId>) {
         self.builder
             .add_transition(from, Transition { guard, targets });
     }
 
     fn process(&mut self, process: &Process, parent: LocationId) -> Fragment {
         match &process.kind {
-            ProcessKind::Assert(id) => {
-                let assertion = self.program.assertion(*id);
-                let goal = assertion.goal.clone().map(|(formula, span)| Goal {
-                    formula: self.builder.formula(formula),
-                    span,
-                });
-                let inits = assertion
-                    .clocks
-                    .iter()
-                    .map(|(clock, span)| ClockInit {
-                        clock: *clock,
-                        span: span.clone(),
-                    })
-                    .collect();
-                let origin = self.origin(Construct::Assertion, process);
-                let location = self.builder.primitive(Some(parent), origin, goal, inits);
-                Fragment {
-                    starts: vec![location],
-                    exits: Some(vec![Exit {
-                        from: location,
-                        guard: None,
-                    }]),
-                }
-            }
+            ProcessKind::Assert(id) => self.assertion(process, *id, parent),
             ProcessKind::Sequence(parts) => self.sequence(parts, parent),
             ProcessKind::Parallel(parts) => Fragment {
                 starts: parts
@@ -144,23 +113,13 @@ impl Compiler<'_> {
             },
             ProcessKind::Watching { body, condition } => {
                 let maintenance = self.condition(*condition, Sense::NotEntailed);
-                self.composite(
-                    Construct::Watching,
-                    process,
-                    body,
-                    Some(maintenance),
-                    parent,
-                )
+                let construct = Construct::Watching;
+                self.composite(construct, process, body, Some(maintenance), parent)
             }
             ProcessKind::Maintaining { body, condition } => {
                 let maintenance = self.condition(*condition, Sense::Entailed);
-                self.composite(
-                    Construct::Maintaining,
-                    process,
-                    body,
-                    Some(maintenance),
-                    parent,
-                )
+                let construct = Construct::Maintaining;
+                self.composite(construct, process, body, Some(maintenance), parent)
             }
             ProcessKind::If {
                 condition,
@@ -168,50 +127,15 @@ impl Compiler<'_> {
                 otherwise,
             } => self.branch(process, *condition, then, otherwise.as_deref(), parent),
             ProcessKind::Unless { condition, then } => {
-                let location = self.control(Construct::Unless, process, parent);
-                let then = self.process(then, parent);
-                let go = self.condition(*condition, Sense::NotEntailed);
-                self.transition(location, Some(go), then.starts);
-                let skip = self.condition(*condition, Sense::Entailed);
-                Fragment {
-                    starts: vec![location],
-                    exits: with_exit(then.exits, location, skip),
-                }
+                self.unless(process, *condition, then, parent)
             }
-            ProcessKind::When { condition, body } | ProcessKind::Whenever { condition, body } => {
-                let again = matches!(process.kind, ProcessKind::Whenever { .. });
-                let construct = if again {
-                    Construct::Whenever
-                } else {
-                    Construct::When
-                };
-                let location = self.control(construct, process, parent);
-                let wait = self.condition(*condition, Sense::NotEntailed);
-                self.transition(location, Some(wait), vec![location]);
-                let body = self.process(body, parent);
-                let go = self.condition(*condition, Sense::Entailed);
-                let targets = if again {
-                    std::iter::once(location).chain(body.starts).collect()
-                } else {
-                    body.starts
-                };
-                self.transition(location, Some(go), targets);
-                Fragment {
-                    starts: vec![location],
-                    exits: if again { Some(Vec::new()) } else { body.exits },
-                }
+            ProcessKind::When { condition, body } => {
+                self.wait(Construct::When, process, *condition, body, parent)
             }
-            ProcessKind::Always(body) => {
-                let location = self.control(Construct::Always, process, parent);
-                let body = self.process(body, parent);
-                let starts: Vec<LocationId> =
-                    std::iter::once(location).chain(body.starts).collect();
-                self.transition(location, None, starts.clone());
-                Fragment {
-                    starts,
-                    exits: Some(Vec::new()),
-                }
+            ProcessKind::Whenever { condition, body } => {
+                self.wait(Construct::Whenever, process, *condition, body, parent)
             }
+            ProcessKind::Always(body) => self.always(process, body, parent),
             ProcessKind::Next(body) => {
                 let location = self.control(Construct::Next, process, parent);
                 let body = self.process(body, parent);
@@ -221,6 +145,92 @@ impl Compiler<'_> {
                     exits: body.exits,
                 }
             }
+        }
+    }
+
+    /// A goal and/or clock initialisations: one primitive location, which exits once its goal
+    /// is achieved.
+    fn assertion(&mut self, process: &Process, id: AssertionId, parent: LocationId) -> Fragment {
+        let assertion = self.program.assertion(id);
+        let goal = assertion.goal.clone().map(|(formula, span)| Goal {
+            formula: self.builder.formula(formula),
+            span,
+        });
+        let inits = assertion
+            .clocks
+            .iter()
+            .map(|(clock, span)| ClockInit {
+                clock: *clock,
+                span: span.clone(),
+            })
+            .collect();
+        let origin = self.origin(Construct::Assertion, process);
+        let location = self.builder.primitive(Some(parent), origin, goal, inits);
+        Fragment {
+            starts: vec![location],
+            exits: Some(vec![Exit {
+                from: location,
+                guard: None,
+            }]),
+        }
+    }
+
+    /// `unless c thennext A`: on to A when c is not entailed, out of the construct otherwise.
+    fn unless(
+        &mut self,
+        process: &Process,
+        condition: ConditionId,
+        then: &Process,
+        parent: LocationId,
+    ) -> Fragment {
+        let location = self.control(Construct::Unless, process, parent);
+        let then = self.process(then, parent);
+        let go = self.condition(condition, Sense::NotEntailed);
+        self.transition(location, Some(go), then.starts);
+        let skip = self.condition(condition, Sense::Entailed);
+        Fragment {
+            starts: vec![location],
+            exits: with_exit(then.exits, location, skip),
+        }
+    }
+
+    /// `when c donext A` / `whenever c donext A`: wait while c is not entailed; then start A (and,
+    /// for `whenever`, keep waiting for the next time).
+    fn wait(
+        &mut self,
+        construct: Construct,
+        process: &Process,
+        condition: ConditionId,
+        body: &Process,
+        parent: LocationId,
+    ) -> Fragment {
+        let again = construct == Construct::Whenever;
+        let location = self.control(construct, process, parent);
+        let wait = self.condition(condition, Sense::NotEntailed);
+        self.transition(location, Some(wait), vec![location]);
+        let body = self.process(body, parent);
+        let go = self.condition(condition, Sense::Entailed);
+        let targets = if again {
+            std::iter::once(location).chain(body.starts).collect()
+        } else {
+            body.starts
+        };
+        self.transition(location, Some(go), targets);
+        Fragment {
+            starts: vec![location],
+            exits: if again { Some(Vec::new()) } else { body.exits },
+        }
+    }
+
+    /// `always A`: A starts now and, through the location's transition, every next instant.
+    fn always(&mut self, process: &Process, body: &Process, parent: LocationId) -> Fragment {
+        let location = self.control(Construct::Always, process, parent);
+        let body = self.process(body, parent);
+        let starts: Vec<LocationId> = std::iter::once(location).chain(body.starts).collect();
+        self.transition(location, None, starts.clone());
+        Fragment {
+            starts,
+            exits: Some(Vec::new()),
         }
     }
 
@@ -253,7 +263,7 @@ impl Compiler<'_> {
         construct: Construct,
         process: &Process,
         body: &Process,
-        maintenance: Option<crate::sequencer::Condition>,
+        maintenance: Option<Condition>,
         parent: LocationId,
     ) -> Fragment {
         let origin = self.origin(construct, process);
@@ -277,7 +287,7 @@ impl Compiler<'_> {
     fn branch(
         &mut self,
         process: &Process,
-        condition: super::program::ConditionId,
+        condition: ConditionId,
         then: &Process,
         otherwise: Option<&Process>,
         parent: LocationId,
@@ -311,11 +321,7 @@ impl Compiler<'_> {
 }
 
 /// The exits of a body plus the exit taken when the body is skipped.
-fn with_exit(
-    exits: Option<Vec<Exit>>,
-    from: LocationId,
-    guard: crate::sequencer::Condition,
-) -> Option<Vec<Exit>> {
+fn with_exit(exits: Option<Vec<Exit>>, from: LocationId, guard: Condition) -> Option<Vec<Exit>> {
     exits.map(|mut exits| {
         exits.push(Exit {
             from,
