@@ -12,3 +12,5 @@ pub mod diagnostic;
 pub mod logic;
 pub mod opsat;
 pub mod report;
+pub mod rmpl;
+pub mod sequencer;

@@ -31,11 +31,35 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Parse and link RMPL programs and report every error, each located at file:line:col.
+    Check {
+        /// The files to check (`.rmpl`).
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+    },
+    /// Compile an RMPL program to its timed hierarchical constraint automaton (THCA) and print
+    /// its locations, or a Graphviz drawing.
+    Compile {
+        /// The RMPL file.
+        program: PathBuf,
+        /// The program to compile (default: the file's first).
+        #[arg(long)]
+        entry: Option<String>,
+        /// Print Graphviz DOT: composites as clusters, guards on edges.
+        #[arg(long)]
+        dot: bool,
+    },
 }
 
 fn main() -> ExitCode {
     let outcome = match Cli::parse().command {
         Command::Solve { file, k, json } => cli::solve::run(&file, k, json),
+        Command::Check { files } => cli::check::run(&files),
+        Command::Compile {
+            program,
+            entry,
+            dot,
+        } => cli::compile::run(&program, entry.as_deref(), dot),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

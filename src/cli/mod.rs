@@ -1,5 +1,7 @@
 //! Subcommand implementations for the `kairos` binary.
 
+pub mod check;
+pub mod compile;
 pub mod solve;
 
 use std::path::Path;

@@ -90,6 +90,18 @@ pub enum TimeUnit {
 }
 
 impl TimeUnit {
+    /// The unit a symbol of the grammar's `unit` rule names (`ms`, `s`, `sec`, `min`, `mins`,
+    /// `h`); RMPL reads the units of invocation arguments with it.
+    pub fn from_symbol(symbol: &str) -> Option<TimeUnit> {
+        Some(match symbol {
+            "ms" => TimeUnit::Milliseconds,
+            "s" | "sec" => TimeUnit::Seconds,
+            "min" | "mins" => TimeUnit::Minutes,
+            "h" => TimeUnit::Hours,
+            _ => return None,
+        })
+    }
+
     /// How many seconds one unit is.
     pub fn seconds(self) -> f64 {
         match self {
@@ -168,9 +180,23 @@ pub fn parse(text: &str) -> Result<Expr, Diagnostic> {
     parse_at(text, 0)
 }
 
+/// How deeply a formula may nest: parentheses inside parentheses, or negations in a row. Deeper
+/// formulas are refused with a located error instead of exhausting the stack of the recursive
+/// parser and of the passes over the tree (resolution, grounding, evaluation).
+pub const MAX_NESTING: usize = 100;
+
 /// Parses a fragment that sits at byte `offset` of a larger file: spans in the result, and in the
 /// error, are positions in that file. The RMPL parser uses this for the guards and goals it finds.
 pub fn parse_at(fragment: &str, offset: usize) -> Result<Expr, Diagnostic> {
+    if let Some(at) = too_deep(fragment) {
+        return Err(
+            Diagnostic::new("formula nested too deeply", at + offset..at + offset).expected(
+                format!(
+                    "at most {MAX_NESTING} nested parentheses and {MAX_NESTING} negations in a row"
+                ),
+            ),
+        );
+    }
     let mut pairs = ConstraintParser::parse(Rule::formula, fragment)
         .map_err(|e| syntax_error(&e).shifted(offset))?;
     let formula = pairs.next().and_then(|p| p.into_inner().next());
@@ -178,6 +204,38 @@ pub fn parse_at(fragment: &str, offset: usize) -> Result<Expr, Diagnostic> {
         Some(expr) => Ok(build_expr(expr, offset)),
         None => Err(Diagnostic::new("empty formula", offset..offset).expected("a formula")),
     }
+}
+
+/// Where a fragment first nests deeper than [`MAX_NESTING`], if it does. A cheap scan of the text:
+/// it may count a parenthesis or `not` inside a comment, which only matters for absurd comments.
+fn too_deep(fragment: &str) -> Option<usize> {
+    let bytes = fragment.as_bytes();
+    let is_word = |b: u8| b.is_ascii_alphanumeric() || b == b'_' || b == b'-';
+    let (mut depth, mut negations, mut skip_to) = (0usize, 0usize, 0usize);
+    for (i, c) in fragment.char_indices() {
+        if i < skip_to {
+            continue;
+        }
+        let not_word = fragment[i..].starts_with("not")
+            && (i == 0 || !is_word(bytes[i - 1]))
+            && !bytes.get(i + 3).is_some_and(|&b| is_word(b));
+        match c {
+            '(' => depth += 1,
+            ')' => depth = depth.saturating_sub(1),
+            '¬' => negations += 1,
+            '!' if bytes.get(i + 1) != Some(&b'=') => negations += 1,
+            _ if not_word => {
+                negations += 1;
+                skip_to = i + 3;
+            }
+            c if c.is_whitespace() => {}
+            _ => negations = 0,
+        }
+        if depth > MAX_NESTING || negations > MAX_NESTING {
+            return Some(i);
+        }
+    }
+    None
 }
 
 fn syntax_error(error: &pest::error::Error<Rule>) -> Diagnostic {
@@ -330,7 +388,9 @@ fn build_operand(pair: Pair<'_, Rule>, offset: usize) -> Operand {
             let span = span_of(&inner, offset);
             let mut parts = inner.into_inner();
             let value = parse_number(next_child(&mut parts).as_str());
-            let unit = parts.next().map(|u| build_unit(u.as_str()));
+            let unit = parts
+                .next()
+                .map(|u| TimeUnit::from_symbol(u.as_str()).unwrap_or(TimeUnit::Seconds));
             Operand::Quantity { value, unit, span }
         }
     }
@@ -349,15 +409,6 @@ fn build_op(text: &str) -> CmpOp {
         "<=" | "≤" => CmpOp::Le,
         ">" => CmpOp::Gt,
         _ => CmpOp::Ge,
-    }
-}
-
-fn build_unit(text: &str) -> TimeUnit {
-    match text {
-        "ms" => TimeUnit::Milliseconds,
-        "min" | "mins" => TimeUnit::Minutes,
-        "h" => TimeUnit::Hours,
-        _ => TimeUnit::Seconds,
     }
 }
 
@@ -466,6 +517,26 @@ mod tests {
         let error = parse_at("x = ", 10).unwrap_err();
         assert_eq!(error.span.start, 14);
         assert!(error.expected.contains("a value or a number"), "{error:?}");
+    }
+
+    #[test]
+    fn deep_nesting_is_refused_not_a_stack_overflow() {
+        let deep = format!("{}x = on{}", "(".repeat(5000), ")".repeat(5000));
+        let error = parse(&deep).unwrap_err();
+        assert!(error.message.contains("nested too deeply"), "{error:?}");
+        assert_eq!(error.span.start, MAX_NESTING);
+        assert!(parse(&format!("{}x = on", "not ".repeat(5000))).is_err());
+        assert!(parse(&format!("{}x = on", "¬".repeat(MAX_NESTING + 1))).is_err());
+        let fine = format!(
+            "{}x = on{}",
+            "(".repeat(MAX_NESTING),
+            ")".repeat(MAX_NESTING)
+        );
+        assert!(parse(&fine).is_ok());
+        // Many negations that are not nested, and words containing "not", are fine.
+        let flat = vec!["not x = on"; 2 * MAX_NESTING].join(" and ");
+        assert!(parse(&flat).is_ok());
+        assert!(parse(&format!("x = {}", "notified-".repeat(200) + "x")).is_ok());
     }
 
     #[test]
