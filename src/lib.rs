@@ -11,4 +11,5 @@
 pub mod diagnostic;
 pub mod logic;
 pub mod opsat;
+pub mod plant;
 pub mod report;
