@@ -31,11 +31,28 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Load and validate a plant model (TCCA, RON; the format is documented in
+    /// `src/plant/file.rs`). Temporary: becomes part of `kairos check FILES…`.
+    CheckModel {
+        /// The plant model file.
+        model: PathBuf,
+    },
+    /// Show a plant model's component automata: a text listing, or a Graphviz drawing with one
+    /// cluster per component.
+    Graph {
+        /// The plant model file.
+        model: PathBuf,
+        /// Print Graphviz DOT instead of text.
+        #[arg(long)]
+        dot: bool,
+    },
 }
 
 fn main() -> ExitCode {
     let outcome = match Cli::parse().command {
         Command::Solve { file, k, json } => cli::solve::run(&file, k, json),
+        Command::CheckModel { model } => cli::check_model::check_model(&model),
+        Command::Graph { model, dot } => cli::graph::run(&model, dot),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

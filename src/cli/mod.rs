@@ -1,5 +1,7 @@
 //! Subcommand implementations for the `kairos` binary.
 
+pub mod check_model;
+pub mod graph;
 pub mod solve;
 
 use std::path::Path;
