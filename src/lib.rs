@@ -9,6 +9,7 @@
 #![warn(missing_docs)]
 
 pub mod diagnostic;
+pub mod estimation;
 pub mod logic;
 pub mod opsat;
 pub mod plant;

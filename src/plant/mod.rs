@@ -30,6 +30,7 @@ pub use step::{
     Commands, InputError, Observation, component_distributions, consistent_state,
     enabled_transitions, step_tcca, successor, transition_choices,
 };
+pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{Timing, TransitionLaw, mode_distribution};
 
 use crate::diagnostic::{Source, SourceErrors};

@@ -1,1 +1,2 @@
+pub mod plants;
 pub mod random_ocsp;
