@@ -37,6 +37,29 @@ enum Command {
         /// The plant model file.
         model: PathBuf,
     },
+    /// Replay a command/observation log (JSON lines; the format is documented in
+    /// `src/estimation/log.rs`) through mode estimation and print, per cycle, the most likely
+    /// plant states with their probabilities.
+    Estimate {
+        /// The plant model file.
+        #[arg(long)]
+        plant: PathBuf,
+        /// The log: one JSON object per cycle with `time`, `observations` and `commands`.
+        #[arg(long)]
+        log: PathBuf,
+        /// How many system states TimedME tracks.
+        #[arg(long, default_value_t = 10)]
+        kappa: usize,
+        /// Use the exact belief update (Figure 6-10; small models only) instead of TimedME.
+        #[arg(long)]
+        exact: bool,
+        /// How many plant states to print per cycle.
+        #[arg(long, default_value_t = 3)]
+        top: usize,
+        /// Print one JSON object per cycle instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Show a plant model's component automata: a text listing, or a Graphviz drawing with one
     /// cluster per component.
     Graph {
@@ -53,6 +76,21 @@ fn main() -> ExitCode {
         Command::Solve { file, k, json } => cli::solve::run(&file, k, json),
         Command::CheckModel { model } => cli::check_model::check_model(&model),
         Command::Graph { model, dot } => cli::graph::run(&model, dot),
+        Command::Estimate {
+            plant,
+            log,
+            kappa,
+            exact,
+            top,
+            json,
+        } => cli::estimate::run(&cli::estimate::EstimateArgs {
+            plant: &plant,
+            log: &log,
+            kappa,
+            exact,
+            top,
+            json,
+        }),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

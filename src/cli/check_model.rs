@@ -5,6 +5,7 @@ use std::path::Path;
 
 use kairos::plant::Plant;
 
+use super::output::emit;
 use super::{Failure, read_source};
 
 /// Loads and validates the plant model at `path`; prints a one-line summary when it is valid and
@@ -14,15 +15,15 @@ pub fn check_model(path: &Path) -> Result<(), Failure> {
     let components = plant.components();
     let modes: usize = components.iter().map(|c| c.modes().len()).sum();
     let transitions: usize = components.iter().map(|c| c.transitions().len()).sum();
-    println!(
-        "{}: ok: plant `{}`, {} components, {modes} modes, {transitions} transitions, {} controls, {} observables",
+    let summary = format!(
+        "{}: ok: plant `{}`, {} components, {modes} modes, {transitions} transitions, {} controls, {} observables\n",
         path.display(),
         plant.name(),
         components.len(),
         plant.controls().len(),
         plant.observables().len(),
     );
-    Ok(())
+    emit(&summary).map(|_| ())
 }
 
 /// Reads and validates a plant model; errors are bad input.

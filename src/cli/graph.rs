@@ -11,16 +11,17 @@ use kairos::report::dot::{Cluster, Edge, Graph, Node, Shape};
 
 use super::Failure;
 use super::check_model::load_plant;
+use super::output::emit;
 
 /// Prints the automata of the model at `path`.
 pub fn run(path: &Path, dot: bool) -> Result<(), Failure> {
     let plant = load_plant(path)?;
-    if dot {
-        print!("{}", drawing(&plant).render());
+    let text = if dot {
+        drawing(&plant).render()
     } else {
-        print!("{}", listing(&plant));
-    }
-    Ok(())
+        listing(&plant)
+    };
+    emit(&text).map(|_| ())
 }
 
 /// `guard; law` on one line (the guard left out when it is `true`).

@@ -1,7 +1,9 @@
 //! Subcommand implementations for the `kairos` binary.
 
 pub mod check_model;
+pub mod estimate;
 pub mod graph;
+pub mod output;
 pub mod solve;
 
 use std::path::Path;

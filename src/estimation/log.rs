@@ -54,6 +54,8 @@ struct RecordLine {
 pub fn parse_log(source: &Source, plant: &Plant) -> Result<Vec<LogRecord>, SourceErrors> {
     let mut records: Vec<LogRecord> = Vec::new();
     let mut errors = Vec::new();
+    // The last time read, and its line, even from a line with other errors.
+    let mut last: Option<(f64, usize)> = None;
     let mut line_start = 0;
     for (number, line) in source.text.split_inclusive('\n').enumerate() {
         let start = line_start;
@@ -68,23 +70,26 @@ pub fn parse_log(source: &Source, plant: &Plant) -> Result<Vec<LogRecord>, Sourc
             start,
             errors: &mut errors,
         };
-        if let Some(record) = reader.record(number + 1) {
-            if let Some(previous) = records.last() {
-                if record.time < previous.time {
-                    let span = reader.find("time", 0).unwrap_or(start..start + line.len());
-                    errors.push(
-                        Diagnostic::new(
-                            format!(
-                                "time {} s comes after {} s on line {}",
-                                record.time, previous.time, previous.line
-                            ),
-                            span,
-                        )
-                        .expected("times that never decrease"),
-                    );
-                    continue;
-                }
+        let Some(parsed) = reader.parse() else {
+            continue;
+        };
+        if let Some((previous, previous_line)) = last {
+            if parsed.time < previous {
+                let span = reader.find("time", 0).unwrap_or(start..start + line.len());
+                reader.errors.push(
+                    Diagnostic::new(
+                        format!(
+                            "time {} s comes after {previous} s on line {previous_line}",
+                            parsed.time
+                        ),
+                        span,
+                    )
+                    .expected("times that never decrease"),
+                );
             }
+        }
+        last = Some((parsed.time, number + 1));
+        if let Some(record) = reader.record(&parsed, number + 1) {
             records.push(record);
         }
     }
@@ -110,11 +115,13 @@ impl LineReader<'_> {
         Some(self.start + at..self.start + at + text.len())
     }
 
-    fn record(&mut self, number: usize) -> Option<LogRecord> {
-        let parsed: RecordLine = match serde_json::from_str(self.line) {
+    /// The line's JSON, with a usable time; `None` (error recorded) otherwise.
+    fn parse(&mut self) -> Option<RecordLine> {
+        let text = self.line.trim_end_matches(['\n', '\r']);
+        let parsed: RecordLine = match serde_json::from_str(text) {
             Ok(parsed) => parsed,
             Err(e) => {
-                let at = self.start + e.column().saturating_sub(1).min(self.line.len());
+                let at = self.start + e.column().saturating_sub(1).min(text.len());
                 self.errors.push(
                     Diagnostic::new(format!("malformed log line: {e}"), at..at)
                         .expected(r#"{"time": seconds, "observations": {...}, "commands": {...}}"#),
@@ -130,6 +137,11 @@ impl LineReader<'_> {
             );
             return None;
         }
+        Some(parsed)
+    }
+
+    /// The record of a parsed line, its names checked against the plant.
+    fn record(&mut self, parsed: &RecordLine, number: usize) -> Option<LogRecord> {
         let observed = self.assignments(
             &parsed.observations,
             self.plant.observables(),
