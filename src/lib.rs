@@ -9,8 +9,10 @@
 #![warn(missing_docs)]
 
 pub mod diagnostic;
+pub mod estimation;
 pub mod logic;
 pub mod opsat;
+pub mod plant;
 pub mod report;
 pub mod rmpl;
 pub mod sequencer;

@@ -31,9 +31,11 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Parse and link RMPL programs and report every error, each located at file:line:col.
+    /// Validate plant models (`.ron`) and parse and link RMPL programs (`.rmpl`), reporting
+    /// every error, each located at file:line:col. Programs are linked against the models given
+    /// on the same command line (against the names they use when none is given).
     Check {
-        /// The files to check (`.rmpl`).
+        /// The files to check.
         #[arg(required = true)]
         files: Vec<PathBuf>,
     },
@@ -45,7 +47,42 @@ enum Command {
         /// The program to compile (default: the file's first).
         #[arg(long)]
         entry: Option<String>,
+        /// Link against this plant model's variables (default: the names the program uses).
+        #[arg(long)]
+        plant: Option<PathBuf>,
         /// Print Graphviz DOT: composites as clusters, guards on edges.
+        #[arg(long)]
+        dot: bool,
+    },
+    /// Replay a command/observation log (JSON lines; the format is documented in
+    /// `src/estimation/log.rs`) through mode estimation and print, per cycle, the most likely
+    /// plant states with their probabilities.
+    Estimate {
+        /// The plant model file.
+        #[arg(long)]
+        plant: PathBuf,
+        /// The log: one JSON object per cycle with `time`, `observations` and `commands`.
+        #[arg(long)]
+        log: PathBuf,
+        /// How many system states TimedME tracks.
+        #[arg(long, default_value_t = 10)]
+        kappa: usize,
+        /// Use the exact belief update (Figure 6-10; small models only) instead of TimedME.
+        #[arg(long)]
+        exact: bool,
+        /// How many plant states to print per cycle.
+        #[arg(long, default_value_t = 3)]
+        top: usize,
+        /// Print one JSON object per cycle instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Show a plant model's component automata: a text listing, or a Graphviz drawing with one
+    /// cluster per component.
+    Graph {
+        /// The plant model file.
+        model: PathBuf,
+        /// Print Graphviz DOT instead of text.
         #[arg(long)]
         dot: bool,
     },
@@ -58,8 +95,25 @@ fn main() -> ExitCode {
         Command::Compile {
             program,
             entry,
+            plant,
             dot,
-        } => cli::compile::run(&program, entry.as_deref(), dot),
+        } => cli::compile::run(&program, entry.as_deref(), plant.as_deref(), dot),
+        Command::Graph { model, dot } => cli::graph::run(&model, dot),
+        Command::Estimate {
+            plant,
+            log,
+            kappa,
+            exact,
+            top,
+            json,
+        } => cli::estimate::run(&cli::estimate::EstimateArgs {
+            plant: &plant,
+            log: &log,
+            kappa,
+            exact,
+            top,
+            json,
+        }),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

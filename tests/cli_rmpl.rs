@@ -35,7 +35,7 @@ fn check_reports_every_error_of_every_file() {
         "programs/mars_entry.rmpl",
         "tests/bad_input/rmpl_two_broken_programs.rmpl",
         "tests/bad_input/rmpl_unknown_program.rmpl",
-        "models/ocsp/full_adder.ron",
+        "README.md",
     ]);
     assert_eq!(code, 2);
     assert!(
@@ -93,4 +93,27 @@ fn compile_refuses_an_unknown_entry_or_a_parameterised_one() {
         stderr.contains("the entry program `Deploy` takes parameters"),
         "{stderr}"
     );
+}
+
+#[test]
+fn check_validates_models_and_ocsps_and_links_programs_against_the_models_given() {
+    let (code, stdout, _) = kairos(&[
+        "check",
+        "models/propulsion.ron",
+        "models/ocsp/full_adder.ron",
+    ]);
+    assert_eq!(code, 0, "{stdout}");
+    assert!(
+        stdout.contains("ok: models/propulsion.ron: plant propulsion"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("ok: models/ocsp/full_adder.ron: OCSP"),
+        "{stdout}"
+    );
+    // The Mars entry program names state the propulsion model does not have.
+    let (code, _, stderr) = kairos(&["check", "models/propulsion.ron", "programs/mars_entry.rmpl"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("unknown variable `nav`"), "{stderr}");
+    assert!(stderr.contains("programs/mars_entry.rmpl:14:5"), "{stderr}");
 }

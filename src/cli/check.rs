@@ -1,19 +1,62 @@
-//! `kairos check FILES...`: parses and links every file and reports every error in each.
-//! RMPL programs (`.rmpl`) are checked today; plant models join when their loader lands.
+//! `kairos check FILES...`: validates plant models and OCSP files (`.ron`, told apart by their
+//! top-level struct name) and parses and links RMPL programs (`.rmpl`), reporting every error in
+//! each file. Programs are linked against every plant model given on the same command line, or
+//! against the names they use when no model is given.
 
 use std::path::Path;
 
+use kairos::plant::Plant;
 use kairos::rmpl::{self, LinkOptions};
 
-use super::{Failure, read_source};
+use super::{Failure, load_plant, read_source};
 
 /// Checks each file; prints a line per good file and fails with every error of the bad ones.
 pub fn run(paths: &[impl AsRef<Path>]) -> Result<(), Failure> {
+    let (models, programs): (Vec<&Path>, Vec<&Path>) = paths
+        .iter()
+        .map(AsRef::as_ref)
+        .partition(|p| extension(p) == Some("ron"));
     let mut problems = Vec::new();
-    for path in paths.iter().map(AsRef::as_ref) {
-        match check_file(path) {
-            Ok(summary) => println!("ok: {summary}"),
+    let mut plants = Vec::new();
+    for path in models {
+        let source = match read_source(path) {
+            Ok(source) => source,
+            Err(failure) => {
+                problems.push(failure.message);
+                continue;
+            }
+        };
+        if ron_struct_name(&source.text) == Some("Ocsp") {
+            match kairos::opsat::file::load(&source) {
+                Ok(instance) => println!(
+                    "ok: {}: OCSP ({}, {})",
+                    path.display(),
+                    count(instance.ocsp.decisions().len(), "decision variable"),
+                    count(instance.theory.table().len(), "variable")
+                ),
+                Err(errors) => problems.push(errors.to_string()),
+            }
+            continue;
+        }
+        match load_plant(path) {
+            Ok(plant) => {
+                println!("ok: {}", model_summary(path, &plant));
+                plants.push((path, plant));
+            }
             Err(failure) => problems.push(failure.message),
+        }
+    }
+    for path in programs {
+        let linked_against: Vec<Option<(&Path, &Plant)>> = if plants.is_empty() {
+            vec![None]
+        } else {
+            plants.iter().map(|(p, plant)| Some((*p, plant))).collect()
+        };
+        for plant in linked_against {
+            match check_program(path, plant) {
+                Ok(summary) => println!("ok: {summary}"),
+                Err(failure) => problems.push(failure.message),
+            }
         }
     }
     if problems.is_empty() {
@@ -23,17 +66,63 @@ pub fn run(paths: &[impl AsRef<Path>]) -> Result<(), Failure> {
     }
 }
 
-fn check_file(path: &Path) -> Result<String, Failure> {
-    if path.extension().and_then(|e| e.to_str()) != Some("rmpl") {
+/// The name of a RON file's top-level struct (`Plant`, `Ocsp`), skipping comments.
+fn ron_struct_name(text: &str) -> Option<&str> {
+    let mut rest = text;
+    loop {
+        rest = rest.trim_start();
+        if let Some(after) = rest.strip_prefix("//") {
+            rest = after.split_once('\n').map_or("", |(_, next)| next);
+        } else if let Some(after) = rest.strip_prefix("/*") {
+            rest = after.split_once("*/").map_or("", |(_, next)| next);
+        } else {
+            break;
+        }
+    }
+    let end = rest
+        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .unwrap_or(rest.len());
+    (end > 0).then(|| &rest[..end])
+}
+
+fn extension(path: &Path) -> Option<&str> {
+    path.extension().and_then(|e| e.to_str())
+}
+
+fn model_summary(path: &Path, plant: &Plant) -> String {
+    let components = plant.components();
+    let modes: usize = components.iter().map(|c| c.modes().len()).sum();
+    let transitions: usize = components.iter().map(|c| c.transitions().len()).sum();
+    format!(
+        "{}: plant {} ({}, {}, {}, {}, {})",
+        path.display(),
+        plant.name(),
+        count(components.len(), "component"),
+        count(modes, "mode"),
+        count(transitions, "transition"),
+        count(plant.controls().len(), "control"),
+        count(plant.observables().len(), "observable"),
+    )
+}
+
+fn check_program(path: &Path, plant: Option<(&Path, &Plant)>) -> Result<String, Failure> {
+    if extension(path) != Some("rmpl") {
         return Err(Failure::bad_input(format!(
-            "error: cannot check {}: expected an RMPL program (.rmpl)",
+            "error: cannot check {}: expected a plant model or OCSP (.ron) or an RMPL program (.rmpl)",
             path.display()
         )));
     }
     let source = read_source(path)?;
-    let thca = rmpl::load(&source, &LinkOptions::default()).map_err(Failure::bad_input)?;
+    let options = LinkOptions {
+        plant: plant.map(|(_, p)| p.table()),
+        ..LinkOptions::default()
+    };
+    let thca = rmpl::load(&source, &options).map_err(Failure::bad_input)?;
+    let against = plant.map_or(String::new(), |(p, _)| {
+        format!(", linked against {}", p.display())
+    });
     Ok(format!(
-        "{}: program {} ({}, {}, {})",
+        "{}: program {} ({}, {}, {}{against})",
         path.display(),
         thca.name(),
         count(thca.locations().len(), "location"),

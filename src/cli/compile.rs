@@ -1,4 +1,4 @@
-//! `kairos compile PROGRAM [--entry NAME] [--dot]`: compiles an RMPL program to its THCA and
+//! `kairos compile PROGRAM [--entry NAME] [--plant MODEL] [--dot]`: compiles an RMPL program to its THCA and
 //! prints a listing of the locations, or a Graphviz drawing.
 
 use std::io::Write;
@@ -10,9 +10,18 @@ use kairos::sequencer::dot;
 use super::{Failure, read_source};
 
 /// Compiles the program in `path` (its first program, or `entry`) and prints the automaton.
-pub fn run(path: &Path, entry: Option<&str>, as_dot: bool) -> Result<(), Failure> {
+pub fn run(
+    path: &Path,
+    entry: Option<&str>,
+    plant: Option<&Path>,
+    as_dot: bool,
+) -> Result<(), Failure> {
+    let plant = plant.map(super::load_plant).transpose()?;
     let source = read_source(path)?;
-    let options = LinkOptions { entry, plant: None };
+    let options = LinkOptions {
+        entry,
+        plant: plant.as_ref().map(|p| p.table()),
+    };
     let thca = rmpl::load(&source, &options).map_err(Failure::bad_input)?;
     let text = if as_dot {
         dot::graph(&thca, &[]).render()

@@ -2,6 +2,9 @@
 
 pub mod check;
 pub mod compile;
+pub mod estimate;
+pub mod graph;
+pub mod output;
 pub mod solve;
 
 use std::path::Path;
@@ -34,4 +37,10 @@ pub fn read_source(path: &Path) -> Result<Source, Failure> {
     std::fs::read_to_string(path)
         .map(|text| Source::new(path.display().to_string(), text))
         .map_err(|e| Failure::bad_input(format!("error: cannot read {}: {e}", path.display())))
+}
+
+/// Reads and validates a plant model; its errors are bad input.
+pub fn load_plant(path: &Path) -> Result<kairos::plant::Plant, Failure> {
+    let source = read_source(path)?;
+    kairos::plant::Plant::load(&source).map_err(Failure::bad_input)
 }

@@ -1,1 +1,3 @@
+pub mod plants;
 pub mod random_ocsp;
+pub mod random_plant;

@@ -1,0 +1,235 @@
+//! The command/observation log `kairos estimate` replays (JSON lines).
+//!
+//! One JSON object per line, one line per cycle, in time order:
+//! ```text
+//! # driver_valve: command the driver on, then see no flow out
+//! {"time": 0.0, "observations": {"valve.flow_in": "nominal", "valve.flow_out": "zero"}}
+//! {"time": 1.0, "observations": {"valve.flow_out": "zero"}, "commands": {"driver.dcmd_in": "on"}}
+//! {"time": 2.0, "observations": {"valve.flow_out": "zero"}}
+//! ```
+//! - `time`: t(i), seconds, never decreasing.
+//! - `observations`: o(i), the observables read at t(i) by name; an observable not listed is
+//!   unknown that cycle.
+//! - `commands`: μ(i), the controls commanded at t(i), after that cycle's estimate (the
+//!   executive's order: observe, estimate, decide, command); a control not listed is idle.
+//!
+//! The first line's observations condition the initial belief at its time; each later line
+//! i+1 is one estimation step with line i's commands, line i+1's observations and time. Blank
+//! lines and lines starting with `#` or `//` are comments. Errors point at file:line:column.
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+
+use super::{EstimationError, ModeEstimator, Update};
+use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean};
+use crate::logic::{ValueId, VarId};
+use crate::opsat::Theory;
+use crate::plant::{Commands, Observation, Plant};
+
+/// One cycle of a log.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogRecord {
+    /// t(i), seconds.
+    pub time: f64,
+    /// o(i).
+    pub observation: Observation,
+    /// μ(i), issued after the estimate at t(i).
+    pub commands: Commands,
+    /// The line it was read from (1-based).
+    pub line: usize,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RecordLine {
+    time: f64,
+    #[serde(default)]
+    observations: BTreeMap<String, String>,
+    #[serde(default)]
+    commands: BTreeMap<String, String>,
+}
+
+/// Reads a log against a plant, reporting every problem with its location.
+pub fn parse_log(source: &Source, plant: &Plant) -> Result<Vec<LogRecord>, SourceErrors> {
+    let mut records: Vec<LogRecord> = Vec::new();
+    let mut errors = Vec::new();
+    // The last time read, and its line, even from a line with other errors.
+    let mut last: Option<(f64, usize)> = None;
+    let mut line_start = 0;
+    for (number, line) in source.text.split_inclusive('\n').enumerate() {
+        let start = line_start;
+        line_start += line.len();
+        let trimmed = line.trim();
+        if trimmed.is_empty() || trimmed.starts_with('#') || trimmed.starts_with("//") {
+            continue;
+        }
+        let mut reader = LineReader {
+            plant,
+            line,
+            start,
+            errors: &mut errors,
+        };
+        let Some(parsed) = reader.parse() else {
+            continue;
+        };
+        if let Some((previous, previous_line)) = last {
+            if parsed.time < previous {
+                let span = reader.find("time", 0).unwrap_or(start..start + line.len());
+                reader.errors.push(
+                    Diagnostic::new(
+                        format!(
+                            "time {} s comes after {previous} s on line {previous_line}",
+                            parsed.time
+                        ),
+                        span,
+                    )
+                    .expected("times that never decrease"),
+                );
+            }
+        }
+        last = Some((parsed.time, number + 1));
+        if let Some(record) = reader.record(&parsed, number + 1) {
+            records.push(record);
+        }
+    }
+    if errors.is_empty() {
+        Ok(records)
+    } else {
+        Err(SourceErrors::new(source.clone(), errors))
+    }
+}
+
+struct LineReader<'a> {
+    plant: &'a Plant,
+    line: &'a str,
+    start: usize,
+    errors: &'a mut Vec<Diagnostic>,
+}
+
+impl LineReader<'_> {
+    /// The span of the quoted string `text` in the line, at or after byte `from` of the line.
+    fn find(&self, text: &str, from: usize) -> Option<Span> {
+        let quoted = format!("\"{text}\"");
+        let at = self.line.get(from..)?.find(&quoted)? + from + 1;
+        Some(self.start + at..self.start + at + text.len())
+    }
+
+    /// The line's JSON, with a usable time; `None` (error recorded) otherwise.
+    fn parse(&mut self) -> Option<RecordLine> {
+        let text = self.line.trim_end_matches(['\n', '\r']);
+        let parsed: RecordLine = match serde_json::from_str(text) {
+            Ok(parsed) => parsed,
+            Err(e) => {
+                let at = self.start + e.column().saturating_sub(1).min(text.len());
+                self.errors.push(
+                    Diagnostic::new(format!("malformed log line: {e}"), at..at)
+                        .expected(r#"{"time": seconds, "observations": {...}, "commands": {...}}"#),
+                );
+                return None;
+            }
+        };
+        if !parsed.time.is_finite() || parsed.time < 0.0 {
+            let span = self.find("time", 0).unwrap_or(self.start..self.start);
+            self.errors.push(
+                Diagnostic::new(format!("time {} is not a time", parsed.time), span)
+                    .expected("seconds, 0 or more"),
+            );
+            return None;
+        }
+        Some(parsed)
+    }
+
+    /// The record of a parsed line, its names checked against the plant.
+    fn record(&mut self, parsed: &RecordLine, number: usize) -> Option<LogRecord> {
+        let observed = self.assignments(
+            &parsed.observations,
+            self.plant.observables(),
+            "an observable",
+        );
+        let controls: Vec<VarId> = self.plant.controls().iter().map(|c| c.var).collect();
+        let commanded = self.assignments(&parsed.commands, &controls, "a control");
+        let (observed, commanded) = (observed?, commanded?);
+        // Both are checked against the plant above, so neither can fail here.
+        let observation = Observation::new(self.plant, &observed).ok()?;
+        let commands = Commands::new(self.plant, &commanded).ok()?;
+        Some(LogRecord {
+            time: parsed.time,
+            observation,
+            commands,
+            line: number,
+        })
+    }
+
+    /// Resolves `name: value` pairs against the allowed variables.
+    fn assignments(
+        &mut self,
+        pairs: &BTreeMap<String, String>,
+        allowed: &[VarId],
+        role: &str,
+    ) -> Option<Vec<(VarId, ValueId)>> {
+        let table = self.plant.table();
+        let mut out = Vec::new();
+        let mut ok = true;
+        for (name, value) in pairs {
+            let name_span = self.find(name, 0).unwrap_or(self.start..self.start);
+            let Some(var) = table.variable_id(name).filter(|x| allowed.contains(x)) else {
+                let names = allowed.iter().map(|&x| table.variable(x).name());
+                let mut diagnostic =
+                    Diagnostic::new(format!("`{name}` is not {role} of the plant"), name_span)
+                        .expected(format!(
+                            "{role}: {}",
+                            names.clone().collect::<Vec<_>>().join(", ")
+                        ));
+                if let Some(close) = did_you_mean(name, names) {
+                    diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+                }
+                self.errors.push(diagnostic);
+                ok = false;
+                continue;
+            };
+            let variable = table.variable(var);
+            match variable.value(value) {
+                Some(v) => out.push((var, v)),
+                None => {
+                    let after = name_span.end - self.start;
+                    let span = self.find(value, after).unwrap_or(name_span);
+                    self.errors.push(
+                        Diagnostic::new(format!("`{value}` is not a value of `{name}`"), span)
+                            .expected(format!("one of: {}", variable.values().join(", "))),
+                    );
+                    ok = false;
+                }
+            }
+        }
+        ok.then_some(out)
+    }
+}
+
+/// Replays a log: the initial belief from the first record, then one update per later record.
+/// Returns one [`Update`] per record.
+pub fn replay(
+    plant: &Plant,
+    theory: &mut Theory,
+    estimator: &mut dyn ModeEstimator,
+    records: &[LogRecord],
+) -> Result<Vec<Update>, EstimationError> {
+    let Some(first) = records.first() else {
+        return Ok(Vec::new());
+    };
+    let mut updates = vec![estimator.initial(plant, theory, first.time, &first.observation)?];
+    for pair in records.windows(2) {
+        let (before, now) = (&pair[0], &pair[1]);
+        let belief = &updates[updates.len() - 1].belief;
+        let update = estimator.update(
+            plant,
+            theory,
+            belief,
+            &before.commands,
+            &now.observation,
+            now.time,
+        )?;
+        updates.push(update);
+    }
+    Ok(updates)
+}

@@ -1,0 +1,325 @@
+//! Mode estimation (thesis §6.2, DESIGN.md §8): from a belief over system states, the control
+//! action μ(i), the observation o(i+1) and the time t(i+1), the next belief.
+//!
+//! - A [`Belief`] is a set of weighted [`SystemState`]s (modes + clock starts), most probable
+//!   first, summing to 1, at a time. Its most likely *plant* state sums the system states with
+//!   equal modes ([`Belief::most_likely_plant_state`], §4.3.2); [`Belief::marginal`] is the
+//!   belief in one assignment (the executive's `P(x = v) >= p`).
+//! - [`TimedMe`] is TimedME (Figure 6-11) on OPSAT: the κ most likely next system states.
+//! - [`BeliefUpdate`] is the exact BeliefUpdate_TCCA (Figure 6-10), the reference for small
+//!   models.
+//!
+//! Both take the plant's one [`Theory`] by `&mut` (DESIGN.md: one theory per plant, owned by the
+//! caller), share the plant module's enabled-transition core, and apply the observation factor
+//! of Figure 6-10 (1 entailed, 0 refuted, 1/m otherwise) before renormalising. System states
+//! whose clocks no longer matter merge exactly (DESIGN.md §8). When nothing explains an
+//! observation, an [`EstimationEvent::InconsistentObservation`] says so and the estimator falls
+//! back as DESIGN.md §8 prescribes, never panicking.
+
+mod exact;
+mod expand;
+pub mod log;
+mod observe;
+mod timed_me;
+
+use std::sync::Arc;
+
+pub use exact::BeliefUpdate;
+pub use timed_me::{TimedMe, TimedMeOptions};
+
+use crate::logic::{ValueId, VarId};
+use crate::opsat::{Cut, Theory, TheoryError};
+use crate::plant::{Commands, InputError, Observation, Plant, SystemState};
+
+/// Plant-state probabilities this close (relatively) count as tied.
+const TIE: f64 = 1e-9;
+
+/// A system state and its probability.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WeightedState {
+    /// Modes and clock starts.
+    pub state: SystemState,
+    /// Its probability in the belief.
+    pub probability: f64,
+}
+
+/// A plant state (modes only) and its probability: the sum over the system states with these
+/// modes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlantEstimate {
+    /// Mode per component, by [`ComponentId`](crate::plant::ComponentId).
+    pub modes: Vec<ValueId>,
+    /// Summed probability.
+    pub probability: f64,
+}
+
+/// A belief state: system states with probabilities, most probable first, at a time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Belief {
+    time: f64,
+    states: Vec<WeightedState>,
+    /// The plant's mode variables, by component, to answer [`Belief::marginal`].
+    mode_vars: Arc<[VarId]>,
+}
+
+impl Belief {
+    /// A belief from weighted states (normalised here, most probable first). `None` when the
+    /// states have no positive total probability or do not fit the plant.
+    pub fn new(plant: &Plant, time: f64, states: Vec<WeightedState>) -> Option<Belief> {
+        let fits = states.iter().all(|w| state_fits(plant, &w.state).is_ok());
+        let total: f64 = states.iter().map(|w| w.probability).sum();
+        if !(fits && total > 0.0 && total.is_finite() && time.is_finite()) {
+            return None;
+        }
+        let mut states: Vec<WeightedState> = states
+            .into_iter()
+            .filter(|w| w.probability > 0.0)
+            .map(|w| WeightedState {
+                probability: w.probability / total,
+                state: w.state,
+            })
+            .collect();
+        states.sort_by(|a, b| b.probability.total_cmp(&a.probability));
+        Some(Belief {
+            time,
+            states,
+            mode_vars: plant.components().iter().map(|c| c.mode_var()).collect(),
+        })
+    }
+
+    /// The time of the last observation folded in, t(i).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// The tracked system states, most probable first.
+    pub fn states(&self) -> &[WeightedState] {
+        &self.states
+    }
+
+    /// The plant states (system states with equal modes summed), most probable first; ties keep
+    /// the order of their most probable system state.
+    pub fn plant_states(&self) -> Vec<PlantEstimate> {
+        let mut out: Vec<PlantEstimate> = Vec::new();
+        for weighted in &self.states {
+            match out.iter_mut().find(|e| e.modes == weighted.state.modes) {
+                Some(estimate) => estimate.probability += weighted.probability,
+                None => out.push(PlantEstimate {
+                    modes: weighted.state.modes.clone(),
+                    probability: weighted.probability,
+                }),
+            }
+        }
+        out.sort_by(|a, b| b.probability.total_cmp(&a.probability));
+        out
+    }
+
+    /// ŝ: the most likely plant state, the marginal over system states with equal modes
+    /// (§4.3.2, DESIGN.md §3 step 4). Plant states within a relative 1e-9 of the best count as
+    /// tied, and a tie goes to the later-declared modes (compared component by component): at
+    /// the exact middle of a uniform window — §7.1.2's engine at 45 s of heating — the state the
+    /// timed transition leads to wins, as models list modes along their nominal progression.
+    pub fn most_likely_plant_state(&self) -> PlantEstimate {
+        let states = self.plant_states();
+        let best = states.first().map_or(0.0, |e| e.probability);
+        states
+            .into_iter()
+            .take_while(|e| e.probability >= best * (1.0 - TIE))
+            .max_by(|a, b| a.modes.cmp(&b.modes))
+            .unwrap_or(PlantEstimate {
+                modes: Vec::new(),
+                probability: 0.0,
+            })
+    }
+
+    /// The belief that mode variable `var` has value `value`: the probability of the tracked
+    /// system states that say so. `None` when `var` is not a mode variable (attributes are not
+    /// tracked; see [`Belief::predicted_marginal`]).
+    pub fn marginal(&self, var: VarId, value: ValueId) -> Option<f64> {
+        let component = self.mode_vars.iter().position(|&x| x == var)?;
+        Some(
+            self.states
+                .iter()
+                .filter(|w| w.state.modes[component] == value)
+                .map(|w| w.probability)
+                .sum(),
+        )
+    }
+
+    /// The belief that any variable (an attribute too) has `value`, as the states predict it:
+    /// each system state counts fully when its modes and the model entail `var = value`, not at
+    /// all when they refute it, and 1/m of itself when they leave it open (the observation
+    /// model of Figure 6-10).
+    pub fn predicted_marginal(
+        &self,
+        plant: &Plant,
+        theory: &mut Theory,
+        var: VarId,
+        value: ValueId,
+    ) -> Result<f64, EstimationError> {
+        if var.index() >= plant.table().len()
+            || value.index() >= plant.table().variable(var).domain_size()
+        {
+            return Err(EstimationError::Input(InputError::OutOfDomain {
+                name: format!("#{}", var.0),
+                value: value.0,
+            }));
+        }
+        let mut total = 0.0;
+        for weighted in &self.states {
+            let factor = observe::prediction(plant, theory, &weighted.state.modes, var, value)?;
+            total += weighted.probability * factor;
+        }
+        Ok(total)
+    }
+}
+
+/// Which fallback the estimator took when no tracked state explained an observation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fallback {
+    /// Components were allowed to jump into their unconstrained fault modes (`failed`,
+    /// `unknown`), which explain any observation of theirs.
+    UnconstrainedFaults,
+    /// Even that did not explain it: the previous belief is kept (clocks running on) and the
+    /// observation is set aside for this cycle.
+    PreviousBelief,
+}
+
+/// Something the caller should know about one update.
+#[derive(Debug, Clone, PartialEq)]
+pub enum EstimationEvent {
+    /// No state reachable from the tracked ones is consistent with the observation
+    /// (DESIGN.md §8): the estimator fell back as said.
+    InconsistentObservation {
+        /// What the belief was built from instead.
+        fallback: Fallback,
+    },
+    /// An OPSAT budget ran out; the belief holds the best states found so far.
+    SearchCut(Cut),
+}
+
+/// Work done by one update, for reports and benchmarks.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct UpdateStats {
+    /// Candidate trajectories (source state × next plant state) examined.
+    pub candidates: u64,
+    /// SAT solver calls made (entailment, consistency, conflict minimisation).
+    pub sat_calls: u64,
+    /// System states in the new belief.
+    pub states: u64,
+}
+
+/// The result of one estimation step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Update {
+    /// The new belief, at the new time.
+    pub belief: Belief,
+    /// Events (inconsistent observations, budget cuts).
+    pub events: Vec<EstimationEvent>,
+    /// Work done.
+    pub stats: UpdateStats,
+}
+
+/// Why an update could not be made at all (the caller's inputs do not fit; data problems are
+/// events, not errors).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EstimationError {
+    /// A command, observation or state does not fit the plant.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// Time must not go backwards, and must be a number.
+    #[error("time {to} s is not after the belief's time {from} s")]
+    TimeWentBackwards {
+        /// The belief's time.
+        from: f64,
+        /// The time asked for.
+        to: f64,
+    },
+    /// The exact update would enumerate more target states than it is meant for.
+    #[error(
+        "the exact update would enumerate {0} target states from one state: use TimedME for a model this size"
+    )]
+    TooLarge(u128),
+    /// The theory refused a formula (it is not this plant's theory).
+    #[error(transparent)]
+    Theory(#[from] TheoryError),
+}
+
+/// The shape of every mode estimator: TimedME and the exact update.
+pub trait ModeEstimator {
+    /// The belief at `time` before any transition: the initial distribution P_Θ over plant
+    /// states consistent with the model and `observation`, every clock starting at `time`
+    /// (§6.2.2, "P_Θ(s) if the clock interpretation assigns zero to each plant clock").
+    fn initial(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        time: f64,
+        observation: &Observation,
+    ) -> Result<Update, EstimationError>;
+
+    /// One step: from `belief` (at t(i)), with the control action μ(i), the observation
+    /// o(i+1) and the time t(i+1), the next belief.
+    fn update(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        belief: &Belief,
+        commands: &Commands,
+        observation: &Observation,
+        time: f64,
+    ) -> Result<Update, EstimationError>;
+}
+
+/// A system state's modes and clocks fit the plant.
+fn state_fits(plant: &Plant, state: &SystemState) -> Result<(), InputError> {
+    let components = plant.components();
+    if state.modes.len() != components.len() || state.clock_starts.len() != components.len() {
+        return Err(InputError::StateShape);
+    }
+    for (component, mode) in components.iter().zip(&state.modes) {
+        if mode.index() >= component.modes().len() {
+            return Err(InputError::OutOfDomain {
+                name: component.name().to_string(),
+                value: mode.0,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Checks what an update is given: values in their domains, a belief for this plant, a time
+/// that does not go backwards.
+fn check_step(
+    plant: &Plant,
+    belief: &Belief,
+    commands: &Commands,
+    observation: &Observation,
+    time: f64,
+) -> Result<(), EstimationError> {
+    check_values(plant, commands.values())?;
+    check_values(plant, observation.values())?;
+    for weighted in &belief.states {
+        state_fits(plant, &weighted.state)?;
+    }
+    if !time.is_finite() || time < belief.time {
+        return Err(EstimationError::TimeWentBackwards {
+            from: belief.time,
+            to: time,
+        });
+    }
+    Ok(())
+}
+
+fn check_values(plant: &Plant, values: &[(VarId, ValueId)]) -> Result<(), InputError> {
+    let table = plant.table();
+    for &(var, value) in values {
+        if var.index() >= table.len() || value.index() >= table.variable(var).domain_size() {
+            return Err(InputError::OutOfDomain {
+                name: format!("#{}", var.0),
+                value: value.0,
+            });
+        }
+    }
+    Ok(())
+}

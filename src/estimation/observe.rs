@@ -1,0 +1,99 @@
+//! The observation probability P_O(o | s) of Figure 6-10 (thesis §6.2.2, "Observation
+//! Probability"): each observed value counts 1 when the state's modes and the model entail it,
+//! 0 when they refute it, 1/m (m the observable's domain size) when they leave it open; the
+//! product over the observation. A state whose modes are inconsistent with the observation as a
+//! whole gets 0 even if no single value is refuted (Figure 6-7, step 7).
+//!
+//! The factor depends on the modes only, never on clocks, so it is cached per (modes,
+//! observation): in a quiet cycle the same few states meet the same observation again.
+
+use std::collections::HashMap;
+
+use crate::logic::{Formula, ValueId, VarId};
+use crate::opsat::{Consistency, Literal, Theory, TheoryError};
+use crate::plant::{Observation, Plant, mode_literals};
+
+/// Past this many entries the cache starts afresh (it only holds what recent cycles met).
+const CACHE_LIMIT: usize = 50_000;
+
+/// P_O with a cache.
+#[derive(Debug, Default)]
+pub(crate) struct ObservationModel {
+    cache: HashMap<Vec<u32>, f64>,
+    key: Vec<u32>,
+}
+
+impl ObservationModel {
+    /// P_O(o | modes).
+    pub(crate) fn factor(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        modes: &[ValueId],
+        observation: &Observation,
+    ) -> Result<f64, TheoryError> {
+        if observation.values().is_empty() {
+            return Ok(1.0);
+        }
+        self.key.clear();
+        self.key.extend(modes.iter().map(|m| m.0));
+        for &(x, v) in observation.values() {
+            self.key.extend([x.0, v.0]);
+        }
+        if let Some(&factor) = self.cache.get(self.key.as_slice()) {
+            return Ok(factor);
+        }
+        let factor = compute(plant, theory, modes, observation)?;
+        if self.cache.len() >= CACHE_LIMIT {
+            self.cache.clear();
+        }
+        self.cache.insert(self.key.clone(), factor);
+        Ok(factor)
+    }
+}
+
+fn compute(
+    plant: &Plant,
+    theory: &mut Theory,
+    modes: &[ValueId],
+    observation: &Observation,
+) -> Result<f64, TheoryError> {
+    let store = mode_literals(plant, modes);
+    let mut everything = store.clone();
+    everything.extend(observation.literals());
+    if let Consistency::Conflict(_) = theory.consistent(&everything) {
+        return Ok(0.0);
+    }
+    // Consistent as a whole, so no value is refuted: each is entailed (1) or left open (1/m).
+    let mut factor = 1.0;
+    for &(x, v) in observation.values() {
+        if !theory.entails(&store, &Formula::is(x, v))? {
+            factor *= unpredicted(plant, x);
+        }
+    }
+    Ok(factor)
+}
+
+/// The a-priori probability of a value nothing predicts: uniform over the domain.
+fn unpredicted(plant: &Plant, x: VarId) -> f64 {
+    1.0 / plant.table().variable(x).domain_size() as f64
+}
+
+/// How much a state with these modes predicts `x = v`: 1, 0 or 1/m (see the module docs).
+pub(crate) fn prediction(
+    plant: &Plant,
+    theory: &mut Theory,
+    modes: &[ValueId],
+    x: VarId,
+    v: ValueId,
+) -> Result<f64, TheoryError> {
+    let store: Vec<Literal> = mode_literals(plant, modes);
+    let value = Formula::is(x, v);
+    if theory.entails(&store, &value)? {
+        Ok(1.0)
+    } else if theory.entails(&store, &value.negate())? {
+        Ok(0.0)
+    } else {
+        Ok(unpredicted(plant, x))
+    }
+}

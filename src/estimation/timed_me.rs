@@ -1,0 +1,287 @@
+//! TimedME (thesis Figure 6-11; DESIGN.md §8): the κ most likely next system states, on OPSAT.
+//!
+//! 1. (Figure 6-11 steps 1–2) For each of the κ current system states, clocks advance to t(i+1).
+//! 2. (step 3) Its enabled transitions — guards entailed by its modes, the model and μ(i) —
+//!    give each component a distribution over its next mode (§6.2.2's probabilities, timed ones
+//!    in the conditional form); the targets must be consistent with o(i+1) and the model. That is
+//!    one OCSP per source state over the plant's theory.
+//! 3. (step 4) OPSAT enumerates each source's targets best first; the streams are merged by
+//!    trajectory probability, weighed by the observation factor and merged exactly where system
+//!    states coincide (see `expand.rs`).
+//! 4. (step 5) Clocks restart for components that changed mode; clocks that cannot matter are
+//!    forgotten.
+//! 5. (step 6) The κ heaviest states, renormalised, are the new belief.
+//!
+//! If no target of any tracked state is consistent with o(i+1), the estimator reports an
+//! [`EstimationEvent::InconsistentObservation`] and falls back (DESIGN.md §8): first it lets
+//! components jump into their unconstrained fault modes, which explain anything of theirs; if
+//! even that fails, it keeps the previous belief, clocks running on.
+
+use super::expand::{Expander, Expansion, Limits, SourceChoices};
+use super::{
+    Belief, EstimationError, EstimationEvent, Fallback, ModeEstimator, Update, UpdateStats,
+    WeightedState, check_step,
+};
+use crate::logic::ValueId;
+use crate::opsat::{Budget, SearchOptions, Theory};
+use crate::plant::{Commands, Observation, Plant, SystemState, successor};
+
+/// The prior of an unexplained jump into an unconstrained fault mode, per component, in the
+/// fallback. Only its smallness matters: explanations with fewer jumps come first.
+const JUMP: f64 = 1e-9;
+
+/// How TimedME searches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TimedMeOptions {
+    /// κ: how many system states to track.
+    pub kappa: usize,
+    /// How many candidate trajectories to examine per tracked state at most (the enumeration
+    /// usually stops well before: see `expand.rs`). More makes the observation factor's
+    /// reordering more faithful at some cost.
+    pub candidates_per_state: usize,
+    /// OPSAT's budget per source state's enumeration; on exhaustion the belief holds the best
+    /// found so far and the update reports [`EstimationEvent::SearchCut`].
+    pub budget: Budget,
+}
+
+impl TimedMeOptions {
+    /// κ states, the default candidate allowance, no budget.
+    pub fn kappa(kappa: usize) -> Self {
+        TimedMeOptions {
+            kappa: kappa.max(1),
+            candidates_per_state: 8,
+            budget: Budget::default(),
+        }
+    }
+
+    fn limits(&self) -> Limits {
+        Limits {
+            kappa: self.kappa,
+            max_candidates: self
+                .kappa
+                .saturating_mul(self.candidates_per_state)
+                .saturating_add(16),
+            search: SearchOptions {
+                budget: self.budget,
+                ..SearchOptions::default()
+            },
+        }
+    }
+}
+
+/// TimedME with its caches (valid for one plant and its theory).
+pub struct TimedMe {
+    options: TimedMeOptions,
+    expander: Expander,
+}
+
+impl TimedMe {
+    /// A TimedME tracking `options.kappa` states.
+    pub fn new(options: TimedMeOptions) -> Self {
+        TimedMe {
+            options,
+            expander: Expander::default(),
+        }
+    }
+
+    /// Its options.
+    pub fn options(&self) -> TimedMeOptions {
+        self.options
+    }
+}
+
+impl ModeEstimator for TimedMe {
+    fn initial(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        time: f64,
+        observation: &Observation,
+    ) -> Result<Update, EstimationError> {
+        initial_belief(
+            &mut self.expander,
+            plant,
+            theory,
+            time,
+            observation,
+            self.options.limits(),
+        )
+    }
+
+    fn update(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        belief: &Belief,
+        commands: &Commands,
+        observation: &Observation,
+        time: f64,
+    ) -> Result<Update, EstimationError> {
+        check_step(plant, belief, commands, observation, time)?;
+        let sat_before = theory.stats().sat_calls;
+        let limits = self.options.limits();
+        let mut sources = Vec::with_capacity(belief.states().len());
+        for weighted in belief.states() {
+            let choices = self.expander.choices(
+                plant,
+                theory,
+                &weighted.state,
+                commands,
+                belief.time(),
+                time,
+            )?;
+            sources.push(SourceChoices {
+                probability: weighted.probability,
+                choices,
+            });
+        }
+        let next = |k: usize, modes: Vec<ValueId>| {
+            successor(&belief.states()[k].state, modes, time).forget_idle_clocks(plant)
+        };
+        let expansion = self
+            .expander
+            .expand(plant, theory, &sources, observation, limits, next)?;
+        let mut outcome = Outcome::new(expansion);
+        if outcome.is_empty() {
+            with_fault_jumps(plant, &mut sources);
+            let expansion =
+                self.expander
+                    .expand(plant, theory, &sources, observation, limits, next)?;
+            outcome.fall_back(expansion, belief.states());
+        }
+        Ok(outcome.into_update(plant, time, theory.stats().sat_calls - sat_before))
+    }
+}
+
+/// The initial belief (shared with the exact update, which passes unbounded limits): the
+/// initial distribution as one pseudo-source whose "next modes" are the initial modes, every
+/// clock starting at `time`, conditioned on `observation`; falling back like an update.
+pub(crate) fn initial_belief(
+    expander: &mut Expander,
+    plant: &Plant,
+    theory: &mut Theory,
+    time: f64,
+    observation: &Observation,
+    limits: Limits,
+) -> Result<Update, EstimationError> {
+    if !time.is_finite() {
+        return Err(EstimationError::TimeWentBackwards {
+            from: time,
+            to: time,
+        });
+    }
+    let sat_before = theory.stats().sat_calls;
+    let mut sources = vec![SourceChoices {
+        probability: 1.0,
+        choices: plant
+            .components()
+            .iter()
+            .map(|c| {
+                (0..c.modes().len())
+                    .map(|m| (ValueId(m as u32), c.initial()[m]))
+                    .filter(|(_, p)| *p > 0.0)
+                    .collect()
+            })
+            .collect(),
+    }];
+    let entered = |_: usize, modes: Vec<ValueId>| SystemState::entered_at(plant, modes, time);
+    let expansion = expander.expand(plant, theory, &sources, observation, limits, entered)?;
+    let mut outcome = Outcome::new(expansion);
+    if outcome.is_empty() {
+        with_fault_jumps(plant, &mut sources);
+        let expansion = expander.expand(plant, theory, &sources, observation, limits, entered)?;
+        // Nothing at all: the prior, unconditioned.
+        let prior = expander.expand(
+            plant,
+            theory,
+            &sources[..],
+            &Observation::none(),
+            limits,
+            entered,
+        )?;
+        outcome.fall_back(expansion, &prior.states);
+    }
+    Ok(outcome.into_update(plant, time, theory.stats().sat_calls - sat_before))
+}
+
+/// Adds each component's unconstrained fault modes to its choices, with the small prior
+/// [`JUMP`] (DESIGN.md §8's first fallback).
+pub(crate) fn with_fault_jumps(plant: &Plant, sources: &mut [SourceChoices]) {
+    for source in sources {
+        for (component, choices) in plant.components().iter().zip(&mut source.choices) {
+            for (m, mode) in component.modes().iter().enumerate() {
+                let mode_value = ValueId(m as u32);
+                if mode.is_unconstrained_fault() && !choices.iter().any(|(v, _)| *v == mode_value) {
+                    choices.push((mode_value, JUMP));
+                }
+            }
+        }
+    }
+}
+
+/// The states an update settles on, and what happened on the way.
+pub(crate) struct Outcome {
+    states: Vec<WeightedState>,
+    events: Vec<EstimationEvent>,
+    candidates: u64,
+}
+
+impl Outcome {
+    pub(crate) fn new(expansion: Expansion) -> Outcome {
+        let mut outcome = Outcome::from_states(Vec::new(), 0);
+        outcome.absorb(expansion);
+        outcome
+    }
+
+    /// Weighted states found without OPSAT (the exact update's enumeration).
+    pub(crate) fn from_states(states: Vec<WeightedState>, candidates: u64) -> Outcome {
+        Outcome {
+            states,
+            events: Vec::new(),
+            candidates,
+        }
+    }
+
+    fn absorb(&mut self, expansion: Expansion) {
+        self.candidates += expansion.candidates;
+        if let Some(cut) = expansion.cut {
+            self.events.push(EstimationEvent::SearchCut(cut));
+        }
+        self.states = expansion.states;
+    }
+
+    pub(crate) fn is_empty(&self) -> bool {
+        self.states.is_empty()
+    }
+
+    /// DESIGN.md §8's fallbacks: the fault-jump expansion, else `previous` as it was.
+    pub(crate) fn fall_back(&mut self, jumps: Expansion, previous: &[WeightedState]) {
+        self.absorb(jumps);
+        let fallback = if self.states.is_empty() {
+            self.states = previous.to_vec();
+            Fallback::PreviousBelief
+        } else {
+            Fallback::UnconstrainedFaults
+        };
+        self.events
+            .push(EstimationEvent::InconsistentObservation { fallback });
+    }
+
+    pub(crate) fn into_update(self, plant: &Plant, time: f64, sat_calls: u64) -> Update {
+        let states = self.states.len() as u64;
+        let belief = Belief::new(plant, time, self.states).unwrap_or_else(|| Belief {
+            time,
+            states: Vec::new(),
+            mode_vars: plant.components().iter().map(|c| c.mode_var()).collect(),
+        });
+        Update {
+            belief,
+            events: self.events,
+            stats: UpdateStats {
+                candidates: self.candidates,
+                sat_calls,
+                states,
+            },
+        }
+    }
+}

@@ -1,0 +1,370 @@
+//! Plant models: timed concurrent constraint automata (TCCA; thesis §6.1, DESIGN.md §6).
+//!
+//! A [`Plant`] is a set of [`Component`]s, each a timed constraint automaton: a mode variable
+//! named by the component (`engine`) whose values are the component's [`Mode`]s (nominal or
+//! fault, each with a behaviour constraint and a reward), attribute variables
+//! `component.attribute`, an initial distribution, and probabilistic [`Transition`]s guarded by
+//! constraints and possibly timed on the component's clock. Components are coupled by
+//! interconnection constraints; some attributes are **controls** (commanded) and some are
+//! **observables** (sensed).
+//!
+//! - [`Plant::load`] reads and validates the RON format (documented in [`file`](self::file)),
+//!   with located errors.
+//! - [`Plant::theory`] encodes the plant once into the [`Theory`] that estimation, the sequencer
+//!   and goal interpretation all query: `component = mode => constraint` for every mode, plus the
+//!   interconnections.
+//! - [`timing`](TransitionLaw) turns a transition's law into a per-step probability (§6.2).
+//! - [`step_tcca`] and [`consistent_state`] are Figures 6-6 and 6-7; [`transition_choices`] is
+//!   their common core (enabled transitions and each component's distribution over next modes),
+//!   shared with mode estimation.
+
+pub mod file;
+mod locate;
+mod step;
+mod timing;
+mod validate;
+
+use std::hash::{Hash, Hasher};
+
+pub use step::{
+    Commands, InputError, Observation, component_distributions, consistent_state,
+    enabled_transitions, step_tcca, successor, transition_choices,
+};
+pub(crate) use step::{mode_literals, target_ocsp};
+pub use timing::{Timing, TransitionLaw, mode_distribution};
+
+use crate::diagnostic::{Source, SourceErrors};
+use crate::logic::{Formula, ValueId, VarId, VarTable};
+use crate::opsat::{Theory, TheoryError};
+
+/// A component, by position in [`Plant::components`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ComponentId(pub u32);
+
+impl ComponentId {
+    /// Position in the plant's component list.
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// Whether a mode is part of nominal behaviour or a fault.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ModeKind {
+    /// Nominal behaviour; transitions into it are nominal transitions.
+    Nominal,
+    /// A fault; transitions into it are failure transitions.
+    Fault,
+}
+
+/// One mode of a component.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mode {
+    /// The mode's name, which is the mode variable's value (`heating`).
+    pub name: String,
+    /// Nominal or fault.
+    pub kind: ModeKind,
+    /// The behaviour while in the mode (`M_j(x_j = v)`), over the plant's variables.
+    pub constraint: Formula,
+    /// The reward of being in the mode (`R_j(x_j = v)`; §6.1.3).
+    pub reward: f64,
+}
+
+impl Mode {
+    /// True for a fault mode whose behaviour is unconstrained (`failed`, `unknown`): it explains
+    /// any observation, which makes it the estimator's fallback (DESIGN.md §8).
+    pub fn is_unconstrained_fault(&self) -> bool {
+        self.kind == ModeKind::Fault && self.constraint == Formula::True
+    }
+}
+
+/// Where a transition leaves from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TransitionSource {
+    /// One mode.
+    Mode(ValueId),
+    /// `"*"`: every nominal mode other than the target.
+    AnyNominal,
+}
+
+/// A transition `⟨source, guard, target⟩` with its probability law (§6.1.2).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Transition {
+    /// The source mode, or every nominal mode.
+    pub source: TransitionSource,
+    /// The target mode.
+    pub target: ValueId,
+    /// The guard: enabled when the constraint store and the commands entail it.
+    pub guard: Formula,
+    /// How likely it is to fire in a step when enabled.
+    pub law: TransitionLaw,
+}
+
+/// A component: one timed constraint automaton.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Component {
+    name: String,
+    mode_var: VarId,
+    attributes: Vec<VarId>,
+    modes: Vec<Mode>,
+    initial: Vec<f64>,
+    transitions: Vec<Transition>,
+    /// Per mode, the transitions that leave it (`"*"` expanded).
+    outgoing: Vec<Vec<usize>>,
+}
+
+impl Component {
+    /// The component's name, which is also its mode variable's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The mode variable.
+    pub fn mode_var(&self) -> VarId {
+        self.mode_var
+    }
+
+    /// The attribute variables (`component.attribute`), in declaration order.
+    pub fn attributes(&self) -> &[VarId] {
+        &self.attributes
+    }
+
+    /// The modes; a mode's position is its value in the mode variable's domain.
+    pub fn modes(&self) -> &[Mode] {
+        &self.modes
+    }
+
+    /// One mode.
+    pub fn mode(&self, mode: ValueId) -> &Mode {
+        &self.modes[mode.index()]
+    }
+
+    /// The mode with this name.
+    pub fn mode_named(&self, name: &str) -> Option<ValueId> {
+        self.modes
+            .iter()
+            .position(|m| m.name == name)
+            .map(|i| ValueId(i as u32))
+    }
+
+    /// `P_Θ`: the initial probability of each mode, by mode value.
+    pub fn initial(&self) -> &[f64] {
+        &self.initial
+    }
+
+    /// The transitions as declared (a `"*"` source stays one transition).
+    pub fn transitions(&self) -> &[Transition] {
+        &self.transitions
+    }
+
+    /// The transitions leaving `mode`, by index into [`Component::transitions`], with `"*"`
+    /// expanded.
+    pub fn outgoing(&self, mode: ValueId) -> &[usize] {
+        &self.outgoing[mode.index()]
+    }
+
+    /// True when some transition out of `mode` depends on the time spent in it. When not, the
+    /// component's clock cannot matter until it changes mode (which resets it), so estimation
+    /// forgets it and merges states that differ only there (DESIGN.md §8).
+    pub fn clock_matters(&self, mode: ValueId) -> bool {
+        self.outgoing(mode).iter().any(|&t| {
+            self.transitions[t]
+                .law
+                .timing()
+                .is_some_and(Timing::needs_clock)
+        })
+    }
+}
+
+/// A control variable and the value it holds in a cycle without a command to it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Control {
+    /// The attribute variable.
+    pub var: VarId,
+    /// Its value when not commanded (`no-command`, `none`).
+    pub idle: ValueId,
+}
+
+/// A validated TCCA plant model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plant {
+    name: String,
+    table: VarTable,
+    components: Vec<Component>,
+    controls: Vec<Control>,
+    observables: Vec<VarId>,
+    connections: Vec<Formula>,
+    /// For each variable of the table, the component whose mode variable it is.
+    component_of: Vec<Option<ComponentId>>,
+}
+
+impl Plant {
+    /// Reads and validates a plant model (the format is documented in [`file`](self::file)).
+    /// Every problem found is reported with its location.
+    pub fn load(source: &Source) -> Result<Plant, SourceErrors> {
+        file::load(source)
+    }
+
+    /// The model's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The plant's variables: each component's mode variable followed by its attributes, in
+    /// declaration order.
+    pub fn table(&self) -> &VarTable {
+        &self.table
+    }
+
+    /// The components, in declaration order.
+    pub fn components(&self) -> &[Component] {
+        &self.components
+    }
+
+    /// One component.
+    pub fn component(&self, id: ComponentId) -> &Component {
+        &self.components[id.index()]
+    }
+
+    /// The component with this name.
+    pub fn component_named(&self, name: &str) -> Option<ComponentId> {
+        self.components
+            .iter()
+            .position(|c| c.name == name)
+            .map(|i| ComponentId(i as u32))
+    }
+
+    /// The component whose mode variable `var` is (`None` for attributes).
+    pub fn component_of(&self, var: VarId) -> Option<ComponentId> {
+        self.component_of.get(var.index()).copied().flatten()
+    }
+
+    /// Component ids with their components.
+    pub fn component_ids(&self) -> impl ExactSizeIterator<Item = (ComponentId, &Component)> {
+        self.components
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (ComponentId(i as u32), c))
+    }
+
+    /// The control variables (`Π^c`) and their idle values.
+    pub fn controls(&self) -> &[Control] {
+        &self.controls
+    }
+
+    /// The observable variables (`Π^o`).
+    pub fn observables(&self) -> &[VarId] {
+        &self.observables
+    }
+
+    /// The interconnection constraints (`Q`).
+    pub fn connections(&self) -> &[Formula] {
+        &self.connections
+    }
+
+    /// Every constraint of the model: `component = mode => M(mode)` for each mode with a
+    /// constraint, then the interconnections. This is `C_M` with the modes left open (the mode
+    /// variables decide which behaviour holds).
+    pub fn constraints(&self) -> Vec<Formula> {
+        let mut out = Vec::new();
+        for component in &self.components {
+            for (i, mode) in component.modes.iter().enumerate() {
+                if mode.constraint != Formula::True {
+                    out.push(Formula::Implies(
+                        Box::new(Formula::is(component.mode_var, ValueId(i as u32))),
+                        Box::new(mode.constraint.clone()),
+                    ));
+                }
+            }
+        }
+        out.extend(self.connections.iter().cloned());
+        out
+    }
+
+    /// Encodes the plant into a fresh [`Theory`] (once per plant; the caller owns it and passes
+    /// it to estimation, the sequencer and goal interpretation).
+    pub fn theory(&self) -> Result<Theory, TheoryError> {
+        Theory::new(self.table.clone(), &self.constraints())
+    }
+}
+
+/// A system state (§6.2.2): every component's mode and the absolute time its clock started
+/// (when it entered that mode). A clock start is `None` when the component's clock cannot matter
+/// in its current mode ([`Component::clock_matters`]): estimation forgets it so that states
+/// differing only there merge.
+#[derive(Debug, Clone)]
+pub struct SystemState {
+    /// Mode per component, by [`ComponentId`].
+    pub modes: Vec<ValueId>,
+    /// Clock start time per component, seconds, or `None` when it does not matter.
+    pub clock_starts: Vec<Option<f64>>,
+}
+
+impl SystemState {
+    /// A state where every component entered its mode at `time`, with the clocks that do not
+    /// matter forgotten.
+    pub fn entered_at(plant: &Plant, modes: Vec<ValueId>, time: f64) -> SystemState {
+        let clock_starts = vec![Some(time); modes.len()];
+        SystemState {
+            modes,
+            clock_starts,
+        }
+        .forget_idle_clocks(plant)
+    }
+
+    /// Forgets the clocks that cannot matter in the components' current modes.
+    pub fn forget_idle_clocks(mut self, plant: &Plant) -> SystemState {
+        for (i, (component, mode)) in plant.components.iter().zip(&self.modes).enumerate() {
+            if !component.clock_matters(*mode) {
+                self.clock_starts[i] = None;
+            }
+        }
+        self
+    }
+
+    /// Component `component`'s clock at `time` (time since it entered its mode), if known.
+    pub fn clock(&self, component: ComponentId, time: f64) -> Option<f64> {
+        self.clock_starts[component.index()].map(|start| time - start)
+    }
+
+    /// `component = mode, ...` with names.
+    pub fn describe(&self, plant: &Plant) -> String {
+        describe_modes(plant, &self.modes)
+    }
+}
+
+/// Equality on modes and clock starts, clock starts compared bit for bit (they are times the
+/// caller gave, copied, never computed).
+impl PartialEq for SystemState {
+    fn eq(&self, other: &Self) -> bool {
+        self.modes == other.modes
+            && self.clock_starts.len() == other.clock_starts.len()
+            && self
+                .clock_starts
+                .iter()
+                .zip(&other.clock_starts)
+                .all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits))
+    }
+}
+
+impl Eq for SystemState {}
+
+impl Hash for SystemState {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.modes.hash(state);
+        for start in &self.clock_starts {
+            start.map(f64::to_bits).hash(state);
+        }
+    }
+}
+
+/// `component = mode, ...` for a mode vector, with names.
+pub fn describe_modes(plant: &Plant, modes: &[ValueId]) -> String {
+    plant
+        .components
+        .iter()
+        .zip(modes)
+        .map(|(c, m)| format!("{} = {}", c.name, c.mode(*m).name))
+        .collect::<Vec<_>>()
+        .join(", ")
+}

@@ -1,0 +1,320 @@
+//! One step of a TCCA: Step_TCCA (Figure 6-6) and ConsistentState_TCCA (Figure 6-7), and their
+//! common core — which transitions are enabled in a system state under a control action, and
+//! each component's distribution over its next mode — which mode estimation shares.
+
+use super::{ComponentId, Plant, SystemState, mode_distribution};
+use crate::logic::{Formula, ValueId, VarId};
+use crate::opsat::{Consistency, Literal, Ocsp, Theory, TheoryError};
+
+/// Why a control action, an observation or a state does not fit the plant.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum InputError {
+    /// Only control variables can be commanded.
+    #[error("`{0}` is not a control of the plant")]
+    NotAControl(String),
+    /// Only observables can be observed.
+    #[error("`{0}` is not an observable of the plant")]
+    NotObservable(String),
+    /// A variable was given two values in one cycle.
+    #[error("`{0}` is given twice in one cycle")]
+    Repeated(String),
+    /// A value outside the variable's domain (or a variable not in the plant).
+    #[error("value #{value} is outside the domain of `{name}`")]
+    OutOfDomain {
+        /// The variable.
+        name: String,
+        /// The value's number.
+        value: u32,
+    },
+    /// A system state must give every component a mode and a clock start.
+    #[error("a system state needs one mode and one clock start per component")]
+    StateShape,
+}
+
+/// Checks that `(var, value)` names a variable of the plant and a value of its domain.
+fn check_value(plant: &Plant, var: VarId, value: ValueId) -> Result<(), InputError> {
+    if var.index() >= plant.table().len() {
+        return Err(InputError::OutOfDomain {
+            name: format!("#{}", var.0),
+            value: value.0,
+        });
+    }
+    let variable = plant.table().variable(var);
+    if value.index() >= variable.domain_size() {
+        return Err(InputError::OutOfDomain {
+            name: variable.name().to_string(),
+            value: value.0,
+        });
+    }
+    Ok(())
+}
+
+/// A control action μ: a value for every control of the plant, commanded or idle.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Commands {
+    /// One value per control, in the order of [`Plant::controls`].
+    values: Vec<(VarId, ValueId)>,
+}
+
+impl Commands {
+    /// No command: every control holds its idle value.
+    pub fn idle(plant: &Plant) -> Commands {
+        Commands {
+            values: plant.controls().iter().map(|c| (c.var, c.idle)).collect(),
+        }
+    }
+
+    /// The commands issued in a cycle; the other controls are idle.
+    pub fn new(plant: &Plant, issued: &[(VarId, ValueId)]) -> Result<Commands, InputError> {
+        let mut commands = Commands::idle(plant);
+        let mut seen = Vec::new();
+        for &(var, value) in issued {
+            check_value(plant, var, value)?;
+            let name = || plant.table().variable(var).name().to_string();
+            let Some(slot) = commands.values.iter_mut().find(|(x, _)| *x == var) else {
+                return Err(InputError::NotAControl(name()));
+            };
+            if seen.contains(&var) {
+                return Err(InputError::Repeated(name()));
+            }
+            seen.push(var);
+            slot.1 = value;
+        }
+        Ok(commands)
+    }
+
+    /// Every control's value.
+    pub fn values(&self) -> &[(VarId, ValueId)] {
+        &self.values
+    }
+
+    /// The controls that are not idle, for display.
+    pub fn issued<'a>(&'a self, plant: &'a Plant) -> impl Iterator<Item = (VarId, ValueId)> + 'a {
+        self.values
+            .iter()
+            .zip(plant.controls())
+            .filter(|((_, v), control)| *v != control.idle)
+            .map(|(&assignment, _)| assignment)
+    }
+
+    fn literals(&self) -> impl Iterator<Item = Literal> + '_ {
+        self.values.iter().map(|&(x, v)| Literal::Is(x, v))
+    }
+}
+
+/// An observation o: values of some observables; those absent are unknown this cycle.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Hash)]
+pub struct Observation {
+    /// Observed values, sorted by variable.
+    values: Vec<(VarId, ValueId)>,
+}
+
+impl Observation {
+    /// Nothing observed.
+    pub fn none() -> Observation {
+        Observation::default()
+    }
+
+    /// The observables read in a cycle.
+    pub fn new(plant: &Plant, observed: &[(VarId, ValueId)]) -> Result<Observation, InputError> {
+        let mut values = Vec::with_capacity(observed.len());
+        for &(var, value) in observed {
+            check_value(plant, var, value)?;
+            let name = || plant.table().variable(var).name().to_string();
+            if !plant.observables().contains(&var) {
+                return Err(InputError::NotObservable(name()));
+            }
+            if values.iter().any(|(x, _)| *x == var) {
+                return Err(InputError::Repeated(name()));
+            }
+            values.push((var, value));
+        }
+        values.sort_unstable();
+        Ok(Observation { values })
+    }
+
+    /// The observed values, sorted by variable.
+    pub fn values(&self) -> &[(VarId, ValueId)] {
+        &self.values
+    }
+
+    /// The observation as assumptions.
+    pub fn literals(&self) -> impl Iterator<Item = Literal> + '_ {
+        self.values.iter().map(|&(x, v)| Literal::Is(x, v))
+    }
+}
+
+/// `component = mode` for every component.
+pub(crate) fn mode_literals(plant: &Plant, modes: &[ValueId]) -> Vec<Literal> {
+    plant
+        .components()
+        .iter()
+        .zip(modes)
+        .map(|(c, &m)| Literal::Is(c.mode_var(), m))
+        .collect()
+}
+
+/// Figure 6-6, steps 3–4 (and Figure 6-10's "identify enabled transitions"): per component,
+/// the transitions out of its mode whose guard the constraint store `C_M` (the modes' constraints
+/// and the interconnections) and the control action μ entail, by index into
+/// [`Component::transitions`](super::Component::transitions). When the modes and μ contradict
+/// each other nothing is entailed but by vacuity, so only unguarded transitions count as enabled.
+pub fn enabled_transitions(
+    plant: &Plant,
+    theory: &mut Theory,
+    modes: &[ValueId],
+    commands: &Commands,
+) -> Result<Vec<Vec<usize>>, TheoryError> {
+    let mut store = mode_literals(plant, modes);
+    store.extend(commands.literals());
+    let guarded = |t: &usize, c: &super::Component| c.transitions()[*t].guard != Formula::True;
+    let any_guarded = plant
+        .components()
+        .iter()
+        .zip(modes)
+        .any(|(c, &m)| c.outgoing(m).iter().any(|t| guarded(t, c)));
+    let store_consistent = !any_guarded || theory.consistent(&store) == Consistency::Consistent;
+    let mut enabled = Vec::with_capacity(modes.len());
+    for (component, &mode) in plant.components().iter().zip(modes) {
+        let mut here = Vec::new();
+        for &t in component.outgoing(mode) {
+            let guard = &component.transitions()[t].guard;
+            let on = match guard {
+                Formula::True => true,
+                _ if !store_consistent => false,
+                guard => theory.entails(&store, guard)?,
+            };
+            if on {
+                here.push(t);
+            }
+        }
+        enabled.push(here);
+    }
+    Ok(enabled)
+}
+
+/// Each component's distribution over its next mode, given its enabled transitions
+/// (`enabled[c]`, from [`enabled_transitions`]) and a step from `from` to `to` (absolute
+/// seconds): §6.2.2's transition probability, stay included.
+pub fn component_distributions(
+    plant: &Plant,
+    state: &SystemState,
+    enabled: &[Vec<usize>],
+    from: f64,
+    to: f64,
+) -> Vec<Vec<(ValueId, f64)>> {
+    plant
+        .component_ids()
+        .zip(enabled)
+        .map(|((id, component), enabled)| {
+            let mode = state.modes[id.index()];
+            let laws = enabled.iter().map(|&t| {
+                let transition = &component.transitions()[t];
+                (transition.target, transition.law)
+            });
+            mode_distribution(mode, laws, state.clock(id, from), to - from)
+        })
+        .collect()
+}
+
+/// The common core of Figures 6-6, 6-7, 6-10 and 6-11: in `state` at time `from`, under control
+/// action μ, each component's distribution over its mode at `to`.
+pub fn transition_choices(
+    plant: &Plant,
+    theory: &mut Theory,
+    state: &SystemState,
+    commands: &Commands,
+    from: f64,
+    to: f64,
+) -> Result<Vec<Vec<(ValueId, f64)>>, TheoryError> {
+    let enabled = enabled_transitions(plant, theory, &state.modes, commands)?;
+    Ok(component_distributions(plant, state, &enabled, from, to))
+}
+
+/// Figure 6-6 step 6 / Figure 6-11 step 5: the state reached when every component takes the
+/// transition to `targets`, at time `to` — clocks of components that changed mode restart then.
+pub fn successor(source: &SystemState, targets: Vec<ValueId>, to: f64) -> SystemState {
+    let clock_starts = source
+        .modes
+        .iter()
+        .zip(&targets)
+        .zip(&source.clock_starts)
+        .map(|((before, after), start)| if before == after { *start } else { Some(to) })
+        .collect();
+    SystemState {
+        modes: targets,
+        clock_starts,
+    }
+}
+
+/// Step_TCCA (Figure 6-6): every component takes one enabled transition (staying is the
+/// implicit one), chosen by `choose(component, distribution)`, which returns an index into the
+/// distribution (a simulator samples; a test picks); out-of-range indices mean "stay".
+pub fn step_tcca(
+    plant: &Plant,
+    theory: &mut Theory,
+    state: &SystemState,
+    commands: &Commands,
+    from: f64,
+    to: f64,
+    mut choose: impl FnMut(ComponentId, &[(ValueId, f64)]) -> usize,
+) -> Result<SystemState, TheoryError> {
+    let choices = transition_choices(plant, theory, state, commands, from, to)?;
+    let targets = choices
+        .iter()
+        .enumerate()
+        .map(|(c, distribution)| {
+            let pick = choose(ComponentId(c as u32), distribution);
+            distribution
+                .get(pick)
+                .map_or(state.modes[c], |&(target, _)| target)
+        })
+        .collect();
+    Ok(successor(state, targets, to))
+}
+
+/// An OCSP whose decisions are the components' next modes with costs −ln p, subject to the
+/// plant's theory and `observation`: its solutions are the next plant states consistent with the
+/// observation, most probable first (Figure 6-11 step 3 for one source state).
+pub(crate) fn target_ocsp(
+    plant: &Plant,
+    choices: &[Vec<(ValueId, f64)>],
+    observation: &Observation,
+) -> Ocsp {
+    let mut ocsp = Ocsp::new();
+    for (component, distribution) in plant.components().iter().zip(choices) {
+        let options = distribution
+            .iter()
+            .filter(|(_, p)| p.is_finite() && *p > 0.0)
+            .map(|&(value, p)| (value, -p.ln()));
+        if ocsp.decide(component.mode_var(), options).is_err() {
+            unreachable!("each component decides once, with finite costs");
+        }
+    }
+    for literal in observation.literals() {
+        ocsp.assume(literal);
+    }
+    ocsp
+}
+
+/// ConsistentState_TCCA (Figure 6-7): a next state reachable by enabled transitions whose modes'
+/// constraints are consistent with `observation`. Figure 6-7 chooses non-deterministically; this
+/// returns the most probable such state (OPSAT), or `None` when no choice of transitions is
+/// consistent with the observation.
+pub fn consistent_state(
+    plant: &Plant,
+    theory: &mut Theory,
+    state: &SystemState,
+    commands: &Commands,
+    observation: &Observation,
+    from: f64,
+    to: f64,
+) -> Result<Option<SystemState>, TheoryError> {
+    let choices = transition_choices(plant, theory, state, commands, from, to)?;
+    let ocsp = target_ocsp(plant, &choices, observation);
+    let best = ocsp.best(theory, 1);
+    Ok(best.solutions.into_iter().next().map(|solution| {
+        let targets = solution.assignment.into_iter().map(|(_, v)| v).collect();
+        successor(state, targets, to)
+    }))
+}

@@ -1,0 +1,110 @@
+//! `kairos estimate` (issue 4, item 6): replays a log and prints the top estimates per cycle,
+//! with TimedME or the exact update, as text or JSON lines; a bad log exits 2 with located errors.
+
+use std::process::Command;
+
+fn kairos(args: &[&str]) -> (i32, String, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the kairos binary runs");
+    (
+        output.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+const PLANT: &str = "models/driver_valve.ron";
+const LOG: &str = "tests/logs/driver_valve_stuck.jsonl";
+
+/// The driver is turned on and the valve commanded open, but no flow comes out: the valve is
+/// stuck closed (most likely) or the driver stopped relaying (Table 6.1's resettable).
+#[test]
+fn timed_me_diagnoses_the_valve_and_keeps_the_driver_in_view() {
+    let (code, stdout, stderr) = kairos(&["estimate", "--plant", PLANT, "--log", LOG]);
+    assert_eq!(code, 0, "{stderr}");
+    let last_cycle = stdout.rsplit("t = ").next().unwrap_or_default();
+    let mut estimates = last_cycle.lines().skip(1);
+    assert!(
+        estimates
+            .next()
+            .unwrap_or_default()
+            .ends_with("driver = on, valve = stuck-closed"),
+        "{stdout}"
+    );
+    assert!(
+        estimates
+            .next()
+            .unwrap_or_default()
+            .ends_with("driver = resettable, valve = closed"),
+        "{stdout}"
+    );
+    insta::assert_snapshot!(stdout);
+}
+
+#[test]
+fn the_exact_update_agrees_on_the_top_estimates() {
+    let (code, exact, _) = kairos(&[
+        "estimate", "--plant", PLANT, "--log", LOG, "--exact", "--top", "2",
+    ]);
+    assert_eq!(code, 0);
+    let (_, timed, _) = kairos(&["estimate", "--plant", PLANT, "--log", LOG, "--top", "2"]);
+    let modes = |text: &str| -> Vec<String> {
+        text.lines()
+            .filter(|l| l.starts_with("    "))
+            .map(|l| l.split("  ").last().unwrap_or_default().to_string())
+            .collect()
+    };
+    assert_eq!(modes(&exact), modes(&timed));
+    insta::assert_snapshot!(exact);
+}
+
+#[test]
+fn json_lines_carry_estimates_events_and_commands() {
+    let (code, stdout, _) = kairos(&[
+        "estimate", "--plant", PLANT, "--log", LOG, "--json", "--kappa", "5",
+    ]);
+    assert_eq!(code, 0);
+    let cycles: Vec<serde_json::Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+        .collect();
+    assert_eq!(cycles.len(), 5);
+    assert_eq!(cycles[0]["commands"]["driver.dcmd_in"], "on");
+    assert_eq!(cycles[0]["estimates"][0]["modes"]["driver"], "off");
+    assert_eq!(cycles[4]["estimates"][0]["modes"]["valve"], "stuck-closed");
+    assert!(
+        cycles
+            .iter()
+            .all(|c| c["system_states"].as_u64().unwrap_or(99) <= 5)
+    );
+}
+
+#[test]
+fn a_bad_log_exits_2_with_every_error_located() {
+    let (code, stdout, stderr) = kairos(&[
+        "estimate",
+        "--plant",
+        PLANT,
+        "--log",
+        "tests/logs/bad_log.jsonl",
+    ]);
+    assert_eq!(code, 2, "{stdout}");
+    for expected in [
+        "bad_log.jsonl:3:33",
+        "`valve.flow` is not an observable of the plant",
+        "did you mean `valve.flow_in`?",
+        "`full` is not a value of `valve.flow_out`",
+        "`valve.vcmd_in` is not a control of the plant",
+        "malformed log line",
+        "time 1.5 s comes after 2 s on line 5",
+    ] {
+        assert!(
+            stderr.contains(expected),
+            "missing `{expected}` in\n{stderr}"
+        );
+    }
+    insta::assert_snapshot!(stderr);
+}
