@@ -12,4 +12,5 @@ pub mod diagnostic;
 pub mod logic;
 pub mod opsat;
 pub mod plant;
+pub mod reconfiguration;
 pub mod report;
