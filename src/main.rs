@@ -46,6 +46,10 @@ enum Command {
         #[arg(long)]
         dot: bool,
     },
+    /// Mode reconfiguration: the goal state goal interpretation picks and the command sequence
+    /// the reactive planner produces when every command succeeds nominally; or, with
+    /// `--policies`, the causal graph and every component's concurrent policy.
+    Plan(cli::plan::PlanArgs),
 }
 
 fn main() -> ExitCode {
@@ -53,6 +57,7 @@ fn main() -> ExitCode {
         Command::Solve { file, k, json } => cli::solve::run(&file, k, json),
         Command::CheckModel { model } => cli::check_model::check_model(&model),
         Command::Graph { model, dot } => cli::graph::run(&model, dot),
+        Command::Plan(args) => cli::plan::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
