@@ -229,10 +229,12 @@ pub(crate) fn interpret(
     let mut ocsp = Ocsp::new();
     for (id, component) in plant.component_ids() {
         let here = current[id.index()];
-        let choices = domains[id.index()].iter().map(|&v| {
-            let moving = if v == here { 0.0 } else { MOVE_COST };
-            (v, moving - component.mode(v).reward)
-        });
+        let choices = narrowed(plant, &domains[id.index()], id, &parts)
+            .into_iter()
+            .map(|v| {
+                let moving = if v == here { 0.0 } else { MOVE_COST };
+                (v, moving - component.mode(v).reward)
+            });
         if ocsp.decide(component.mode_var(), choices).is_err() {
             return Err(GoalFailed::bad_input(format!(
                 "component `{}` has a reward that is not a number",
@@ -241,7 +243,10 @@ pub(crate) fn interpret(
         }
     }
     for (literal, _) in &parts {
-        ocsp.assume(*literal);
+        let on_a_mode = matches!(literal, Literal::Is(x, _) if plant.component_of(*x).is_some());
+        if !on_a_mode {
+            ocsp.assume(*literal);
+        }
     }
     let mode_goal = goal
         .as_assignments()
@@ -291,6 +296,28 @@ pub(crate) fn interpret(
             parts: &parts,
         },
     ))
+}
+
+/// `domain` without the modes the goal's own assignments to component `c` exclude. Goal
+/// assignments to mode variables narrow the decision instead of being assumed: the same
+/// problem, smaller, and OPSAT's conflict-directed search only learns conflicts over its
+/// decisions from the candidates, not from assumptions on the decision variables themselves.
+fn narrowed(
+    plant: &Plant,
+    domain: &[ValueId],
+    c: ComponentId,
+    parts: &[(Literal, Formula)],
+) -> Vec<ValueId> {
+    let var = plant.component(c).mode_var();
+    domain
+        .iter()
+        .copied()
+        .filter(|&v| {
+            parts
+                .iter()
+                .all(|(literal, _)| !matches!(*literal, Literal::Is(x, w) if x == var && w != v))
+        })
+        .collect()
 }
 
 /// Per component, the modes GI may choose: its helper modes and the named feasible finals.
