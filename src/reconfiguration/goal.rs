@@ -3,7 +3,9 @@
 //!
 //! - One decision variable per component: its mode, over the modes [`feasible`] allows (its
 //!   helper modes, plus an irreversible target when the goal names it), with cost −reward.
-//!   Ties between equal rewards go to staying put: a move costs [`MOVE_COST`] more.
+//!   Ties between equal rewards go to staying put: a move costs [`MOVE_COST`] more. A
+//!   *transient* mode, which the component leaves by itself (heating), is offered only when the
+//!   goal names it or the component is in it: a goal state should be one the plant stays in.
 //! - Constraints: the plant's theory (the caller's, which GI extends with definitions), and the
 //!   goal. Candidates come out best first, consistent with the model and the goal; when the goal
 //!   is a conjunction of mode assignments that is also entailment, otherwise each candidate is
@@ -224,7 +226,7 @@ pub(crate) fn interpret(
         current,
     );
     let named = named_modes(plant, goal);
-    let domains = domains(&feasible, &named);
+    let domains = domains(reconfiguration, current, &feasible, &named);
     let parts = goal_parts(theory, goal).map_err(GoalFailed::bad_input)?;
     let mut ocsp = Ocsp::new();
     for (id, component) in plant.component_ids() {
@@ -320,17 +322,27 @@ fn narrowed(
         .collect()
 }
 
-/// Per component, the modes GI may choose: its helper modes and the named feasible finals.
-fn domains(feasible: &Feasible, named: &[Vec<ValueId>]) -> Vec<Vec<ValueId>> {
-    feasible
-        .helpers
+/// Per component, the modes GI may choose: its helper modes and the named feasible finals,
+/// without the transient modes (left by themselves) the goal does not name, unless current.
+fn domains(
+    reconfiguration: &Reconfiguration,
+    current: &[ValueId],
+    feasible: &Feasible,
+    named: &[Vec<ValueId>],
+) -> Vec<Vec<ValueId>> {
+    reconfiguration
+        .policies()
         .iter()
-        .zip(&feasible.finals)
-        .zip(named)
-        .map(|((helpers, finals), named)| {
+        .enumerate()
+        .map(|(c, policy)| {
+            let (helpers, finals) = (&feasible.helpers[c], &feasible.finals[c]);
             (0..helpers.len())
                 .map(|v| ValueId(v as u32))
-                .filter(|v| helpers[v.index()] || (finals[v.index()] && named.contains(v)))
+                .filter(|v| {
+                    let is_named = named[c].contains(v);
+                    let holdable = !policy.is_transient(*v) || is_named || *v == current[c];
+                    holdable && (helpers[v.index()] || (finals[v.index()] && is_named))
+                })
                 .collect()
         })
         .collect()

@@ -117,6 +117,19 @@ impl ConcurrentPolicy {
         &self.reachability
     }
 
+    /// True when the component leaves `mode` by itself: a step out of it needs no command and
+    /// no sub-goal (a timed transition such as heating → standby). Goal interpretation offers
+    /// such a mode only when the goal names it or the component is already in it.
+    pub fn is_transient(&self, mode: ValueId) -> bool {
+        self.steps.iter().any(|step| {
+            step.source == mode
+                && step
+                    .requirement
+                    .as_ref()
+                    .is_ok_and(|r| r.is_idle() && r.modes.is_empty())
+        })
+    }
+
     /// Puts every step's sub-goals in the planner's order: by `rank` (a component's position
     /// in the causal graph's downstream-first order).
     pub(crate) fn order_sub_goals(&mut self, rank: &[usize]) {
