@@ -253,7 +253,14 @@ pub(crate) fn interpret(
     let mode_goal = goal
         .as_assignments()
         .is_some_and(|a| a.iter().all(|&(x, _)| plant.component_of(x).is_some()));
-    let mut candidates = ocsp.enumerate(theory, SearchOptions::default());
+    // One search over all the decisions: GI wants the first entailing candidate, and a
+    // decomposed search fetches two solutions of every independent sub-problem before its
+    // first (two SAT calls per component of a loosely coupled plant; BENCHMARKS.md).
+    let options = SearchOptions {
+        decompose: false,
+        ..SearchOptions::default()
+    };
+    let mut candidates = ocsp.enumerate(theory, options);
     let mut tested = 0u64;
     while let Ok(Some(solution)) = candidates.next(theory) {
         let entailed = mode_goal

@@ -19,7 +19,7 @@
 
 use super::causal::{Dependencies, Influence, conjuncts};
 use crate::logic::{Formula, ValueId, VarId};
-use crate::opsat::{Consistency, Literal, Theory, TheoryError};
+use crate::opsat::{Consistency, Literal, Theory, TheoryError, TheoryOptions};
 use crate::plant::{ComponentId, ModeKind, Plant};
 
 /// At most this many candidate assignments are tried per group of a guard; a guard more
@@ -163,7 +163,13 @@ pub(crate) struct GuardCompiler<'a> {
 impl<'a> GuardCompiler<'a> {
     /// A compiler over a fresh theory of `plant`.
     pub fn new(plant: &'a Plant, influence: &'a Influence) -> Result<Self, TheoryError> {
-        let mut theory = plant.theory()?;
+        // Compilation asks yes/no questions only: minimising conflicts would be wasted work.
+        let options = TheoryOptions {
+            minimize_conflicts: false,
+            ..TheoryOptions::default()
+        };
+        let mut theory =
+            Theory::with_options(plant.table().clone(), &plant.constraints(), options)?;
         let mut nominal = Vec::with_capacity(plant.components().len());
         let mut nominal_modes = Vec::with_capacity(plant.components().len());
         for component in plant.components() {
@@ -393,7 +399,14 @@ impl<'a> GuardCompiler<'a> {
         budget: &mut usize,
     ) -> Result<Option<Vec<(ComponentId, ValueId)>>, TheoryError> {
         *budget = budget.saturating_sub(1);
-        if self.supports(&self.assumptions(query, &[]), formula)? {
+        let free = self.assumptions(query, &[]);
+        // Any support is consistent with the formula, so one check rules most commands out.
+        let mut with_formula = free.clone();
+        with_formula.push(self.theory.define(formula)?);
+        if self.theory.consistent(&with_formula) != Consistency::Consistent {
+            return Ok(None);
+        }
+        if self.supports(&free, formula)? {
             return Ok(Some(Vec::new()));
         }
         let sizes: Vec<usize> = query
