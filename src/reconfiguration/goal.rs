@@ -511,3 +511,74 @@ fn describe_reach(
     }
     text
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::Reconfiguration;
+    use super::super::testing::{SWITCH_GADGET, component, load, mode, state};
+    use super::{FailureCause, named_modes};
+    use crate::logic::parse_formula;
+
+    #[test]
+    fn only_positive_mode_atoms_are_named() {
+        let plant = load(SWITCH_GADGET);
+        let goal = parse_formula(
+            "gadget = c and not gadget = d and (switch = on => gadget = b) and gadget.power = on",
+            plant.table(),
+        )
+        .expect("formula");
+        let named = named_modes(&plant, &goal);
+        let gadget = component(&plant, "gadget").index();
+        assert_eq!(
+            named[gadget],
+            [mode(&plant, "gadget", "c"), mode(&plant, "gadget", "b")]
+        );
+        assert!(named[component(&plant, "switch").index()].is_empty());
+    }
+
+    #[test]
+    fn ties_stay_put_and_transient_modes_are_offered_only_where_the_gadget_is() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let gadget = component(&plant, "gadget");
+        let anything = parse_formula("true", plant.table()).expect("formula");
+        for here in ["a", "e"] {
+            let current = state(&plant, &["off", here]);
+            let goal = reconfiguration
+                .interpret(&mut theory, &current, &anything)
+                .expect("a goal state");
+            assert_eq!(goal.mode(gadget), mode(&plant, "gadget", here));
+        }
+        // Leaving e: a, the transient mode, is not offered; b is.
+        let not_e = parse_formula("not gadget = e", plant.table()).expect("formula");
+        let current = state(&plant, &["off", "e"]);
+        let goal = reconfiguration
+            .interpret(&mut theory, &current, &not_e)
+            .expect("a goal state");
+        assert_eq!(goal.mode(gadget), mode(&plant, "gadget", "b"));
+    }
+
+    #[test]
+    fn irreversible_goals_must_be_named_and_unreachable_ones_are_explained() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let current = state(&plant, &["off", "a"]);
+        let c = parse_formula("gadget = c", plant.table()).expect("formula");
+        let goal = reconfiguration
+            .interpret(&mut theory, &current, &c)
+            .expect("named, so offered");
+        assert!(goal.is_named(component(&plant, "gadget")));
+        let d = parse_formula("gadget = d", plant.table()).expect("formula");
+        let failed = reconfiguration
+            .interpret(&mut theory, &current, &d)
+            .expect_err("two irreversible steps away");
+        assert_eq!(
+            failed.reason,
+            "gadget = d is unreachable: gadget can reach only a, b, e from a; gadget = c would \
+             be irreversible and the goal does not name it"
+        );
+        assert!(matches!(failed.cause, FailureCause::Unreachable { .. }));
+    }
+}

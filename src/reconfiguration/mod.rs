@@ -35,6 +35,8 @@ mod policy;
 mod reachability;
 mod requirement;
 mod simulate;
+#[cfg(test)]
+mod testing;
 
 pub use causal::CausalGraph;
 pub use goal::{FailureCause, GoalFailed, GoalState, MOVE_COST};

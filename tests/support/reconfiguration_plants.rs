@@ -6,6 +6,9 @@
 
 use std::fmt::Write;
 
+/// A random transition `(from, to, timed, condition, back)`; see [`RandomComponent::edges`].
+pub type RandomEdge = (usize, usize, bool, Option<(usize, usize)>, bool);
+
 /// One random component, as plain numbers read modulo the sizes they index.
 #[derive(Debug, Clone)]
 pub struct RandomComponent {
@@ -17,7 +20,7 @@ pub struct RandomComponent {
     /// go-mTO`), or a timed one that happens by itself (`cmd = none`, after Uniform(1, 2)); the
     /// condition `(upstream pick, mode)` adds "that upstream component is in that mode" to the
     /// guard; `back` adds the commanded transition back, under the same condition.
-    pub edges: Vec<(usize, usize, bool, Option<(usize, usize)>, bool)>,
+    pub edges: Vec<RandomEdge>,
     /// 0: no fault mode; 1: a permanent fault `broken`; 2: `broken` repaired by `cmd = repair`.
     pub fault: usize,
     /// `links[j]`: component `j` (earlier) is upstream of this one.
