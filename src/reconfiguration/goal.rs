@@ -228,10 +228,56 @@ pub(crate) fn interpret(
     let named = named_modes(plant, goal);
     let domains = domains(reconfiguration, current, &feasible, &named);
     let parts = goal_parts(theory, goal).map_err(GoalFailed::bad_input)?;
+    let ocsp = goal_ocsp(plant, current, &domains, &parts)?;
+    match first_entailing(plant, theory, &ocsp, goal)? {
+        Search::Found(modes) => {
+            let named: Vec<ComponentId> = plant
+                .component_ids()
+                .map(|(id, _)| id)
+                .filter(|id| named[id.index()].contains(&modes[id.index()]))
+                .collect();
+            Ok(GoalState::new(plant, modes, &named))
+        }
+        Search::NoneEntails { cut } => {
+            let scope = if cut {
+                format!("among the {ENTAILMENT_CANDIDATES} best reachable states, none")
+            } else {
+                "no reachable state".to_string()
+            };
+            Err(GoalFailed {
+                reason: format!(
+                    "{scope} entails `{}`: the states consistent with it leave it undetermined",
+                    goal.display(plant.table())
+                ),
+                cause: FailureCause::NotEntailed,
+            })
+        }
+        Search::NoneConsistent => Err(explain(
+            reconfiguration,
+            theory,
+            current,
+            &Explanation {
+                feasible: &feasible,
+                domains: &domains,
+                named: &named,
+                parts: &parts,
+            },
+        )),
+    }
+}
+
+/// §6.3.1's OCSP: a decision per component over its allowed modes, cost −reward (plus
+/// [`MOVE_COST`] for a move), the goal's parts that are not mode assignments as assumptions.
+fn goal_ocsp(
+    plant: &Plant,
+    current: &[ValueId],
+    domains: &[Vec<ValueId>],
+    parts: &[(Literal, Formula)],
+) -> Result<Ocsp, GoalFailed> {
     let mut ocsp = Ocsp::new();
     for (id, component) in plant.component_ids() {
         let here = current[id.index()];
-        let choices = narrowed(plant, &domains[id.index()], id, &parts)
+        let choices = narrowed(plant, &domains[id.index()], id, parts)
             .into_iter()
             .map(|v| {
                 let moving = if v == here { 0.0 } else { MOVE_COST };
@@ -244,12 +290,33 @@ pub(crate) fn interpret(
             )));
         }
     }
-    for (literal, _) in &parts {
+    for (literal, _) in parts {
         let on_a_mode = matches!(literal, Literal::Is(x, _) if plant.component_of(*x).is_some());
         if !on_a_mode {
             ocsp.assume(*literal);
         }
     }
+    Ok(ocsp)
+}
+
+/// What the search for a goal state found.
+enum Search {
+    /// The best candidate that entails the goal: a mode per component.
+    Found(Vec<ValueId>),
+    /// Candidates exist but none entails the goal (`cut`: the search gave up first).
+    NoneEntails { cut: bool },
+    /// No candidate is consistent with the model and the goal.
+    NoneConsistent,
+}
+
+/// The best candidate entailing `goal`. When the goal is a conjunction of mode assignments
+/// (already in the domains) every candidate does; otherwise each is checked.
+fn first_entailing(
+    plant: &Plant,
+    theory: &mut Theory,
+    ocsp: &Ocsp,
+    goal: &Formula,
+) -> Result<Search, GoalFailed> {
     let mode_goal = goal
         .as_assignments()
         .is_some_and(|a| a.iter().all(|&(x, _)| plant.component_of(x).is_some()));
@@ -268,43 +335,20 @@ pub(crate) fn interpret(
                 .entails(&solution.literals(), goal)
                 .map_err(|e| GoalFailed::bad_input(e.to_string()))?;
         if entailed {
-            let modes = solution.assignment.iter().map(|&(_, v)| v).collect();
-            let named: Vec<ComponentId> = plant
-                .component_ids()
-                .filter(|(id, _)| {
-                    let v: ValueId = solution.assignment[id.index()].1;
-                    named[id.index()].contains(&v)
-                })
-                .map(|(id, _)| id)
-                .collect();
-            return Ok(GoalState::new(plant, modes, &named));
+            return Ok(Search::Found(
+                solution.assignment.iter().map(|&(_, v)| v).collect(),
+            ));
         }
         tested += 1;
         if tested >= ENTAILMENT_CANDIDATES {
-            break;
+            return Ok(Search::NoneEntails { cut: true });
         }
     }
-    if tested > 0 {
-        return Err(GoalFailed {
-            reason: format!(
-                "no reachable state entails `{}`: the reachable states consistent with it leave it \
-                 undetermined",
-                goal.display(plant.table())
-            ),
-            cause: FailureCause::NotEntailed,
-        });
-    }
-    Err(explain(
-        reconfiguration,
-        theory,
-        current,
-        &Explanation {
-            feasible: &feasible,
-            domains: &domains,
-            named: &named,
-            parts: &parts,
-        },
-    ))
+    Ok(if tested > 0 {
+        Search::NoneEntails { cut: false }
+    } else {
+        Search::NoneConsistent
+    })
 }
 
 /// `domain` without the modes the goal's own assignments to component `c` exclude. Goal
@@ -580,5 +624,25 @@ mod tests {
              be irreversible and the goal does not name it"
         );
         assert!(matches!(failed.cause, FailureCause::Unreachable { .. }));
+    }
+
+    /// A control is consistent with every state and entailed by none: such a goal is not a
+    /// configuration of the plant.
+    #[test]
+    fn a_goal_no_state_entails_is_not_entailed() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let current = state(&plant, &["off", "a"]);
+        let command = parse_formula("switch.cmd = on", plant.table()).expect("formula");
+        let failed = reconfiguration
+            .interpret(&mut theory, &current, &command)
+            .expect_err("not a configuration");
+        assert_eq!(failed.cause, FailureCause::NotEntailed);
+        assert_eq!(
+            failed.reason,
+            "no reachable state entails `switch.cmd = on`: the states consistent with it leave \
+             it undetermined"
+        );
     }
 }
