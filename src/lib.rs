@@ -13,6 +13,7 @@ pub mod estimation;
 pub mod logic;
 pub mod opsat;
 pub mod plant;
+pub mod reconfiguration;
 pub mod report;
 pub mod rmpl;
 pub mod sequencer;

@@ -86,6 +86,10 @@ enum Command {
         #[arg(long)]
         dot: bool,
     },
+    /// Mode reconfiguration: the goal state goal interpretation picks and the command sequence
+    /// the reactive planner produces when every command succeeds nominally; or, with
+    /// `--policies`, the causal graph and every component's concurrent policy.
+    Plan(cli::plan::PlanArgs),
 }
 
 fn main() -> ExitCode {
@@ -114,6 +118,7 @@ fn main() -> ExitCode {
             top,
             json,
         }),
+        Command::Plan(args) => cli::plan::run(&args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

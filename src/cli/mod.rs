@@ -5,6 +5,7 @@ pub mod compile;
 pub mod estimate;
 pub mod graph;
 pub mod output;
+pub mod plan;
 pub mod solve;
 
 use std::path::Path;
@@ -23,6 +24,14 @@ pub struct Failure {
 }
 
 impl Failure {
+    /// A run that did not succeed (a goal that failed, a plan that did not reach it).
+    pub fn failed(message: impl ToString) -> Self {
+        Failure {
+            code: 1,
+            message: message.to_string(),
+        }
+    }
+
     /// A failure caused by the input.
     pub fn bad_input(message: impl ToString) -> Self {
         Failure {

@@ -1,0 +1,220 @@
+//! The modes goal interpretation may choose for each component, given the current state
+//! (§6.3.1's "reachable modes", made sound for the reactive planner).
+//!
+//! [`Reachability`](super::Reachability) is a property of one component's automaton; whether
+//! the planner can actually follow its policy also depends on the components upstream: a step
+//! whose guard needs `PDE = on` is of no use while the PDE is failed. So, upstream first (in
+//! the causal graph's order), each component gets its set of **helper modes**: the modes of its
+//! reversible region that its policy reaches from the current mode, and between which it can
+//! move back and forth, every step's sub-goals being helper modes of their components. A mode
+//! the planner may be asked to hold as a sub-goal is always a helper mode, so the planner never
+//! meets a sub-goal it cannot achieve.
+//!
+//! - A component in a fault mode with a feasible repair must be repaired: its fault mode is not
+//!   a helper mode (it could not be returned to once the component has been used).
+//! - A mode of the irreversible frontier is **feasible as a final goal** when the policy reaches
+//!   it from every helper mode; goal interpretation offers it only when the configuration goal
+//!   names it.
+//! - Within a causal unit (a cycle of influence), a sub-goal on a component not yet computed is
+//!   trusted only when that component is already in the mode needed (conservative).
+
+use super::policy::{ConcurrentPolicy, PolicyStep};
+use super::reachability::members;
+use crate::logic::ValueId;
+use crate::plant::{ComponentId, ModeKind, Plant};
+
+/// Per component, the modes goal interpretation may choose.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Feasible {
+    /// `helpers[c][v]`: `c` can be moved to `v` and back, as goal or as sub-goal.
+    pub helpers: Vec<Vec<bool>>,
+    /// `finals[c][v]`: `v` is an irreversible target the policy reaches from every helper mode.
+    pub finals: Vec<Vec<bool>>,
+    /// Components whose helper modes limited each component's (the causes of a restriction).
+    pub blocked_by: Vec<Vec<ComponentId>>,
+}
+
+/// Computes the feasible modes for the state `current` (one mode per component).
+pub(crate) fn feasible(
+    plant: &Plant,
+    policies: &[ConcurrentPolicy],
+    upstream_first: &[ComponentId],
+    current: &[ValueId],
+) -> Feasible {
+    let n = current.len();
+    let mut state = Feasible {
+        helpers: vec![Vec::new(); n],
+        finals: vec![Vec::new(); n],
+        blocked_by: vec![Vec::new(); n],
+    };
+    for &c in upstream_first {
+        let policy = &policies[c.index()];
+        let kinds: Vec<ModeKind> = plant.component(c).modes().iter().map(|m| m.kind).collect();
+        let (helpers, finals, blocked) = {
+            let mut walker = Walker {
+                policy,
+                state: &state,
+                current,
+                blocked: Vec::new(),
+            };
+            let helpers = walker.helpers(current[c.index()], &kinds);
+            let finals = walker.finals(current[c.index()], &helpers);
+            (helpers, finals, walker.blocked)
+        };
+        state.helpers[c.index()] = helpers;
+        state.finals[c.index()] = finals;
+        state.blocked_by[c.index()] = blocked;
+    }
+    state
+}
+
+/// Walks one component's policy against the helper modes computed so far.
+struct Walker<'a> {
+    policy: &'a ConcurrentPolicy,
+    state: &'a Feasible,
+    current: &'a [ValueId],
+    blocked: Vec<ComponentId>,
+}
+
+impl Walker<'_> {
+    /// A step's sub-goals are all achievable.
+    fn step_ok(&mut self, step: &PolicyStep) -> bool {
+        let Ok(requirement) = &step.requirement else {
+            return false;
+        };
+        for &(u, v) in &requirement.modes {
+            let helpers = &self.state.helpers[u.index()];
+            let ok = if helpers.is_empty() {
+                self.current[u.index()] == v
+            } else {
+                helpers[v.index()]
+            };
+            if !ok {
+                if !self.blocked.contains(&u) {
+                    self.blocked.push(u);
+                }
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The planner reaches `to` from `from` by following the policy.
+    fn reaches(&mut self, from: ValueId, to: ValueId) -> bool {
+        let policy = self.policy;
+        policy.walk(from, to, |step| self.step_ok(step)).is_some()
+    }
+
+    fn helpers(&mut self, current: ValueId, kinds: &[ModeKind]) -> Vec<bool> {
+        let n = kinds.len();
+        let reachability = self.policy.reachability();
+        let mut set = vec![false; n];
+        for t in reachability.reversible(current) {
+            set[t.index()] = self.reaches(current, t);
+        }
+        let repairable = kinds[current.index()] == ModeKind::Fault
+            && (0..n).any(|v| set[v] && kinds[v] == ModeKind::Nominal);
+        let anchor = if repairable {
+            set[current.index()] = false;
+            None
+        } else {
+            Some(current)
+        };
+        self.prune(&mut set, anchor);
+        set
+    }
+
+    /// Removes modes that cannot be reached from, or cannot return to, another member, until
+    /// every pair is mutually reachable; `anchor` (the current mode) is never removed.
+    fn prune(&mut self, set: &mut [bool], anchor: Option<ValueId>) {
+        loop {
+            let members: Vec<ValueId> = members(set).collect();
+            let doomed = members.iter().copied().find(|&t| {
+                Some(t) != anchor
+                    && members
+                        .iter()
+                        .any(|&x| !self.reaches(x, t) || !self.reaches(t, x))
+            });
+            match doomed {
+                Some(t) => set[t.index()] = false,
+                None => return,
+            }
+        }
+    }
+
+    fn finals(&mut self, current: ValueId, helpers: &[bool]) -> Vec<bool> {
+        let mut finals = vec![false; helpers.len()];
+        let reachability = self.policy.reachability();
+        let members: Vec<ValueId> = members(helpers).collect();
+        for t in reachability.irreversible(current) {
+            let from_current = self.reaches(current, t);
+            finals[t.index()] = from_current && members.iter().all(|&x| self.reaches(x, t));
+        }
+        finals
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Reconfiguration;
+    use super::super::testing::{DEADLOCK, SWITCH_GADGET, component, load, state};
+    use super::{Feasible, feasible};
+    use crate::plant::Plant;
+
+    fn feasible_in(plant: &Plant, modes: &[&str]) -> Feasible {
+        let reconfiguration = Reconfiguration::compile(plant).expect("compiles");
+        feasible(
+            plant,
+            reconfiguration.policies(),
+            reconfiguration.upstream_first(),
+            &state(plant, modes),
+        )
+    }
+
+    fn names(plant: &Plant, c: &str, flags: &[bool]) -> Vec<String> {
+        let component = plant.component(component(plant, c));
+        flags
+            .iter()
+            .enumerate()
+            .filter(|(_, on)| **on)
+            .map(|(i, _)| component.modes()[i].name.clone())
+            .collect()
+    }
+
+    #[test]
+    fn a_stuck_switch_keeps_the_gadget_out_of_b_and_says_so() {
+        let plant = load(SWITCH_GADGET);
+        let gadget = component(&plant, "gadget").index();
+        let fine = feasible_in(&plant, &["off", "a"]);
+        assert_eq!(
+            names(&plant, "gadget", &fine.helpers[gadget]),
+            ["a", "b", "e"]
+        );
+        assert_eq!(names(&plant, "gadget", &fine.finals[gadget]), ["c"]);
+        let stuck = feasible_in(&plant, &["stuck", "a"]);
+        assert_eq!(names(&plant, "switch", &stuck.helpers[0]), ["stuck"]);
+        assert_eq!(names(&plant, "gadget", &stuck.helpers[gadget]), ["a", "e"]);
+        assert_eq!(stuck.blocked_by[gadget], [component(&plant, "switch")]);
+        assert!(stuck.finals[gadget].iter().all(|f| !f));
+    }
+
+    #[test]
+    fn a_repairable_fault_must_be_repaired() {
+        let plant = load(SWITCH_GADGET);
+        let gadget = component(&plant, "gadget").index();
+        let broken = feasible_in(&plant, &["off", "broken"]);
+        assert_eq!(
+            names(&plant, "gadget", &broken.helpers[gadget]),
+            ["a", "b", "e"]
+        );
+        assert_eq!(names(&plant, "gadget", &broken.finals[gadget]), ["c"]);
+    }
+
+    #[test]
+    fn a_cycle_of_influence_is_trusted_only_where_it_already_is() {
+        let plant = load(DEADLOCK);
+        let stuck = feasible_in(&plant, &["x", "x"]);
+        assert_eq!(names(&plant, "p", &stuck.helpers[0]), ["x"]);
+        assert_eq!(names(&plant, "q", &stuck.helpers[1]), ["x"]);
+    }
+}

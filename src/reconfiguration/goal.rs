@@ -1,0 +1,648 @@
+//! Goal interpretation (§6.3.1): the maximum-reward state, reachable from the current one, that
+//! is consistent with the model and entails the configuration goal — an OCSP solved by OPSAT.
+//!
+//! - One decision variable per component: its mode, over the modes [`feasible`] allows (its
+//!   helper modes, plus an irreversible target when the goal names it), with cost −reward.
+//!   Ties between equal rewards go to staying put: a move costs [`MOVE_COST`] more. A
+//!   *transient* mode, which the component leaves by itself (heating), is offered only when the
+//!   goal names it or the component is in it: a goal state should be one the plant stays in.
+//! - Constraints: the plant's theory (the caller's, which GI extends with definitions), and the
+//!   goal. Candidates come out best first, consistent with the model and the goal; when the goal
+//!   is a conjunction of mode assignments that is also entailment, otherwise each candidate is
+//!   checked for entailment until one passes.
+//! - No candidate: the failure is explained by a conflict. The goal's assignments and each
+//!   component's restriction to its allowed modes are assumed together; the theory's minimal
+//!   conflict names the goals and the components responsible ("engine = standby is unreachable:
+//!   engine is failed"; "conflicting goals: engine = standby and engine = firing cannot hold
+//!   together").
+
+use std::fmt;
+
+use super::Reconfiguration;
+use super::feasible::{Feasible, feasible};
+use crate::logic::{Atom, Formula, ValueId, VarId};
+use crate::opsat::{Consistency, Literal, Ocsp, SearchOptions, Theory};
+use crate::plant::{ComponentId, ModeKind, Plant, describe_modes};
+
+/// What moving a component away from its current mode costs on top of −reward: enough to break
+/// ties between equal rewards in favour of staying, too little to outweigh any reward.
+pub const MOVE_COST: f64 = 1e-6;
+
+/// At most this many candidates are checked for entailment (only goals that are not plain
+/// conjunctions of mode assignments need the check).
+const ENTAILMENT_CANDIDATES: u64 = 10_000;
+
+/// The state goal interpretation chose: a mode per component.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GoalState {
+    modes: Vec<ValueId>,
+    /// `named[c]`: the configuration goal names `c = modes[c]` explicitly.
+    named: Vec<bool>,
+    reward: f64,
+}
+
+impl GoalState {
+    /// A goal state given directly (for callers that choose it themselves); `named` lists the
+    /// components whose goal mode counts as explicitly requested, which is what allows the
+    /// planner to take an irreversible transition into it. The reward is the sum of the modes'.
+    pub fn new(plant: &Plant, modes: Vec<ValueId>, named: &[ComponentId]) -> GoalState {
+        let reward = plant
+            .components()
+            .iter()
+            .zip(&modes)
+            .map(|(c, &m)| c.modes().get(m.index()).map_or(0.0, |mode| mode.reward))
+            .sum();
+        let mut flags = vec![false; modes.len()];
+        for c in named {
+            if let Some(flag) = flags.get_mut(c.index()) {
+                *flag = true;
+            }
+        }
+        GoalState {
+            modes,
+            named: flags,
+            reward,
+        }
+    }
+
+    /// The goal mode of every component, by [`ComponentId`].
+    pub fn modes(&self) -> &[ValueId] {
+        &self.modes
+    }
+
+    /// The goal mode of one component.
+    pub fn mode(&self, c: ComponentId) -> ValueId {
+        self.modes[c.index()]
+    }
+
+    /// True when the configuration goal named `c`'s goal mode explicitly (`lander =
+    /// separated`): only then may the planner make an irreversible transition into it.
+    pub fn is_named(&self, c: ComponentId) -> bool {
+        self.named.get(c.index()).copied().unwrap_or(false)
+    }
+
+    /// The summed reward of the goal modes (§6.3.1's objective, maximised).
+    pub fn reward(&self) -> f64 {
+        self.reward
+    }
+
+    /// `component = mode, ...` with names.
+    pub fn describe(&self, plant: &Plant) -> String {
+        describe_modes(plant, &self.modes)
+    }
+}
+
+/// Why goal interpretation found no goal state.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FailureCause {
+    /// These parts of the goal hold in no state the components can reach; these components'
+    /// limited reach is responsible.
+    Unreachable {
+        /// The parts of the goal in the conflict.
+        goals: Vec<Formula>,
+        /// The components whose reachable modes are in the conflict.
+        components: Vec<ComponentId>,
+    },
+    /// These parts of the goal cannot hold together in any state of the model.
+    Contradictory {
+        /// The parts of the goal in the conflict.
+        goals: Vec<Formula>,
+    },
+    /// Reachable states are consistent with the goal but none entails it.
+    NotEntailed,
+    /// The state or the goal cannot be interpreted (wrong shape, clock or confidence atoms, a
+    /// theory of another plant).
+    BadInput,
+}
+
+/// Goal interpretation's failure: DESIGN.md §9's **goal failed**, with a human reason.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GoalFailed {
+    /// A sentence naming the goals, components and modes responsible.
+    pub reason: String,
+    /// The same, structured.
+    pub cause: FailureCause,
+}
+
+impl GoalFailed {
+    fn bad_input(reason: impl Into<String>) -> GoalFailed {
+        GoalFailed {
+            reason: reason.into(),
+            cause: FailureCause::BadInput,
+        }
+    }
+}
+
+impl fmt::Display for GoalFailed {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.reason)
+    }
+}
+
+impl std::error::Error for GoalFailed {}
+
+/// Checks that `current` gives every component one of its modes.
+pub(crate) fn check_state(plant: &Plant, current: &[ValueId]) -> Result<(), String> {
+    if current.len() != plant.components().len() {
+        return Err(format!(
+            "the state gives {} modes for {} components",
+            current.len(),
+            plant.components().len()
+        ));
+    }
+    for (component, mode) in plant.components().iter().zip(current) {
+        if mode.index() >= component.modes().len() {
+            return Err(format!(
+                "mode #{} is not a mode of `{}`",
+                mode.0,
+                component.name()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The `component = mode` atoms the goal asserts positively (under no negation), per component.
+fn named_modes(plant: &Plant, goal: &Formula) -> Vec<Vec<ValueId>> {
+    fn visit(f: &Formula, positive: bool, out: &mut Vec<(VarId, ValueId)>) {
+        match f {
+            Formula::Atom(Atom::Is(x, v)) if positive => out.push((*x, *v)),
+            Formula::Not(g) => visit(g, !positive, out),
+            Formula::And(gs) | Formula::Or(gs) => gs.iter().for_each(|g| visit(g, positive, out)),
+            Formula::Implies(a, b) => {
+                visit(a, !positive, out);
+                visit(b, positive, out);
+            }
+            _ => {}
+        }
+    }
+    let mut atoms = Vec::new();
+    visit(goal, true, &mut atoms);
+    let mut named = vec![Vec::new(); plant.components().len()];
+    for (x, v) in atoms {
+        if let Some(c) = plant.component_of(x) {
+            named[c.index()].push(v);
+        }
+    }
+    named
+}
+
+/// The goal as assumptions, each with the part of the goal it stands for: one literal per
+/// assignment of a conjunction of assignments, else one defined literal for the whole goal.
+fn goal_parts(theory: &mut Theory, goal: &Formula) -> Result<Vec<(Literal, Formula)>, String> {
+    if let Some(assignments) = goal.as_assignments() {
+        return Ok(assignments
+            .into_iter()
+            .map(|(x, v)| (Literal::Is(x, v), Formula::is(x, v)))
+            .collect());
+    }
+    let literal = theory.define(goal).map_err(|e| e.to_string())?;
+    Ok(vec![(literal, goal.clone())])
+}
+
+/// Goal interpretation; see [`Reconfiguration::interpret`].
+pub(crate) fn interpret(
+    reconfiguration: &Reconfiguration,
+    theory: &mut Theory,
+    current: &[ValueId],
+    goal: &Formula,
+) -> Result<GoalState, GoalFailed> {
+    let plant = reconfiguration.plant();
+    check_state(plant, current).map_err(GoalFailed::bad_input)?;
+    if theory.table() != plant.table() {
+        return Err(GoalFailed::bad_input(
+            "the theory is not the plant's (use the plant's `theory()`)",
+        ));
+    }
+    if goal.has_external_atoms() {
+        return Err(GoalFailed::bad_input(
+            "the goal holds a clock or confidence atom: ground it before goal interpretation",
+        ));
+    }
+    let feasible = feasible(
+        plant,
+        reconfiguration.policies(),
+        reconfiguration.upstream_first(),
+        current,
+    );
+    let named = named_modes(plant, goal);
+    let domains = domains(reconfiguration, current, &feasible, &named);
+    let parts = goal_parts(theory, goal).map_err(GoalFailed::bad_input)?;
+    let ocsp = goal_ocsp(plant, current, &domains, &parts)?;
+    match first_entailing(plant, theory, &ocsp, goal)? {
+        Search::Found(modes) => {
+            let named: Vec<ComponentId> = plant
+                .component_ids()
+                .map(|(id, _)| id)
+                .filter(|id| named[id.index()].contains(&modes[id.index()]))
+                .collect();
+            Ok(GoalState::new(plant, modes, &named))
+        }
+        Search::NoneEntails { cut } => {
+            let scope = if cut {
+                format!("among the {ENTAILMENT_CANDIDATES} best reachable states, none")
+            } else {
+                "no reachable state".to_string()
+            };
+            Err(GoalFailed {
+                reason: format!(
+                    "{scope} entails `{}`: the states consistent with it leave it undetermined",
+                    goal.display(plant.table())
+                ),
+                cause: FailureCause::NotEntailed,
+            })
+        }
+        Search::NoneConsistent => Err(explain(
+            reconfiguration,
+            theory,
+            current,
+            &Explanation {
+                feasible: &feasible,
+                domains: &domains,
+                named: &named,
+                parts: &parts,
+            },
+        )),
+    }
+}
+
+/// §6.3.1's OCSP: a decision per component over its allowed modes, cost −reward (plus
+/// [`MOVE_COST`] for a move), the goal's parts that are not mode assignments as assumptions.
+fn goal_ocsp(
+    plant: &Plant,
+    current: &[ValueId],
+    domains: &[Vec<ValueId>],
+    parts: &[(Literal, Formula)],
+) -> Result<Ocsp, GoalFailed> {
+    let mut ocsp = Ocsp::new();
+    for (id, component) in plant.component_ids() {
+        let here = current[id.index()];
+        let choices = narrowed(plant, &domains[id.index()], id, parts)
+            .into_iter()
+            .map(|v| {
+                let moving = if v == here { 0.0 } else { MOVE_COST };
+                (v, moving - component.mode(v).reward)
+            });
+        if ocsp.decide(component.mode_var(), choices).is_err() {
+            return Err(GoalFailed::bad_input(format!(
+                "component `{}` has a reward that is not a number",
+                component.name()
+            )));
+        }
+    }
+    for (literal, _) in parts {
+        let on_a_mode = matches!(literal, Literal::Is(x, _) if plant.component_of(*x).is_some());
+        if !on_a_mode {
+            ocsp.assume(*literal);
+        }
+    }
+    Ok(ocsp)
+}
+
+/// What the search for a goal state found.
+enum Search {
+    /// The best candidate that entails the goal: a mode per component.
+    Found(Vec<ValueId>),
+    /// Candidates exist but none entails the goal (`cut`: the search gave up first).
+    NoneEntails { cut: bool },
+    /// No candidate is consistent with the model and the goal.
+    NoneConsistent,
+}
+
+/// The best candidate entailing `goal`. When the goal is a conjunction of mode assignments
+/// (already in the domains) every candidate does; otherwise each is checked.
+fn first_entailing(
+    plant: &Plant,
+    theory: &mut Theory,
+    ocsp: &Ocsp,
+    goal: &Formula,
+) -> Result<Search, GoalFailed> {
+    let mode_goal = goal
+        .as_assignments()
+        .is_some_and(|a| a.iter().all(|&(x, _)| plant.component_of(x).is_some()));
+    // One search over all the decisions: GI wants the first entailing candidate, and a
+    // decomposed search fetches two solutions of every independent sub-problem before its
+    // first (two SAT calls per component of a loosely coupled plant; BENCHMARKS.md).
+    let options = SearchOptions {
+        decompose: false,
+        ..SearchOptions::default()
+    };
+    let mut candidates = ocsp.enumerate(theory, options);
+    let mut tested = 0u64;
+    while let Ok(Some(solution)) = candidates.next(theory) {
+        let entailed = mode_goal
+            || theory
+                .entails(&solution.literals(), goal)
+                .map_err(|e| GoalFailed::bad_input(e.to_string()))?;
+        if entailed {
+            return Ok(Search::Found(
+                solution.assignment.iter().map(|&(_, v)| v).collect(),
+            ));
+        }
+        tested += 1;
+        if tested >= ENTAILMENT_CANDIDATES {
+            return Ok(Search::NoneEntails { cut: true });
+        }
+    }
+    Ok(if tested > 0 {
+        Search::NoneEntails { cut: false }
+    } else {
+        Search::NoneConsistent
+    })
+}
+
+/// `domain` without the modes the goal's own assignments to component `c` exclude. Goal
+/// assignments to mode variables narrow the decision instead of being assumed: the same
+/// problem, smaller, and OPSAT's conflict-directed search only learns conflicts over its
+/// decisions from the candidates, not from assumptions on the decision variables themselves.
+fn narrowed(
+    plant: &Plant,
+    domain: &[ValueId],
+    c: ComponentId,
+    parts: &[(Literal, Formula)],
+) -> Vec<ValueId> {
+    let var = plant.component(c).mode_var();
+    domain
+        .iter()
+        .copied()
+        .filter(|&v| {
+            parts
+                .iter()
+                .all(|(literal, _)| !matches!(*literal, Literal::Is(x, w) if x == var && w != v))
+        })
+        .collect()
+}
+
+/// Per component, the modes GI may choose: its helper modes and the named feasible finals,
+/// without the transient modes (left by themselves) the goal does not name, unless current.
+fn domains(
+    reconfiguration: &Reconfiguration,
+    current: &[ValueId],
+    feasible: &Feasible,
+    named: &[Vec<ValueId>],
+) -> Vec<Vec<ValueId>> {
+    reconfiguration
+        .policies()
+        .iter()
+        .enumerate()
+        .map(|(c, policy)| {
+            let (helpers, finals) = (&feasible.helpers[c], &feasible.finals[c]);
+            (0..helpers.len())
+                .map(|v| ValueId(v as u32))
+                .filter(|v| {
+                    let is_named = named[c].contains(v);
+                    let holdable = !policy.is_transient(*v) || is_named || *v == current[c];
+                    holdable && (helpers[v.index()] || (finals[v.index()] && is_named))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// What GI knew when it found no candidate.
+struct Explanation<'a> {
+    feasible: &'a Feasible,
+    domains: &'a [Vec<ValueId>],
+    named: &'a [Vec<ValueId>],
+    parts: &'a [(Literal, Formula)],
+}
+
+/// Where an assumption of the explanation came from.
+enum Origin {
+    Goal(usize),
+    Component(ComponentId),
+}
+
+/// Turns the minimal conflict between the goal and the components' allowed modes into a reason.
+fn explain(
+    reconfiguration: &Reconfiguration,
+    theory: &mut Theory,
+    current: &[ValueId],
+    why: &Explanation<'_>,
+) -> GoalFailed {
+    let plant = reconfiguration.plant();
+    let table = plant.table();
+    let mut assumptions = Vec::new();
+    let mut origins = Vec::new();
+    for (i, (literal, _)) in why.parts.iter().enumerate() {
+        assumptions.push(*literal);
+        origins.push(Origin::Goal(i));
+    }
+    for (id, component) in plant.component_ids() {
+        let domain = &why.domains[id.index()];
+        if domain.len() == component.modes().len() {
+            continue;
+        }
+        let restriction = Formula::Or(
+            domain
+                .iter()
+                .map(|&v| Formula::is(component.mode_var(), v))
+                .collect(),
+        );
+        let literal = match domain.as_slice() {
+            [only] => Literal::Is(component.mode_var(), *only),
+            _ => match theory.define(&restriction) {
+                Ok(literal) => literal,
+                Err(_) => continue,
+            },
+        };
+        assumptions.push(literal);
+        origins.push(Origin::Component(id));
+    }
+    let Consistency::Conflict(conflict) = theory.consistent(&assumptions) else {
+        return GoalFailed {
+            reason: "no reachable state achieves the goal".to_string(),
+            cause: FailureCause::NotEntailed,
+        };
+    };
+    let mut goals = Vec::new();
+    let mut components = Vec::new();
+    for literal in conflict {
+        match assumptions
+            .iter()
+            .position(|a| *a == literal)
+            .map(|i| &origins[i])
+        {
+            Some(Origin::Goal(i)) => goals.push(why.parts[*i].1.clone()),
+            Some(Origin::Component(c)) => components.push(*c),
+            None => {}
+        }
+    }
+    let goal_text = goals
+        .iter()
+        .map(|g| g.display(table).to_string())
+        .collect::<Vec<_>>()
+        .join(" and ");
+    let reach = components
+        .iter()
+        .map(|&c| describe_reach(plant, current, why, c))
+        .collect::<Vec<_>>()
+        .join("; ");
+    match (goals.len(), components.is_empty()) {
+        (0, _) => GoalFailed {
+            reason: format!("the current state contradicts the model: {reach}"),
+            cause: FailureCause::Unreachable { goals, components },
+        },
+        (_, false) => GoalFailed {
+            reason: format!("{goal_text} is unreachable: {reach}"),
+            cause: FailureCause::Unreachable { goals, components },
+        },
+        (1, true) => GoalFailed {
+            reason: format!("the goal {goal_text} contradicts the model"),
+            cause: FailureCause::Contradictory { goals },
+        },
+        (_, true) => GoalFailed {
+            reason: format!("conflicting goals: {goal_text} cannot hold together"),
+            cause: FailureCause::Contradictory { goals },
+        },
+    }
+}
+
+/// "engine is failed", or "valve1 can reach only closed from closed (PDE is failed)", with the
+/// irreversible modes the goal did not name.
+fn describe_reach(
+    plant: &Plant,
+    current: &[ValueId],
+    why: &Explanation<'_>,
+    c: ComponentId,
+) -> String {
+    let component = plant.component(c);
+    let here = current[c.index()];
+    let name = |v: ValueId| component.mode(v).name.as_str();
+    let domain = &why.domains[c.index()];
+    let mut text = if domain.as_slice() == [here] && component.mode(here).kind == ModeKind::Fault {
+        format!("{} is {}", component.name(), name(here))
+    } else {
+        let modes: Vec<&str> = domain.iter().map(|&v| name(v)).collect();
+        format!(
+            "{} can reach only {} from {}",
+            component.name(),
+            modes.join(", "),
+            name(here)
+        )
+    };
+    let blockers: Vec<String> = why.feasible.blocked_by[c.index()]
+        .iter()
+        .map(|&u| {
+            let upstream = plant.component(u);
+            format!(
+                "{} is {}",
+                upstream.name(),
+                upstream.mode(current[u.index()]).name
+            )
+        })
+        .collect();
+    if !blockers.is_empty() {
+        text.push_str(&format!(
+            " (its transitions need components upstream: {})",
+            blockers.join(", ")
+        ));
+    }
+    let unnamed: Vec<&str> = (0..component.modes().len())
+        .map(|v| ValueId(v as u32))
+        .filter(|v| why.feasible.finals[c.index()][v.index()] && !why.named[c.index()].contains(v))
+        .map(name)
+        .collect();
+    if !unnamed.is_empty() {
+        text.push_str(&format!(
+            "; {} would be irreversible and the goal does not name it",
+            unnamed
+                .iter()
+                .map(|m| format!("{} = {m}", component.name()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Reconfiguration;
+    use super::super::testing::{SWITCH_GADGET, component, load, mode, state};
+    use super::{FailureCause, named_modes};
+    use crate::logic::parse_formula;
+
+    #[test]
+    fn only_positive_mode_atoms_are_named() {
+        let plant = load(SWITCH_GADGET);
+        let goal = parse_formula(
+            "gadget = c and not gadget = d and (switch = on => gadget = b) and gadget.power = on",
+            plant.table(),
+        )
+        .expect("formula");
+        let named = named_modes(&plant, &goal);
+        let gadget = component(&plant, "gadget").index();
+        assert_eq!(
+            named[gadget],
+            [mode(&plant, "gadget", "c"), mode(&plant, "gadget", "b")]
+        );
+        assert!(named[component(&plant, "switch").index()].is_empty());
+    }
+
+    #[test]
+    fn ties_stay_put_and_transient_modes_are_offered_only_where_the_gadget_is() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let gadget = component(&plant, "gadget");
+        let anything = parse_formula("true", plant.table()).expect("formula");
+        for here in ["a", "e"] {
+            let current = state(&plant, &["off", here]);
+            let goal = reconfiguration
+                .interpret(&mut theory, &current, &anything)
+                .expect("a goal state");
+            assert_eq!(goal.mode(gadget), mode(&plant, "gadget", here));
+        }
+        // Leaving e: a, the transient mode, is not offered; b is.
+        let not_e = parse_formula("not gadget = e", plant.table()).expect("formula");
+        let current = state(&plant, &["off", "e"]);
+        let goal = reconfiguration
+            .interpret(&mut theory, &current, &not_e)
+            .expect("a goal state");
+        assert_eq!(goal.mode(gadget), mode(&plant, "gadget", "b"));
+    }
+
+    #[test]
+    fn irreversible_goals_must_be_named_and_unreachable_ones_are_explained() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let current = state(&plant, &["off", "a"]);
+        let c = parse_formula("gadget = c", plant.table()).expect("formula");
+        let goal = reconfiguration
+            .interpret(&mut theory, &current, &c)
+            .expect("named, so offered");
+        assert!(goal.is_named(component(&plant, "gadget")));
+        let d = parse_formula("gadget = d", plant.table()).expect("formula");
+        let failed = reconfiguration
+            .interpret(&mut theory, &current, &d)
+            .expect_err("two irreversible steps away");
+        assert_eq!(
+            failed.reason,
+            "gadget = d is unreachable: gadget can reach only a, b, e from a; gadget = c would \
+             be irreversible and the goal does not name it"
+        );
+        assert!(matches!(failed.cause, FailureCause::Unreachable { .. }));
+    }
+
+    /// A control is consistent with every state and entailed by none: such a goal is not a
+    /// configuration of the plant.
+    #[test]
+    fn a_goal_no_state_entails_is_not_entailed() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let current = state(&plant, &["off", "a"]);
+        let command = parse_formula("switch.cmd = on", plant.table()).expect("formula");
+        let failed = reconfiguration
+            .interpret(&mut theory, &current, &command)
+            .expect_err("not a configuration");
+        assert_eq!(failed.cause, FailureCause::NotEntailed);
+        assert_eq!(
+            failed.reason,
+            "no reachable state entails `switch.cmd = on`: the states consistent with it leave \
+             it undetermined"
+        );
+    }
+}

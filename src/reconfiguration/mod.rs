@@ -1,0 +1,164 @@
+//! Mode reconfiguration (DESIGN.md §9; thesis §4.3.2, §6.3): choosing the commands that move the
+//! plant to a state achieving the configuration goal, in two parts, as in Burton and Titan:
+//!
+//! - **Goal interpretation** ([`Reconfiguration::interpret`], §6.3.1): the maximum-reward state
+//!   reachable from the current one that is consistent with the model and entails the goal — an
+//!   OCSP over each component's reachable modes, solved by OPSAT on the plant's [`Theory`]. No
+//!   solution is a [`GoalFailed`] whose reason names the goals, components and modes in the
+//!   conflict.
+//! - **Reactive planning** ([`Reconfiguration::next_action`], §6.3.2–§6.3.3): each cycle, the
+//!   first control action toward that goal state ([`Action`]: a command, Idle while a timed
+//!   transition is awaited, achieved, or failure), read off per-component **concurrent
+//!   policies** compiled offline over the **causal graph** of components.
+//!
+//! Compilation ([`Reconfiguration::compile`]) does everything that needs no current state:
+//! - the causal graph ([`CausalGraph`], `causal.rs`): which components' modes each component's
+//!   guards depend on, strongly connected components collapsed into units;
+//! - per transition the planner may use, its [`Requirement`] (`requirement.rs`): the upstream
+//!   modes and the control assignment that make its guard hold, found by entailment on the
+//!   plant's theory — the engine's `engine.cmd = standby` needs `PDE = on` and `PDE.cmd =
+//!   engine-standby`;
+//! - per component, its [`Reachability`] (reversible regions, irreversible frontiers) and its
+//!   [`ConcurrentPolicy`] (`policy.rs`): for each (current, target) mode the next step.
+//!
+//! Goal interpretation adds what depends on the current state (`feasible.rs`): which modes the
+//! planner can really reach and hold given what the components upstream can reach, so that it
+//! never proposes a state the planner cannot achieve. [`Reconfiguration::simulate_nominal`] runs
+//! the planner against nominal transitions (`kairos plan`).
+
+mod causal;
+mod display;
+mod feasible;
+mod goal;
+mod planner;
+mod policy;
+mod reachability;
+mod requirement;
+mod simulate;
+#[cfg(test)]
+mod testing;
+
+pub use causal::CausalGraph;
+pub use goal::{FailureCause, GoalFailed, GoalState, MOVE_COST};
+pub use planner::{Action, Command, PlanFailure, Wait};
+pub use policy::{ConcurrentPolicy, PolicyEntry, PolicyStep};
+pub use reachability::Reachability;
+pub use requirement::{Condition, Requirement, Unplannable};
+pub use simulate::{Move, NominalRun, PlanOutcome, PlanStep};
+
+use crate::logic::{Formula, ValueId};
+use crate::opsat::{Theory, TheoryError};
+use crate::plant::{ComponentId, ModeKind, Plant};
+use causal::Influence;
+use requirement::GuardCompiler;
+
+/// Everything mode reconfiguration compiles from a plant model, and its two online queries.
+#[derive(Debug, Clone)]
+pub struct Reconfiguration {
+    plant: Plant,
+    causal: CausalGraph,
+    policies: Vec<ConcurrentPolicy>,
+    /// Components upstream first (the causal units in topological order).
+    upstream_first: Vec<ComponentId>,
+}
+
+impl Reconfiguration {
+    /// Compiles the causal graph, the requirements of every transition the planner may use and
+    /// every component's concurrent policy. Uses a temporary theory of its own; errors only if
+    /// a guard holds a clock or confidence atom (which plant models cannot express).
+    pub fn compile(plant: &Plant) -> Result<Reconfiguration, TheoryError> {
+        let influence = Influence::new(plant);
+        let upstream: Vec<Vec<ComponentId>> = plant
+            .component_ids()
+            .map(|(id, component)| {
+                let mut ups = Vec::new();
+                for transition in component.transitions() {
+                    if component.mode(transition.target).kind == ModeKind::Nominal {
+                        let vars = transition.guard.variables();
+                        ups.extend(influence.dependencies(plant, id, &vars).modes);
+                    }
+                }
+                ups.sort_unstable();
+                ups.dedup();
+                ups
+            })
+            .collect();
+        let causal = CausalGraph::new(&upstream);
+        let mut compiler = GuardCompiler::new(plant, &influence)?;
+        let mut policies = plant
+            .component_ids()
+            .map(|(id, _)| ConcurrentPolicy::compile(plant, id, &mut compiler))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut rank = vec![0; plant.components().len()];
+        for (position, c) in causal.downstream_first().iter().enumerate() {
+            rank[c.index()] = position;
+        }
+        for policy in &mut policies {
+            policy.order_sub_goals(&rank);
+        }
+        let upstream_first = causal.units().iter().flatten().copied().collect();
+        Ok(Reconfiguration {
+            plant: plant.clone(),
+            causal,
+            policies,
+            upstream_first,
+        })
+    }
+
+    /// The plant the policies were compiled from.
+    pub fn plant(&self) -> &Plant {
+        &self.plant
+    }
+
+    /// The causal graph of the components.
+    pub fn causal_graph(&self) -> &CausalGraph {
+        &self.causal
+    }
+
+    /// Every component's concurrent policy, by [`ComponentId`].
+    pub fn policies(&self) -> &[ConcurrentPolicy] {
+        &self.policies
+    }
+
+    /// One component's concurrent policy.
+    pub fn policy(&self, c: ComponentId) -> &ConcurrentPolicy {
+        &self.policies[c.index()]
+    }
+
+    /// Components upstream first.
+    pub(crate) fn upstream_first(&self) -> &[ComponentId] {
+        &self.upstream_first
+    }
+
+    /// Goal interpretation (§6.3.1): the maximum-reward state reachable from `current` (a mode
+    /// per component: the estimate ŝ) that is consistent with the model and entails `goal`.
+    /// `theory` is the plant's own ([`Plant::theory`]); GI adds definitions to it. The goal must
+    /// be grounded (no clock or confidence atoms). Call it when the goal or the estimate changes.
+    pub fn interpret(
+        &self,
+        theory: &mut Theory,
+        current: &[ValueId],
+        goal: &Formula,
+    ) -> Result<GoalState, GoalFailed> {
+        goal::interpret(self, theory, current, goal)
+    }
+
+    /// The reactive planner (§6.3.2–§6.3.3): the first action toward `goal` from `current` (a
+    /// mode per component). Cheap enough for every cycle: a walk over the components and table
+    /// look-ups, no theory.
+    pub fn next_action(&self, current: &[ValueId], goal: &GoalState) -> Action {
+        planner::next_action(self, current, goal)
+    }
+
+    /// The planner run from `start` against nominal transitions (every command succeeds; a
+    /// wait lasts until the awaited transition fires), for at most `max_steps` cycles.
+    pub fn simulate_nominal(
+        &self,
+        theory: &mut Theory,
+        start: &[ValueId],
+        goal: &GoalState,
+        max_steps: usize,
+    ) -> Result<NominalRun, TheoryError> {
+        simulate::simulate_nominal(self, theory, start, goal, max_steps)
+    }
+}

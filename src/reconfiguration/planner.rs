@@ -1,0 +1,319 @@
+//! The reactive planner (§6.3.2, §6.3.3; Williams & Nayak 1997): given the current modes and
+//! the goal state, the *first* control action toward it, computed from the compiled concurrent
+//! policies in time that does not depend on the model's size beyond a walk over its components.
+//!
+//! Goals are achieved serially, most downstream component first (the causal graph's depth
+//! order), so that components upstream — the PDE that relays the engine's commands — are
+//! returned to their own goal mode last. For a component not in its goal mode, the policy names
+//! the next step; its sub-goals on upstream components are achieved first, again downstream
+//! first and depth first through their own policies; once they all hold the step's command is
+//! issued, or, when the step needs no command (a timed transition), the planner waits
+//! (**Idle**). A step that leaves a mode's reversible region is taken only toward the
+//! component's goal mode and only when the configuration goal named it; repairs out of fault
+//! modes are ordinary steps of the policies.
+
+use super::Reconfiguration;
+use super::goal::{GoalState, check_state};
+use super::policy::{PolicyEntry, PolicyStep};
+use super::requirement::Requirement;
+use crate::logic::{ValueId, VarId};
+use crate::plant::{Commands, ComponentId, InputError, Plant, TransitionLaw};
+
+/// A command toward the goal: control assignments for this cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Command {
+    /// The controls to set (non-idle values); every other control stays at its idle value.
+    pub assignments: Vec<(VarId, ValueId)>,
+    /// The component whose transition the command is meant to cause.
+    pub component: ComponentId,
+    /// That transition, by index into the component's transitions.
+    pub transition: usize,
+    /// The component's mode now.
+    pub from: ValueId,
+    /// The mode the command should bring it to.
+    pub to: ValueId,
+    /// True when the transition leaves a fault mode.
+    pub repair: bool,
+}
+
+/// A wait: no command this cycle, because the next step happens by itself (§6.3.3).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Wait {
+    /// The component whose transition is awaited.
+    pub component: ComponentId,
+    /// That transition, by index into the component's transitions.
+    pub transition: usize,
+    /// The component's mode now.
+    pub from: ValueId,
+    /// The mode it is expected to reach.
+    pub to: ValueId,
+    /// When the transition fires: its window on the component clock for a timed transition.
+    pub law: TransitionLaw,
+}
+
+/// Why the planner has no action: no compiled policy leads to the goal from here.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanFailure {
+    /// The component that cannot be moved, when one is to blame.
+    pub component: Option<ComponentId>,
+    /// A sentence naming it, its mode and the mode it should reach.
+    pub reason: String,
+}
+
+/// The reactive planner's answer for one cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    /// Issue these control assignments.
+    Command(Command),
+    /// Issue nothing (every control idle) and wait for a transition that happens by itself.
+    Idle(Wait),
+    /// Every component is in its goal mode; every control idle.
+    Achieved,
+    /// No policy applies (a component in a fault mode without repair, an irreversible step the
+    /// goal did not name, a circular requirement).
+    Failure(PlanFailure),
+}
+
+impl Action {
+    /// The full control action μ for the cycle: the command's assignments, idle elsewhere.
+    pub fn commands(&self, plant: &Plant) -> Result<Commands, InputError> {
+        match self {
+            Action::Command(command) => Commands::new(plant, &command.assignments),
+            _ => Ok(Commands::idle(plant)),
+        }
+    }
+
+    /// What to do, for a person: `command PDE.cmd = on`, `command PDE.cmd = reset (repair)`,
+    /// `wait, after Uniform(30, 60) s`, `goal achieved`, `no action: ...`.
+    pub fn summary(&self, plant: &Plant) -> String {
+        match self {
+            Action::Command(command) => {
+                let table = plant.table();
+                let assignments: Vec<String> = command
+                    .assignments
+                    .iter()
+                    .map(|&(x, v)| table.assignment(x, v).to_string())
+                    .collect();
+                let repair = if command.repair { " (repair)" } else { "" };
+                format!("command {}{repair}", assignments.join(", "))
+            }
+            Action::Idle(wait) => format!("wait, {}", wait.law),
+            Action::Achieved => "goal achieved".to_string(),
+            Action::Failure(failure) => format!("no action: {}", failure.reason),
+        }
+    }
+
+    /// The transition a command or a wait is for: `(component, from, to)`.
+    pub fn intended(&self) -> Option<(ComponentId, ValueId, ValueId)> {
+        match self {
+            Action::Command(c) => Some((c.component, c.from, c.to)),
+            Action::Idle(w) => Some((w.component, w.from, w.to)),
+            Action::Achieved | Action::Failure(_) => None,
+        }
+    }
+
+    /// The summary with the transition it is for: `command PDE.cmd = on (PDE: off -> on)`.
+    pub fn describe(&self, plant: &Plant) -> String {
+        let summary = self.summary(plant);
+        match self.intended() {
+            Some((c, from, to)) => {
+                let component = plant.component(c);
+                format!(
+                    "{summary} ({}: {} -> {})",
+                    component.name(),
+                    component.mode(from).name,
+                    component.mode(to).name
+                )
+            }
+            None => summary,
+        }
+    }
+}
+
+/// The reactive planner; see [`Reconfiguration::next_action`].
+pub(crate) fn next_action(
+    reconfiguration: &Reconfiguration,
+    current: &[ValueId],
+    goal: &GoalState,
+) -> Action {
+    let plant = reconfiguration.plant();
+    if let Err(reason) = check_state(plant, current).and_then(|()| check_state(plant, goal.modes()))
+    {
+        return Action::Failure(PlanFailure {
+            component: None,
+            reason,
+        });
+    }
+    let mut planner = Planner {
+        reconfiguration,
+        current,
+        goal,
+        working_on: Vec::new(),
+    };
+    for &c in reconfiguration.causal_graph().downstream_first() {
+        let target = goal.mode(c);
+        if current[c.index()] != target {
+            return planner.achieve(c, target);
+        }
+    }
+    Action::Achieved
+}
+
+/// One cycle's depth-first descent through the policies.
+struct Planner<'a> {
+    reconfiguration: &'a Reconfiguration,
+    current: &'a [ValueId],
+    goal: &'a GoalState,
+    /// Components whose step is waiting on the sub-goal being achieved (to catch cycles).
+    working_on: Vec<ComponentId>,
+}
+
+impl Planner<'_> {
+    /// The first action toward `c = target` (`c` is not there yet).
+    fn achieve(&mut self, c: ComponentId, target: ValueId) -> Action {
+        let here = self.current[c.index()];
+        if self.working_on.contains(&c) {
+            return self.fail(
+                c,
+                target,
+                "its own step needs it elsewhere (a circular requirement)",
+            );
+        }
+        let policy = self.reconfiguration.policy(c);
+        let (step, irreversible) = match policy.entry(here, target) {
+            PolicyEntry::Next { step, irreversible } => (&policy.steps()[step], irreversible),
+            PolicyEntry::Stay => return Action::Achieved,
+            PolicyEntry::Failure => return self.fail(c, target, "no plannable path leads there"),
+        };
+        let explicit = self.goal.mode(c) == target && self.goal.is_named(c);
+        if irreversible && !explicit {
+            return self.fail(
+                c,
+                target,
+                "the step would be irreversible and the goal does not name the target",
+            );
+        }
+        let Ok(requirement) = &step.requirement else {
+            return self.fail(c, target, "the next step's guard cannot be established");
+        };
+        // Sub-goals are stored most downstream first (see `Reconfiguration::compile`).
+        let unmet = requirement
+            .modes
+            .iter()
+            .find(|&&(u, v)| self.current[u.index()] != v);
+        if let Some(&(u, v)) = unmet {
+            self.working_on.push(c);
+            let action = self.achieve(u, v);
+            self.working_on.pop();
+            return action;
+        }
+        self.act(c, step, requirement)
+    }
+
+    /// The step's command, or a wait when it needs none.
+    fn act(&self, c: ComponentId, step: &PolicyStep, requirement: &Requirement) -> Action {
+        let plant = self.reconfiguration.plant();
+        if requirement.is_idle() {
+            return Action::Idle(Wait {
+                component: c,
+                transition: step.transition,
+                from: step.source,
+                to: step.target,
+                law: plant.component(c).transitions()[step.transition].law,
+            });
+        }
+        Action::Command(Command {
+            assignments: requirement.controls.clone(),
+            component: c,
+            transition: step.transition,
+            from: step.source,
+            to: step.target,
+            repair: step.repair,
+        })
+    }
+
+    fn fail(&self, c: ComponentId, target: ValueId, why: &str) -> Action {
+        let component = self.reconfiguration.plant().component(c);
+        Action::Failure(PlanFailure {
+            component: Some(c),
+            reason: format!(
+                "{} cannot be moved from {} to {}: {why}",
+                component.name(),
+                component.mode(self.current[c.index()]).name,
+                component.mode(target).name
+            ),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testing::{DEADLOCK, SWITCH_GADGET, component, load, state};
+    use super::super::{GoalState, PlanOutcome, Reconfiguration};
+    use super::Action;
+
+    #[test]
+    fn a_circular_requirement_is_a_failure_not_a_stack_overflow() {
+        let plant = load(DEADLOCK);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        assert!(!reconfiguration.causal_graph().is_acyclic());
+        let goal = GoalState::new(&plant, state(&plant, &["y", "x"]), &[]);
+        let Action::Failure(failure) =
+            reconfiguration.next_action(&state(&plant, &["x", "x"]), &goal)
+        else {
+            panic!("no action");
+        };
+        assert_eq!(failure.component, Some(component(&plant, "p")));
+        assert!(failure.reason.contains("circular"), "{}", failure.reason);
+    }
+
+    #[test]
+    fn a_named_irreversible_goal_is_reached_and_helpers_restored_last() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let start = state(&plant, &["off", "e"]);
+        let gadget = component(&plant, "gadget");
+        let goal = GoalState::new(&plant, state(&plant, &["off", "c"]), &[gadget]);
+        let run = reconfiguration
+            .simulate_nominal(&mut theory, &start, &goal, 10)
+            .expect("simulates");
+        assert_eq!(run.outcome, PlanOutcome::Achieved);
+        let actions: Vec<String> = run
+            .steps
+            .iter()
+            .map(|s| s.action.describe(&plant))
+            .collect();
+        assert_eq!(
+            actions,
+            [
+                "command gadget.cmd = go-a (gadget: e -> a)",
+                "command switch.cmd = on (switch: off -> on)",
+                "command gadget.cmd = go-b (gadget: a -> b)",
+                "command gadget.cmd = go-c (gadget: b -> c)",
+                "command switch.cmd = off (switch: on -> off)",
+            ]
+        );
+        let cut = reconfiguration
+            .simulate_nominal(&mut theory, &start, &goal, 2)
+            .expect("simulates");
+        assert_eq!(cut.outcome, PlanOutcome::StepLimit);
+        assert_eq!(cut.steps.len(), 2);
+    }
+
+    #[test]
+    fn waits_name_the_awaited_transition() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let goal = GoalState::new(&plant, state(&plant, &["off", "e"]), &[]);
+        let action = reconfiguration.next_action(&state(&plant, &["off", "a"]), &goal);
+        assert_eq!(
+            action.describe(&plant),
+            "wait, after Uniform(1, 2) s (gadget: a -> e)"
+        );
+        assert_eq!(
+            action.commands(&plant).expect("commands"),
+            crate::plant::Commands::idle(&plant)
+        );
+    }
+}
