@@ -3,7 +3,12 @@
 //!
 //! - One decision variable per component: its mode, over the modes [`feasible`] allows (its
 //!   helper modes, plus an irreversible target when the goal names it), with cost −reward.
-//!   Ties between equal rewards go to staying put: a move costs [`MOVE_COST`] more. A
+//!   A component the goal does not name keeps its *kept* mode — the configuration the plant is
+//!   meant to be in, before this goal — unless the goal forces it to change: leaving that mode
+//!   costs [`HOLD_COST`], more than any reward. Reward chooses among what must change. Without
+//!   this, a goal on one component would switch every other one to its highest-reward mode
+//!   (the engine off in the middle of powered descent, as soon as `engine = firing` is no longer
+//!   asserted). Ties between equal rewards go to staying put: a move costs [`MOVE_COST`] more. A
 //!   *transient* mode, which the component leaves by itself (heating), is offered only when the
 //!   goal names it or the component is in it: a goal state should be one the plant stays in.
 //! - Constraints: the plant's theory (the caller's, which GI extends with definitions), and the
@@ -27,6 +32,10 @@ use crate::plant::{ComponentId, ModeKind, Plant, describe_modes};
 /// What moving a component away from its current mode costs on top of −reward: enough to break
 /// ties between equal rewards in favour of staying, too little to outweigh any reward.
 pub const MOVE_COST: f64 = 1e-6;
+
+/// What leaving its kept mode costs a component the goal does not name: more than any
+/// difference of rewards, so goal interpretation changes as few components as the goal needs.
+pub const HOLD_COST: f64 = 1e6;
 
 /// At most this many candidates are checked for entailment (only goals that are not plain
 /// conjunctions of mode assignments need the check).
@@ -206,9 +215,11 @@ pub(crate) fn interpret(
     theory: &mut Theory,
     current: &[ValueId],
     goal: &Formula,
+    keep: &[ValueId],
 ) -> Result<GoalState, GoalFailed> {
     let plant = reconfiguration.plant();
     check_state(plant, current).map_err(GoalFailed::bad_input)?;
+    check_state(plant, keep).map_err(GoalFailed::bad_input)?;
     if theory.table() != plant.table() {
         return Err(GoalFailed::bad_input(
             "the theory is not the plant's (use the plant's `theory()`)",
@@ -228,7 +239,7 @@ pub(crate) fn interpret(
     let named = named_modes(plant, goal);
     let domains = domains(reconfiguration, current, &feasible, &named);
     let parts = goal_parts(theory, goal).map_err(GoalFailed::bad_input)?;
-    let ocsp = goal_ocsp(plant, current, &domains, &parts)?;
+    let ocsp = goal_ocsp(plant, (current, keep), &domains, &named, &parts)?;
     match first_entailing(plant, theory, &ocsp, goal)? {
         Search::Found(modes) => {
             let named: Vec<ComponentId> = plant
@@ -267,21 +278,26 @@ pub(crate) fn interpret(
 }
 
 /// §6.3.1's OCSP: a decision per component over its allowed modes, cost −reward (plus
-/// [`MOVE_COST`] for a move), the goal's parts that are not mode assignments as assumptions.
+/// [`MOVE_COST`] for a move, and [`HOLD_COST`] for leaving the kept mode of a component the goal
+/// does not name), the goal's parts that are not mode assignments as assumptions.
 fn goal_ocsp(
     plant: &Plant,
-    current: &[ValueId],
+    (current, keep): (&[ValueId], &[ValueId]),
     domains: &[Vec<ValueId>],
+    named: &[Vec<ValueId>],
     parts: &[(Literal, Formula)],
 ) -> Result<Ocsp, GoalFailed> {
     let mut ocsp = Ocsp::new();
     for (id, component) in plant.component_ids() {
         let here = current[id.index()];
+        let kept = keep[id.index()];
+        let held = named[id.index()].is_empty();
         let choices = narrowed(plant, &domains[id.index()], id, parts)
             .into_iter()
             .map(|v| {
                 let moving = if v == here { 0.0 } else { MOVE_COST };
-                (v, moving - component.mode(v).reward)
+                let leaving = if held && v != kept { HOLD_COST } else { 0.0 };
+                (v, moving + leaving - component.mode(v).reward)
             });
         if ocsp.decide(component.mode_var(), choices).is_err() {
             return Err(GoalFailed::bad_input(format!(

@@ -88,6 +88,18 @@ impl Setup {
             .interpret(&mut self.theory, state, &goal)
     }
 
+    /// Goal interpretation from `state`, keeping unnamed components in the modes of `keep`.
+    pub fn interpret_keeping(
+        &mut self,
+        state: &[ValueId],
+        text: &str,
+        keep: &[ValueId],
+    ) -> Result<GoalState, kairos::reconfiguration::GoalFailed> {
+        let goal = self.formula(text);
+        self.reconfiguration
+            .interpret_keeping(&mut self.theory, state, &goal, keep)
+    }
+
     /// The nominal run from `state` to `goal`.
     pub fn run(&mut self, state: &[ValueId], goal: &GoalState) -> NominalRun {
         self.reconfiguration
