@@ -8,7 +8,7 @@ use kairos::opsat::{
     Budget, Consistency, Literal, SatBackend, SearchOptions, Solution, TheoryOptions,
 };
 use proptest::prelude::*;
-use support::random_ocsp::{RandomOcsp, random_ocsp};
+use support::random_ocsp::{RandomOcsp, random_ocsp, random_ocsp_with_assumptions};
 
 const TIE: f64 = 1e-9;
 
@@ -123,6 +123,20 @@ proptest! {
             prop_assert!(found.cut.is_none());
             prop_assert_eq!(found.solutions.len(), expected.len(),
                 "{:?} {:?}", theory_options, search_options);
+            assert_prefix_up_to_ties(&found.solutions, &expected);
+        }
+    }
+
+    /// Per-problem assumptions — on decision variables too — restrict the solutions exactly as
+    /// the same literals would as constraints.
+    #[test]
+    fn assumptions_restrict_the_solutions(problem in random_ocsp_with_assumptions(6, 2, 8, 3)) {
+        let expected = problem.brute_force();
+        for decompose in [true, false] {
+            let (mut theory, ocsp) = problem.build(TheoryOptions::default());
+            let options = SearchOptions { decompose, ..SearchOptions::default() };
+            let found = ocsp.best_with(&mut theory, usize::MAX, options);
+            prop_assert_eq!(found.solutions.len(), expected.len());
             assert_prefix_up_to_ties(&found.solutions, &expected);
         }
     }

@@ -7,6 +7,12 @@
 //! streams are merged lazily: a global solution is a tuple of stream indices; the frontier starts
 //! at all zeros, and a popped tuple's successors increment one position at or after its last
 //! non-zero one, which generates each tuple exactly once and never before a cheaper one.
+//!
+//! A successor's cost needs the next solution of one stream, which may take a search. So a
+//! successor enters the frontier *pending*, at its parent's cost — a lower bound, since streams
+//! are sorted — and its solution is fetched only when it reaches the front; then it re-enters at
+//! its true cost. Asking for the best solution of many independent sub-problems therefore
+//! searches each sub-problem once, not twice.
 
 use std::cmp::Reverse;
 use std::collections::HashMap;
@@ -53,9 +59,21 @@ pub struct Enumeration<'a> {
     options: SearchOptions,
     meter: Meter,
     streams: Vec<Stream>,
-    frontier: PriorityQueue<Vec<u32>, Priority>,
+    frontier: PriorityQueue<Entry, Priority>,
     created: u64,
     state: State,
+}
+
+/// A frontier entry: a tuple of stream indices whose solutions are all known (`Ready`), or one
+/// whose last-incremented stream has not produced that solution yet (`Pending`, at a lower bound).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+enum Entry {
+    Ready(Vec<u32>),
+    Pending {
+        tuple: Vec<u32>,
+        /// The stream whose solution at `tuple[stream]` is still to be fetched.
+        stream: usize,
+    },
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -109,27 +127,38 @@ impl<'a> Enumeration<'a> {
         if self.state == State::Exhausted {
             return Ok(None);
         }
-        let Some((tuple, _)) = self.frontier.peek() else {
-            self.state = State::Exhausted;
-            return Ok(None);
-        };
-        let tuple = tuple.clone();
-        // Fetch every successor's solutions before popping, so a cut leaves the state intact.
-        let first = tuple.iter().rposition(|&i| i > 0).unwrap_or(0);
-        let mut successors = Vec::new();
-        for j in first..self.streams.len() {
-            let next = tuple[j] as usize + 1;
-            if self.streams[j].ensure(next, self.ocsp, theory, &self.options, &mut self.meter)? {
-                let mut successor = tuple.clone();
-                successor[j] += 1;
-                successors.push(successor);
+        loop {
+            let Some((entry, priority)) = self.frontier.pop() else {
+                self.state = State::Exhausted;
+                return Ok(None);
+            };
+            match entry {
+                Entry::Ready(tuple) => {
+                    self.push_successors(&tuple, priority);
+                    return Ok(Some(self.combine(&tuple)));
+                }
+                Entry::Pending { tuple, stream } => {
+                    let index = tuple[stream] as usize;
+                    let fetched = self.streams[stream].ensure(
+                        index,
+                        self.ocsp,
+                        theory,
+                        &self.options,
+                        &mut self.meter,
+                    );
+                    match fetched {
+                        Ok(true) => self.push_ready(tuple),
+                        Ok(false) => {}
+                        Err(cut) => {
+                            // Leave the state as it was, so a renewed budget can go on.
+                            self.frontier
+                                .push(Entry::Pending { tuple, stream }, priority);
+                            return Err(cut);
+                        }
+                    }
+                }
             }
         }
-        self.frontier.pop();
-        for successor in successors {
-            self.push(successor);
-        }
-        Ok(Some(self.combine(&tuple)))
     }
 
     fn start(&mut self, theory: &mut Theory) -> Result<(), Cut> {
@@ -144,12 +173,35 @@ impl<'a> Enumeration<'a> {
                 return Ok(());
             }
         }
-        self.push(vec![0; self.streams.len()]);
+        self.push_ready(vec![0; self.streams.len()]);
         self.state = State::Running;
         Ok(())
     }
 
-    fn push(&mut self, tuple: Vec<u32>) {
+    /// Pushes the successors of a popped tuple as pending entries at its own cost.
+    fn push_successors(&mut self, tuple: &[u32], priority: Priority) {
+        let Reverse((cost, _)) = priority;
+        let first = tuple.iter().rposition(|&i| i > 0).unwrap_or(0);
+        for stream in first..self.streams.len() {
+            let mut successor = tuple.to_vec();
+            successor[stream] += 1;
+            let stream_done = self.streams[stream].done;
+            if stream_done && self.streams[stream].found.len() <= successor[stream] as usize {
+                continue;
+            }
+            self.created += 1;
+            self.frontier.push(
+                Entry::Pending {
+                    tuple: successor,
+                    stream,
+                },
+                Reverse((cost, self.created)),
+            );
+        }
+    }
+
+    /// Pushes a tuple whose solutions are all known, at its true cost.
+    fn push_ready(&mut self, tuple: Vec<u32>) {
         let cost: f64 = tuple
             .iter()
             .zip(&self.streams)
@@ -157,7 +209,7 @@ impl<'a> Enumeration<'a> {
             .sum();
         self.created += 1;
         self.frontier
-            .push(tuple, Reverse((Cost(cost), self.created)));
+            .push(Entry::Ready(tuple), Reverse((Cost(cost), self.created)));
     }
 
     fn combine(&self, tuple: &[u32]) -> Solution {

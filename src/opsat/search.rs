@@ -155,7 +155,7 @@ impl ComponentSearch {
                 }
                 Consistency::Conflict(literals) => {
                     let conflict = if use_conflicts {
-                        self.conflict_over_members(ocsp, &literals)
+                        self.conflict_over_members(ocsp, &literals, &candidate)
                     } else {
                         candidate.iter().copied().enumerate().collect()
                     };
@@ -191,9 +191,15 @@ impl ComponentSearch {
         })
     }
 
-    /// The theory's conflict restricted to this sub-problem's decisions (the per-problem
-    /// assumptions hold in every candidate, so they can be dropped).
-    fn conflict_over_members(&self, ocsp: &Ocsp, literals: &[Literal]) -> Conflict {
+    /// The theory's conflict restricted to the candidate's own assignments. The per-problem
+    /// assumptions hold in every candidate, so they can be dropped — including an assumption
+    /// about a decision variable, which must not be read as a choice of the candidate.
+    fn conflict_over_members(
+        &self,
+        ocsp: &Ocsp,
+        literals: &[Literal],
+        candidate: &[u32],
+    ) -> Conflict {
         let mut conflict: Conflict = literals
             .iter()
             .filter_map(|literal| {
@@ -202,8 +208,8 @@ impl ComponentSearch {
                 };
                 let &p = self.position.get(&var)?;
                 let choices = &ocsp.decisions()[self.members[p]].choices;
-                let c = choices.iter().position(|c| c.value == value)?;
-                Some((p, c as u32))
+                let c = choices.iter().position(|c| c.value == value)? as u32;
+                (candidate[p] == c).then_some((p, c))
             })
             .collect();
         conflict.sort_unstable();

@@ -300,3 +300,27 @@ mod tests {
         assert!(graph.is_acyclic());
     }
 }
+
+#[cfg(test)]
+mod influence_tests {
+    use super::super::testing::{component, model};
+    use super::Influence;
+
+    #[test]
+    fn guard_inputs_are_traced_to_upstream_modes_and_controls() {
+        let plant = model("propulsion");
+        let influence = Influence::new(&plant);
+        let engine = component(&plant, "engine");
+        let var = |name: &str| plant.table().variable_id(name).expect(name);
+        let command = influence.dependencies(&plant, engine, &[var("engine.cmd")]);
+        assert_eq!(command.modes, [component(&plant, "PDE")]);
+        assert_eq!(command.controls, [var("PDE.cmd")]);
+        let fuel = influence.dependencies(&plant, engine, &[var("engine.fuel")]);
+        assert_eq!(
+            fuel.modes,
+            [component(&plant, "tank1"), component(&plant, "valve1")]
+        );
+        assert!(fuel.controls.is_empty());
+        assert!(!fuel.overlaps(&command));
+    }
+}

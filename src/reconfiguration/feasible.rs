@@ -153,3 +153,68 @@ impl Walker<'_> {
         finals
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::Reconfiguration;
+    use super::super::testing::{DEADLOCK, SWITCH_GADGET, component, load, state};
+    use super::{Feasible, feasible};
+    use crate::plant::Plant;
+
+    fn feasible_in(plant: &Plant, modes: &[&str]) -> Feasible {
+        let reconfiguration = Reconfiguration::compile(plant).expect("compiles");
+        feasible(
+            plant,
+            reconfiguration.policies(),
+            reconfiguration.upstream_first(),
+            &state(plant, modes),
+        )
+    }
+
+    fn names(plant: &Plant, c: &str, flags: &[bool]) -> Vec<String> {
+        let component = plant.component(component(plant, c));
+        flags
+            .iter()
+            .enumerate()
+            .filter(|(_, on)| **on)
+            .map(|(i, _)| component.modes()[i].name.clone())
+            .collect()
+    }
+
+    #[test]
+    fn a_stuck_switch_keeps_the_gadget_out_of_b_and_says_so() {
+        let plant = load(SWITCH_GADGET);
+        let gadget = component(&plant, "gadget").index();
+        let fine = feasible_in(&plant, &["off", "a"]);
+        assert_eq!(
+            names(&plant, "gadget", &fine.helpers[gadget]),
+            ["a", "b", "e"]
+        );
+        assert_eq!(names(&plant, "gadget", &fine.finals[gadget]), ["c"]);
+        let stuck = feasible_in(&plant, &["stuck", "a"]);
+        assert_eq!(names(&plant, "switch", &stuck.helpers[0]), ["stuck"]);
+        assert_eq!(names(&plant, "gadget", &stuck.helpers[gadget]), ["a", "e"]);
+        assert_eq!(stuck.blocked_by[gadget], [component(&plant, "switch")]);
+        assert!(stuck.finals[gadget].iter().all(|f| !f));
+    }
+
+    #[test]
+    fn a_repairable_fault_must_be_repaired() {
+        let plant = load(SWITCH_GADGET);
+        let gadget = component(&plant, "gadget").index();
+        let broken = feasible_in(&plant, &["off", "broken"]);
+        assert_eq!(
+            names(&plant, "gadget", &broken.helpers[gadget]),
+            ["a", "b", "e"]
+        );
+        assert_eq!(names(&plant, "gadget", &broken.finals[gadget]), ["c"]);
+    }
+
+    #[test]
+    fn a_cycle_of_influence_is_trusted_only_where_it_already_is() {
+        let plant = load(DEADLOCK);
+        let stuck = feasible_in(&plant, &["x", "x"]);
+        assert_eq!(names(&plant, "p", &stuck.helpers[0]), ["x"]);
+        assert_eq!(names(&plant, "q", &stuck.helpers[1]), ["x"]);
+    }
+}

@@ -3,7 +3,14 @@
 //!
 //! - One decision variable per component: its mode, over the modes [`feasible`] allows (its
 //!   helper modes, plus an irreversible target when the goal names it), with cost −reward.
-//!   Ties between equal rewards go to staying put: a move costs [`MOVE_COST`] more.
+//!   A component the goal does not name keeps its *kept* mode — the configuration the plant is
+//!   meant to be in, before this goal — unless the goal forces it to change: leaving that mode
+//!   costs [`HOLD_COST`], more than any reward. Reward chooses among what must change. Without
+//!   this, a goal on one component would switch every other one to its highest-reward mode
+//!   (the engine off in the middle of powered descent, as soon as `engine = firing` is no longer
+//!   asserted). Ties between equal rewards go to staying put: a move costs [`MOVE_COST`] more. A
+//!   *transient* mode, which the component leaves by itself (heating), is offered only when the
+//!   goal names it or the component is in it: a goal state should be one the plant stays in.
 //! - Constraints: the plant's theory (the caller's, which GI extends with definitions), and the
 //!   goal. Candidates come out best first, consistent with the model and the goal; when the goal
 //!   is a conjunction of mode assignments that is also entailment, otherwise each candidate is
@@ -25,6 +32,10 @@ use crate::plant::{ComponentId, ModeKind, Plant, describe_modes};
 /// What moving a component away from its current mode costs on top of −reward: enough to break
 /// ties between equal rewards in favour of staying, too little to outweigh any reward.
 pub const MOVE_COST: f64 = 1e-6;
+
+/// What leaving its kept mode costs a component the goal does not name: more than any
+/// difference of rewards, so goal interpretation changes as few components as the goal needs.
+pub const HOLD_COST: f64 = 1e6;
 
 /// At most this many candidates are checked for entailment (only goals that are not plain
 /// conjunctions of mode assignments need the check).
@@ -204,9 +215,11 @@ pub(crate) fn interpret(
     theory: &mut Theory,
     current: &[ValueId],
     goal: &Formula,
+    keep: &[ValueId],
 ) -> Result<GoalState, GoalFailed> {
     let plant = reconfiguration.plant();
     check_state(plant, current).map_err(GoalFailed::bad_input)?;
+    check_state(plant, keep).map_err(GoalFailed::bad_input)?;
     if theory.table() != plant.table() {
         return Err(GoalFailed::bad_input(
             "the theory is not the plant's (use the plant's `theory()`)",
@@ -224,15 +237,68 @@ pub(crate) fn interpret(
         current,
     );
     let named = named_modes(plant, goal);
-    let domains = domains(&feasible, &named);
+    let domains = domains(reconfiguration, current, &feasible, &named);
     let parts = goal_parts(theory, goal).map_err(GoalFailed::bad_input)?;
+    let ocsp = goal_ocsp(plant, (current, keep), &domains, &named, &parts)?;
+    match first_entailing(plant, theory, &ocsp, goal)? {
+        Search::Found(modes) => {
+            let named: Vec<ComponentId> = plant
+                .component_ids()
+                .map(|(id, _)| id)
+                .filter(|id| named[id.index()].contains(&modes[id.index()]))
+                .collect();
+            Ok(GoalState::new(plant, modes, &named))
+        }
+        Search::NoneEntails { cut } => {
+            let scope = if cut {
+                format!("among the {ENTAILMENT_CANDIDATES} best reachable states, none")
+            } else {
+                "no reachable state".to_string()
+            };
+            Err(GoalFailed {
+                reason: format!(
+                    "{scope} entails `{}`: the states consistent with it leave it undetermined",
+                    goal.display(plant.table())
+                ),
+                cause: FailureCause::NotEntailed,
+            })
+        }
+        Search::NoneConsistent => Err(explain(
+            reconfiguration,
+            theory,
+            current,
+            &Explanation {
+                feasible: &feasible,
+                domains: &domains,
+                named: &named,
+                parts: &parts,
+            },
+        )),
+    }
+}
+
+/// §6.3.1's OCSP: a decision per component over its allowed modes, cost −reward (plus
+/// [`MOVE_COST`] for a move, and [`HOLD_COST`] for leaving the kept mode of a component the goal
+/// does not name), the goal's parts that are not mode assignments as assumptions.
+fn goal_ocsp(
+    plant: &Plant,
+    (current, keep): (&[ValueId], &[ValueId]),
+    domains: &[Vec<ValueId>],
+    named: &[Vec<ValueId>],
+    parts: &[(Literal, Formula)],
+) -> Result<Ocsp, GoalFailed> {
     let mut ocsp = Ocsp::new();
     for (id, component) in plant.component_ids() {
         let here = current[id.index()];
-        let choices = domains[id.index()].iter().map(|&v| {
-            let moving = if v == here { 0.0 } else { MOVE_COST };
-            (v, moving - component.mode(v).reward)
-        });
+        let kept = keep[id.index()];
+        let held = named[id.index()].is_empty();
+        let choices = narrowed(plant, &domains[id.index()], id, parts)
+            .into_iter()
+            .map(|v| {
+                let moving = if v == here { 0.0 } else { MOVE_COST };
+                let leaving = if held && v != kept { HOLD_COST } else { 0.0 };
+                (v, moving + leaving - component.mode(v).reward)
+            });
         if ocsp.decide(component.mode_var(), choices).is_err() {
             return Err(GoalFailed::bad_input(format!(
                 "component `{}` has a reward that is not a number",
@@ -240,13 +306,44 @@ pub(crate) fn interpret(
             )));
         }
     }
-    for (literal, _) in &parts {
-        ocsp.assume(*literal);
+    for (literal, _) in parts {
+        let on_a_mode = matches!(literal, Literal::Is(x, _) if plant.component_of(*x).is_some());
+        if !on_a_mode {
+            ocsp.assume(*literal);
+        }
     }
+    Ok(ocsp)
+}
+
+/// What the search for a goal state found.
+enum Search {
+    /// The best candidate that entails the goal: a mode per component.
+    Found(Vec<ValueId>),
+    /// Candidates exist but none entails the goal (`cut`: the search gave up first).
+    NoneEntails { cut: bool },
+    /// No candidate is consistent with the model and the goal.
+    NoneConsistent,
+}
+
+/// The best candidate entailing `goal`. When the goal is a conjunction of mode assignments
+/// (already in the domains) every candidate does; otherwise each is checked.
+fn first_entailing(
+    plant: &Plant,
+    theory: &mut Theory,
+    ocsp: &Ocsp,
+    goal: &Formula,
+) -> Result<Search, GoalFailed> {
     let mode_goal = goal
         .as_assignments()
         .is_some_and(|a| a.iter().all(|&(x, _)| plant.component_of(x).is_some()));
-    let mut candidates = ocsp.enumerate(theory, SearchOptions::default());
+    // One search over all the decisions: GI wants the first entailing candidate, and a
+    // decomposed search fetches two solutions of every independent sub-problem before its
+    // first (two SAT calls per component of a loosely coupled plant; BENCHMARKS.md).
+    let options = SearchOptions {
+        decompose: false,
+        ..SearchOptions::default()
+    };
+    let mut candidates = ocsp.enumerate(theory, options);
     let mut tested = 0u64;
     while let Ok(Some(solution)) = candidates.next(theory) {
         let entailed = mode_goal
@@ -254,56 +351,65 @@ pub(crate) fn interpret(
                 .entails(&solution.literals(), goal)
                 .map_err(|e| GoalFailed::bad_input(e.to_string()))?;
         if entailed {
-            let modes = solution.assignment.iter().map(|&(_, v)| v).collect();
-            let named: Vec<ComponentId> = plant
-                .component_ids()
-                .filter(|(id, _)| {
-                    let v: ValueId = solution.assignment[id.index()].1;
-                    named[id.index()].contains(&v)
-                })
-                .map(|(id, _)| id)
-                .collect();
-            return Ok(GoalState::new(plant, modes, &named));
+            return Ok(Search::Found(
+                solution.assignment.iter().map(|&(_, v)| v).collect(),
+            ));
         }
         tested += 1;
         if tested >= ENTAILMENT_CANDIDATES {
-            break;
+            return Ok(Search::NoneEntails { cut: true });
         }
     }
-    if tested > 0 {
-        return Err(GoalFailed {
-            reason: format!(
-                "no reachable state entails `{}`: the reachable states consistent with it leave it \
-                 undetermined",
-                goal.display(plant.table())
-            ),
-            cause: FailureCause::NotEntailed,
-        });
-    }
-    Err(explain(
-        reconfiguration,
-        theory,
-        current,
-        &Explanation {
-            feasible: &feasible,
-            domains: &domains,
-            named: &named,
-            parts: &parts,
-        },
-    ))
+    Ok(if tested > 0 {
+        Search::NoneEntails { cut: false }
+    } else {
+        Search::NoneConsistent
+    })
 }
 
-/// Per component, the modes GI may choose: its helper modes and the named feasible finals.
-fn domains(feasible: &Feasible, named: &[Vec<ValueId>]) -> Vec<Vec<ValueId>> {
-    feasible
-        .helpers
+/// `domain` without the modes the goal's own assignments to component `c` exclude. Goal
+/// assignments to mode variables narrow the decision instead of being assumed: the same
+/// problem, smaller, and OPSAT's conflict-directed search only learns conflicts over its
+/// decisions from the candidates, not from assumptions on the decision variables themselves.
+fn narrowed(
+    plant: &Plant,
+    domain: &[ValueId],
+    c: ComponentId,
+    parts: &[(Literal, Formula)],
+) -> Vec<ValueId> {
+    let var = plant.component(c).mode_var();
+    domain
         .iter()
-        .zip(&feasible.finals)
-        .zip(named)
-        .map(|((helpers, finals), named)| {
+        .copied()
+        .filter(|&v| {
+            parts
+                .iter()
+                .all(|(literal, _)| !matches!(*literal, Literal::Is(x, w) if x == var && w != v))
+        })
+        .collect()
+}
+
+/// Per component, the modes GI may choose: its helper modes and the named feasible finals,
+/// without the transient modes (left by themselves) the goal does not name, unless current.
+fn domains(
+    reconfiguration: &Reconfiguration,
+    current: &[ValueId],
+    feasible: &Feasible,
+    named: &[Vec<ValueId>],
+) -> Vec<Vec<ValueId>> {
+    reconfiguration
+        .policies()
+        .iter()
+        .enumerate()
+        .map(|(c, policy)| {
+            let (helpers, finals) = (&feasible.helpers[c], &feasible.finals[c]);
             (0..helpers.len())
                 .map(|v| ValueId(v as u32))
-                .filter(|v| helpers[v.index()] || (finals[v.index()] && named.contains(v)))
+                .filter(|v| {
+                    let is_named = named[c].contains(v);
+                    let holdable = !policy.is_transient(*v) || is_named || *v == current[c];
+                    holdable && (helpers[v.index()] || (finals[v.index()] && is_named))
+                })
                 .collect()
         })
         .collect()
@@ -464,4 +570,95 @@ fn describe_reach(
         ));
     }
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Reconfiguration;
+    use super::super::testing::{SWITCH_GADGET, component, load, mode, state};
+    use super::{FailureCause, named_modes};
+    use crate::logic::parse_formula;
+
+    #[test]
+    fn only_positive_mode_atoms_are_named() {
+        let plant = load(SWITCH_GADGET);
+        let goal = parse_formula(
+            "gadget = c and not gadget = d and (switch = on => gadget = b) and gadget.power = on",
+            plant.table(),
+        )
+        .expect("formula");
+        let named = named_modes(&plant, &goal);
+        let gadget = component(&plant, "gadget").index();
+        assert_eq!(
+            named[gadget],
+            [mode(&plant, "gadget", "c"), mode(&plant, "gadget", "b")]
+        );
+        assert!(named[component(&plant, "switch").index()].is_empty());
+    }
+
+    #[test]
+    fn ties_stay_put_and_transient_modes_are_offered_only_where_the_gadget_is() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let gadget = component(&plant, "gadget");
+        let anything = parse_formula("true", plant.table()).expect("formula");
+        for here in ["a", "e"] {
+            let current = state(&plant, &["off", here]);
+            let goal = reconfiguration
+                .interpret(&mut theory, &current, &anything)
+                .expect("a goal state");
+            assert_eq!(goal.mode(gadget), mode(&plant, "gadget", here));
+        }
+        // Leaving e: a, the transient mode, is not offered; b is.
+        let not_e = parse_formula("not gadget = e", plant.table()).expect("formula");
+        let current = state(&plant, &["off", "e"]);
+        let goal = reconfiguration
+            .interpret(&mut theory, &current, &not_e)
+            .expect("a goal state");
+        assert_eq!(goal.mode(gadget), mode(&plant, "gadget", "b"));
+    }
+
+    #[test]
+    fn irreversible_goals_must_be_named_and_unreachable_ones_are_explained() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let current = state(&plant, &["off", "a"]);
+        let c = parse_formula("gadget = c", plant.table()).expect("formula");
+        let goal = reconfiguration
+            .interpret(&mut theory, &current, &c)
+            .expect("named, so offered");
+        assert!(goal.is_named(component(&plant, "gadget")));
+        let d = parse_formula("gadget = d", plant.table()).expect("formula");
+        let failed = reconfiguration
+            .interpret(&mut theory, &current, &d)
+            .expect_err("two irreversible steps away");
+        assert_eq!(
+            failed.reason,
+            "gadget = d is unreachable: gadget can reach only a, b, e from a; gadget = c would \
+             be irreversible and the goal does not name it"
+        );
+        assert!(matches!(failed.cause, FailureCause::Unreachable { .. }));
+    }
+
+    /// A control is consistent with every state and entailed by none: such a goal is not a
+    /// configuration of the plant.
+    #[test]
+    fn a_goal_no_state_entails_is_not_entailed() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let current = state(&plant, &["off", "a"]);
+        let command = parse_formula("switch.cmd = on", plant.table()).expect("formula");
+        let failed = reconfiguration
+            .interpret(&mut theory, &current, &command)
+            .expect_err("not a configuration");
+        assert_eq!(failed.cause, FailureCause::NotEntailed);
+        assert_eq!(
+            failed.reason,
+            "no reachable state entails `switch.cmd = on`: the states consistent with it leave \
+             it undetermined"
+        );
+    }
 }

@@ -35,9 +35,11 @@ mod policy;
 mod reachability;
 mod requirement;
 mod simulate;
+#[cfg(test)]
+mod testing;
 
 pub use causal::CausalGraph;
-pub use goal::{FailureCause, GoalFailed, GoalState, MOVE_COST};
+pub use goal::{FailureCause, GoalFailed, GoalState, HOLD_COST, MOVE_COST};
 pub use planner::{Action, Command, PlanFailure, Wait};
 pub use policy::{ConcurrentPolicy, PolicyEntry, PolicyStep};
 pub use reachability::Reachability;
@@ -128,8 +130,9 @@ impl Reconfiguration {
         &self.upstream_first
     }
 
-    /// Goal interpretation (§6.3.1): the maximum-reward state reachable from `current` (a mode
-    /// per component: the estimate ŝ) that is consistent with the model and entails `goal`.
+    /// Goal interpretation (§6.3.1): the state reachable from `current` (a mode per component:
+    /// the estimate ŝ) that is consistent with the model, entails `goal`, changes no component
+    /// the goal does not name unless it must, and has the maximum reward among those.
     /// `theory` is the plant's own ([`Plant::theory`]); GI adds definitions to it. The goal must
     /// be grounded (no clock or confidence atoms). Call it when the goal or the estimate changes.
     pub fn interpret(
@@ -138,7 +141,21 @@ impl Reconfiguration {
         current: &[ValueId],
         goal: &Formula,
     ) -> Result<GoalState, GoalFailed> {
-        goal::interpret(self, theory, current, goal)
+        goal::interpret(self, theory, current, goal, current)
+    }
+
+    /// [`Reconfiguration::interpret`], keeping the components the goal does not name in the
+    /// modes of `keep` (the configuration the plant is meant to be in — the previous goal state)
+    /// rather than in their current modes: a helper switched on to serve an earlier goal (the
+    /// PDE) is then still returned to its kept mode.
+    pub fn interpret_keeping(
+        &self,
+        theory: &mut Theory,
+        current: &[ValueId],
+        goal: &Formula,
+        keep: &[ValueId],
+    ) -> Result<GoalState, GoalFailed> {
+        goal::interpret(self, theory, current, goal, keep)
     }
 
     /// The reactive planner (§6.3.2–§6.3.3): the first action toward `goal` from `current` (a

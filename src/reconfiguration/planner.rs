@@ -245,3 +245,75 @@ impl Planner<'_> {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::testing::{DEADLOCK, SWITCH_GADGET, component, load, state};
+    use super::super::{GoalState, PlanOutcome, Reconfiguration};
+    use super::Action;
+
+    #[test]
+    fn a_circular_requirement_is_a_failure_not_a_stack_overflow() {
+        let plant = load(DEADLOCK);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        assert!(!reconfiguration.causal_graph().is_acyclic());
+        let goal = GoalState::new(&plant, state(&plant, &["y", "x"]), &[]);
+        let Action::Failure(failure) =
+            reconfiguration.next_action(&state(&plant, &["x", "x"]), &goal)
+        else {
+            panic!("no action");
+        };
+        assert_eq!(failure.component, Some(component(&plant, "p")));
+        assert!(failure.reason.contains("circular"), "{}", failure.reason);
+    }
+
+    #[test]
+    fn a_named_irreversible_goal_is_reached_and_helpers_restored_last() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let start = state(&plant, &["off", "e"]);
+        let gadget = component(&plant, "gadget");
+        let goal = GoalState::new(&plant, state(&plant, &["off", "c"]), &[gadget]);
+        let run = reconfiguration
+            .simulate_nominal(&mut theory, &start, &goal, 10)
+            .expect("simulates");
+        assert_eq!(run.outcome, PlanOutcome::Achieved);
+        let actions: Vec<String> = run
+            .steps
+            .iter()
+            .map(|s| s.action.describe(&plant))
+            .collect();
+        assert_eq!(
+            actions,
+            [
+                "command gadget.cmd = go-a (gadget: e -> a)",
+                "command switch.cmd = on (switch: off -> on)",
+                "command gadget.cmd = go-b (gadget: a -> b)",
+                "command gadget.cmd = go-c (gadget: b -> c)",
+                "command switch.cmd = off (switch: on -> off)",
+            ]
+        );
+        let cut = reconfiguration
+            .simulate_nominal(&mut theory, &start, &goal, 2)
+            .expect("simulates");
+        assert_eq!(cut.outcome, PlanOutcome::StepLimit);
+        assert_eq!(cut.steps.len(), 2);
+    }
+
+    #[test]
+    fn waits_name_the_awaited_transition() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let goal = GoalState::new(&plant, state(&plant, &["off", "e"]), &[]);
+        let action = reconfiguration.next_action(&state(&plant, &["off", "a"]), &goal);
+        assert_eq!(
+            action.describe(&plant),
+            "wait, after Uniform(1, 2) s (gadget: a -> e)"
+        );
+        assert_eq!(
+            action.commands(&plant).expect("commands"),
+            crate::plant::Commands::idle(&plant)
+        );
+    }
+}

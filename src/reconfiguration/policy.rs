@@ -117,6 +117,19 @@ impl ConcurrentPolicy {
         &self.reachability
     }
 
+    /// True when the component leaves `mode` by itself: a step out of it needs no command and
+    /// no sub-goal (a timed transition such as heating → standby). Goal interpretation offers
+    /// such a mode only when the goal names it or the component is already in it.
+    pub fn is_transient(&self, mode: ValueId) -> bool {
+        self.steps.iter().any(|step| {
+            step.source == mode
+                && step
+                    .requirement
+                    .as_ref()
+                    .is_ok_and(|r| r.is_idle() && r.modes.is_empty())
+        })
+    }
+
     /// Puts every step's sub-goals in the planner's order: by `rank` (a component's position
     /// in the causal graph's downstream-first order).
     pub(crate) fn order_sub_goals(&mut self, rank: &[usize]) {
@@ -223,4 +236,62 @@ fn first_steps(
             None => PolicyEntry::Failure,
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Reconfiguration;
+    use super::super::testing::{SWITCH_GADGET, component, load, mode};
+    use super::PolicyEntry;
+
+    #[test]
+    fn paths_take_one_irreversible_step_at_most_and_only_last() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let gadget = component(&plant, "gadget");
+        let policy = reconfiguration.policy(gadget);
+        let m = |name| mode(&plant, "gadget", name);
+        let next = |from, to| match policy.entry(m(from), m(to)) {
+            PolicyEntry::Next { step, irreversible } => {
+                let step = &policy.steps()[step];
+                let target = &plant.component(gadget).mode(step.target).name;
+                Some((target.clone(), irreversible, step.repair))
+            }
+            PolicyEntry::Stay | PolicyEntry::Failure => None,
+        };
+        assert_eq!(policy.entry(m("a"), m("a")), PolicyEntry::Stay);
+        // a -> b -> c: the irreversible step comes last.
+        assert_eq!(next("a", "c"), Some(("b".into(), false, false)));
+        assert_eq!(next("b", "c"), Some(("c".into(), true, false)));
+        // d would need c as an irreversible intermediate step: never.
+        assert_eq!(policy.entry(m("a"), m("d")), PolicyEntry::Failure);
+        assert_eq!(policy.entry(m("c"), m("a")), PolicyEntry::Failure);
+        assert_eq!(next("c", "d"), Some(("d".into(), false, false)));
+        // Repairs: into a reversibly, into c irreversibly; b by way of a.
+        assert_eq!(next("broken", "a"), Some(("a".into(), false, true)));
+        assert_eq!(next("broken", "b"), Some(("a".into(), false, true)));
+        assert_eq!(next("broken", "c"), Some(("c".into(), true, true)));
+        assert_eq!(policy.entry(m("broken"), m("d")), PolicyEntry::Failure);
+        // e is reached by waiting in a.
+        assert_eq!(next("a", "e"), Some(("e".into(), false, false)));
+        assert!(policy.is_transient(m("a")));
+        assert!(!policy.is_transient(m("e")) && !policy.is_transient(m("b")));
+    }
+
+    #[test]
+    fn walks_follow_the_entries_to_the_target() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let policy = reconfiguration.policy(component(&plant, "gadget"));
+        let m = |name| mode(&plant, "gadget", name);
+        let mut visited = Vec::new();
+        let walked = policy.walk(m("e"), m("c"), |step| {
+            visited.push(step.target);
+            true
+        });
+        assert_eq!(walked, Some(()));
+        assert_eq!(visited, [m("a"), m("b"), m("c")]);
+        assert_eq!(policy.walk(m("a"), m("d"), |_| true), None);
+        assert_eq!(policy.walk(m("a"), m("c"), |_| false), None);
+    }
 }

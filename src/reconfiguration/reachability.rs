@@ -6,9 +6,9 @@
 //! - A transition is **reversible** when its source can be returned to from its target by
 //!   nominal transitions: both lie in one strongly connected component of the graph of nominal
 //!   modes. The **reversible region** of a nominal mode is its strongly connected component.
-//! - A nominal mode is **committing** when some other nominal mode leads into it irreversibly
-//!   (its strongly connected component has an edge coming in from another one): `separated`
-//!   for a lander that was `connected`.
+//! - A nominal mode is **committing** when its strongly connected component is entered from
+//!   another one, irreversibly: `separated` for a lander that was `connected`, and every mode
+//!   reversibly reachable from there.
 //! - From a **fault** mode, repairs are allowed even though irreversible (§6.3.3): the region is
 //!   the fault mode plus the regions of the repair targets that are not committing. A repair
 //!   into a committing mode — the backup pyro that separates the lander — is treated like any
@@ -58,14 +58,15 @@ impl Reachability {
                 scc[node.index()] = i;
             }
         }
-        let committing: Vec<bool> = (0..n)
-            .map(|v| {
-                nominal[v]
-                    && edges.iter().any(|&(a, b)| {
-                        b.index() == v && nominal[a.index()] && scc[a.index()] != scc[v]
-                    })
-            })
-            .collect();
+        // A strongly connected component entered from another one commits all its modes.
+        let mut entered = vec![false; n];
+        for &(a, b) in edges {
+            let (a, b) = (a.index(), b.index());
+            if nominal[a] && nominal[b] && scc[a] != scc[b] {
+                entered[scc[b]] = true;
+            }
+        }
+        let committing: Vec<bool> = (0..n).map(|v| nominal[v] && entered[scc[v]]).collect();
         let mut region = vec![vec![false; n]; n];
         for (m, row) in region.iter_mut().enumerate() {
             row[m] = true;
@@ -138,4 +139,43 @@ pub(crate) fn members(flags: &[bool]) -> impl Iterator<Item = ValueId> + '_ {
         .enumerate()
         .filter(|(_, on)| **on)
         .map(|(i, _)| ValueId(i as u32))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Reconfiguration;
+    use super::super::testing::{SWITCH_GADGET, component, load, mode};
+    use crate::logic::ValueId;
+
+    #[test]
+    fn regions_frontiers_and_committing_modes() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let gadget = component(&plant, "gadget");
+        let reach = reconfiguration.policy(gadget).reachability();
+        let m = |name| mode(&plant, "gadget", name);
+        let names = |modes: Vec<ValueId>| -> Vec<String> {
+            modes
+                .into_iter()
+                .map(|v| plant.component(gadget).mode(v).name.clone())
+                .collect()
+        };
+        assert_eq!(names(reach.reversible(m("a")).collect()), ["a", "b", "e"]);
+        assert_eq!(names(reach.irreversible(m("a")).collect()), ["c"]);
+        assert_eq!(names(reach.reversible(m("c")).collect()), ["c", "d"]);
+        assert_eq!(reach.irreversible(m("c")).count(), 0);
+        // d is entered only from c, but its strongly connected component is entered
+        // irreversibly: both commit.
+        assert!(reach.is_committing(m("c")) && reach.is_committing(m("d")));
+        assert!(!reach.is_committing(m("a")) && !reach.is_committing(m("e")));
+        // From the fault, the repair into a is allowed (§6.3.3); the repair into c is an
+        // irreversible step like any other.
+        assert_eq!(
+            names(reach.reversible(m("broken")).collect()),
+            ["a", "b", "e", "broken"]
+        );
+        assert_eq!(names(reach.irreversible(m("broken")).collect()), ["c"]);
+        assert!(reach.is_reversible(m("broken"), m("b")));
+        assert!(reach.is_irreversible(m("b"), m("c")));
+    }
 }

@@ -19,7 +19,7 @@
 
 use super::causal::{Dependencies, Influence, conjuncts};
 use crate::logic::{Formula, ValueId, VarId};
-use crate::opsat::{Consistency, Literal, Theory, TheoryError};
+use crate::opsat::{Consistency, Literal, Theory, TheoryError, TheoryOptions};
 use crate::plant::{ComponentId, ModeKind, Plant};
 
 /// At most this many candidate assignments are tried per group of a guard; a guard more
@@ -163,7 +163,13 @@ pub(crate) struct GuardCompiler<'a> {
 impl<'a> GuardCompiler<'a> {
     /// A compiler over a fresh theory of `plant`.
     pub fn new(plant: &'a Plant, influence: &'a Influence) -> Result<Self, TheoryError> {
-        let mut theory = plant.theory()?;
+        // Compilation asks yes/no questions only: minimising conflicts would be wasted work.
+        let options = TheoryOptions {
+            minimize_conflicts: false,
+            ..TheoryOptions::default()
+        };
+        let mut theory =
+            Theory::with_options(plant.table().clone(), &plant.constraints(), options)?;
         let mut nominal = Vec::with_capacity(plant.components().len());
         let mut nominal_modes = Vec::with_capacity(plant.components().len());
         for component in plant.components() {
@@ -393,7 +399,14 @@ impl<'a> GuardCompiler<'a> {
         budget: &mut usize,
     ) -> Result<Option<Vec<(ComponentId, ValueId)>>, TheoryError> {
         *budget = budget.saturating_sub(1);
-        if self.supports(&self.assumptions(query, &[]), formula)? {
+        let free = self.assumptions(query, &[]);
+        // Any support is consistent with the formula, so one check rules most commands out.
+        let mut with_formula = free.clone();
+        with_formula.push(self.theory.define(formula)?);
+        if self.theory.consistent(&with_formula) != Consistency::Consistent {
+            return Ok(None);
+        }
+        if self.supports(&free, formula)? {
             return Ok(Some(Vec::new()));
         }
         let sizes: Vec<usize> = query
@@ -470,5 +483,112 @@ impl<'a> GuardCompiler<'a> {
         };
         let assumptions = self.assumptions(&query, &requirement.modes);
         self.theory.consistent(&assumptions) == Consistency::Consistent
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Reconfiguration;
+    use super::super::policy::PolicyStep;
+    use super::super::testing::{SWITCH_GADGET, component, load, mode, model};
+    use super::{Condition, Requirement};
+    use crate::logic::{Formula, parse_formula};
+    use crate::plant::Plant;
+
+    fn step<'r>(
+        reconfiguration: &'r Reconfiguration,
+        plant: &Plant,
+        name: &str,
+        from: &str,
+        to: &str,
+    ) -> &'r PolicyStep {
+        let c = component(plant, name);
+        let (from, to) = (mode(plant, name, from), mode(plant, name, to));
+        reconfiguration
+            .policy(c)
+            .steps()
+            .iter()
+            .find(|s| s.source == from && s.target == to)
+            .unwrap_or_else(|| panic!("no step {name}: {from:?} -> {to:?}"))
+    }
+
+    fn requirement(step: &PolicyStep) -> &Requirement {
+        step.requirement.as_ref().expect("plannable")
+    }
+
+    /// §6.3.3 with Figure 6-12's interconnection: `engine.cmd = standby` is entailed by the PDE
+    /// being on and commanded `engine-standby`; the tanks, full in every nominal mode, are no
+    /// sub-goal of the fire command.
+    #[test]
+    fn the_engine_standby_command_goes_through_the_pde() {
+        let plant = model("propulsion");
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let table = plant.table();
+        let standby = requirement(step(&reconfiguration, &plant, "engine", "off", "heating"));
+        let pde = component(&plant, "PDE");
+        assert_eq!(standby.modes, [(pde, mode(&plant, "PDE", "on"))]);
+        let command = parse_formula("PDE.cmd = engine-standby", table).expect("formula");
+        let controls: Vec<Formula> = standby
+            .controls
+            .iter()
+            .map(|&(x, v)| Formula::is(x, v))
+            .collect();
+        assert_eq!(controls, [command]);
+        let input = parse_formula("engine.cmd = standby", table).expect("formula");
+        assert_eq!(standby.conditions, [Condition::Input(input)]);
+        let fire = requirement(step(
+            &reconfiguration,
+            &plant,
+            "engine",
+            "standby",
+            "firing",
+        ));
+        let tanks = [component(&plant, "tank1"), component(&plant, "tank2")];
+        assert!(fire.modes.iter().all(|(u, _)| !tanks.contains(u)));
+        assert_eq!(fire.modes.len(), 3);
+    }
+
+    #[test]
+    fn sub_goals_come_before_inputs_and_timed_steps_are_idle() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let to_b = requirement(step(&reconfiguration, &plant, "gadget", "a", "b"));
+        let switch_on = (component(&plant, "switch"), mode(&plant, "switch", "on"));
+        assert_eq!(to_b.modes, [switch_on]);
+        assert!(matches!(
+            to_b.conditions.as_slice(),
+            [Condition::Mode(u, v), Condition::Input(_)] if (*u, *v) == switch_on
+        ));
+        assert!(!to_b.is_idle());
+        let wait = requirement(step(&reconfiguration, &plant, "gadget", "a", "e"));
+        assert!(wait.is_idle() && wait.modes.is_empty() && wait.conditions.is_empty());
+    }
+
+    #[test]
+    fn a_guard_on_what_nothing_determines_is_unplannable() {
+        let text = r#"Plant(
+            name: "sensor",
+            components: [
+                Component(
+                    name: "alarm",
+                    attributes: { "level": ["low", "high"] },
+                    modes: [Mode(name: "quiet"), Mode(name: "ringing")],
+                    initial: { "quiet": 1.0 },
+                    transitions: [
+                        (from: "quiet", to: "ringing", guard: "alarm.level = high", probability: 1.0),
+                    ],
+                ),
+            ],
+            observables: ["alarm.level"],
+        )"#;
+        let plant = load(text);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let step = step(&reconfiguration, &plant, "alarm", "quiet", "ringing");
+        let reason = &step.requirement.as_ref().expect_err("unplannable").reason;
+        assert_eq!(
+            reason,
+            "`alarm.level = high` depends on no control and no component mode: nothing can make \
+             it hold"
+        );
     }
 }

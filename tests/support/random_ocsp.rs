@@ -3,7 +3,7 @@
 #![allow(dead_code)] // each includer uses a different part
 
 use kairos::logic::{Formula, ValueId, VarId, VarTable};
-use kairos::opsat::{Ocsp, Theory, TheoryOptions};
+use kairos::opsat::{Literal, Ocsp, Theory, TheoryOptions};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
@@ -21,6 +21,9 @@ pub struct RandomOcsp {
     pub aux_domains: Vec<usize>,
     /// Constraints, as disjunctions of literals.
     pub clauses: Vec<Vec<ClauseLiteral>>,
+    /// Literals every solution must satisfy, given to OPSAT as per-problem assumptions
+    /// (`Ocsp::assume`) rather than as theory constraints.
+    pub assumed: Vec<ClauseLiteral>,
 }
 
 impl RandomOcsp {
@@ -76,16 +79,17 @@ impl RandomOcsp {
                 .map(|(v, &c)| (ValueId(v as u32), c));
             ocsp.decide(VarId(i as u32), choices).unwrap();
         }
+        for &(x, v, positive) in &self.assumed {
+            let literal = Literal::Is(VarId(x as u32), ValueId(v as u32));
+            ocsp.assume(if positive { literal } else { !literal });
+        }
         (theory, ocsp)
     }
 
-    /// Does a full assignment of every variable satisfy every clause?
+    /// Does a full assignment of every variable satisfy every clause and assumption?
     pub fn satisfies(&self, values: &[usize]) -> bool {
-        self.clauses.iter().all(|clause| {
-            clause
-                .iter()
-                .any(|&(x, v, positive)| (values[x] == v) == positive)
-        })
+        let holds = |&(x, v, positive): &ClauseLiteral| (values[x] == v) == positive;
+        self.clauses.iter().all(|clause| clause.iter().any(holds)) && self.assumed.iter().all(holds)
     }
 
     /// Is a full assignment of the decision variables feasible (some auxiliary values complete
@@ -188,6 +192,7 @@ pub fn random_ocsp(
                     decision_costs: decision_costs.clone(),
                     aux_domains: aux_domains.clone(),
                     clauses,
+                    assumed: Vec::new(),
                 },
             )
         })
@@ -218,6 +223,7 @@ pub fn chain_ocsp(n: usize) -> impl Strategy<Value = RandomOcsp> {
             decision_costs,
             aux_domains: Vec::new(),
             clauses,
+            assumed: Vec::new(),
         }
     })
 }
@@ -246,8 +252,27 @@ pub fn sized_random_ocsp(n: usize, clauses: usize) -> impl Strategy<Value = Rand
                     decision_costs: decision_costs.clone(),
                     aux_domains: Vec::new(),
                     clauses,
+                    assumed: Vec::new(),
                 }
             })
         },
     )
+}
+
+/// [`random_ocsp`] with up to `max_assumed` random literals assumed per problem, over decision
+/// and auxiliary variables alike.
+pub fn random_ocsp_with_assumptions(
+    max_decisions: usize,
+    max_aux: usize,
+    max_clauses: usize,
+    max_assumed: usize,
+) -> impl Strategy<Value = RandomOcsp> {
+    random_ocsp(max_decisions, max_aux, max_clauses).prop_flat_map(move |problem| {
+        let domains = problem.domains();
+        prop::collection::vec(clause(domains, 1..=1), 0..=max_assumed).prop_map(move |literals| {
+            let mut problem = problem.clone();
+            problem.assumed = literals.into_iter().flatten().collect();
+            problem
+        })
+    })
 }

@@ -1,0 +1,175 @@
+//! `kairos plan` (issue 5, items 4 and 5): the goal state and the nominal command sequence, the
+//! policy tables for review (Table 6.2), and its exit codes — 0 when the plan reaches the goal
+//! state, 1 when the goal fails, 2 with a located error for bad `--state`/`--goal` text.
+
+use std::process::Command;
+
+fn kairos(args: &[&str]) -> (i32, String, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the kairos binary runs");
+    (
+        output.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+/// Table 6.2 is the engine's table here; the PDE's shows the repairs of §6.3.
+#[test]
+fn propulsion_policies_print_like_table_6_2() {
+    let (code, stdout, _) = kairos(&["plan", "--policies", "models/propulsion.ron"]);
+    assert_eq!(code, 0);
+    assert!(
+        stdout.contains(
+            "standby          | engine.cmd = off     | engine.cmd = off     | Idle                 | valve1 = open, valve2 = open, engine.cmd = fire"
+        ),
+        "{stdout}"
+    );
+    insta::assert_snapshot!(stdout);
+}
+
+#[test]
+fn lander_policies_mark_the_irreversible_separation() {
+    let (code, stdout, _) = kairos(&["plan", "--policies", "models/lander_separation.ron"]);
+    assert_eq!(code, 0);
+    insta::assert_snapshot!(stdout);
+}
+
+/// §6.3.3: from all off to `engine = firing`.
+#[test]
+fn engine_firing_from_all_off_is_the_section_6_3_3_sequence() {
+    let (code, stdout, _) = kairos(&[
+        "plan",
+        "--plant",
+        "models/propulsion.ron",
+        "--state",
+        "PDE = off, valve1 = closed, valve2 = closed, engine = off",
+        "--goal",
+        "engine = firing",
+    ]);
+    assert_eq!(code, 0);
+    insta::assert_snapshot!(stdout);
+}
+
+#[test]
+fn a_resettable_pde_is_repaired_first() {
+    let (code, stdout, _) = kairos(&[
+        "plan",
+        "--plant",
+        "models/propulsion.ron",
+        "--state",
+        "PDE = resettable, valve1 = open, engine = standby",
+        "--goal",
+        "engine = firing",
+    ]);
+    assert_eq!(code, 0);
+    insta::assert_snapshot!(stdout);
+}
+
+#[test]
+fn json_output_lists_goal_state_and_steps() {
+    let (code, stdout, _) = kairos(&[
+        "plan",
+        "--plant",
+        "models/lander_separation.ron",
+        "--goal",
+        "lander = separated",
+        "--json",
+    ]);
+    assert_eq!(code, 0);
+    let value: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    assert_eq!(value["goal_state"]["modes"]["lander"], "separated");
+    assert_eq!(
+        value["steps"][1]["controls"]["pyro_bus.cmd"],
+        "fire-primary"
+    );
+    assert_eq!(value["achieved"], true);
+    insta::assert_snapshot!(stdout);
+}
+
+#[test]
+fn a_failed_goal_exits_1_with_the_reason() {
+    let (code, stdout, stderr) = kairos(&[
+        "plan",
+        "--plant",
+        "models/propulsion.ron",
+        "--state",
+        "engine = failed",
+        "--goal",
+        "engine = standby",
+    ]);
+    assert_eq!(code, 1);
+    assert!(stdout.contains("engine = failed"), "{stdout}");
+    assert_eq!(
+        stderr.trim(),
+        "goal failed: engine = standby is unreachable: engine is failed"
+    );
+    let (code, stdout, _) = kairos(&[
+        "plan",
+        "--plant",
+        "models/propulsion.ron",
+        "--goal",
+        "engine = standby, engine = firing",
+        "--json",
+    ]);
+    assert_eq!(code, 1);
+    let value: serde_json::Value = serde_json::from_str(&stdout).expect("JSON");
+    assert_eq!(
+        value["goal_failed"],
+        "conflicting goals: engine = standby and engine = firing cannot hold together"
+    );
+}
+
+/// §13: located errors, every problem in the argument, exit 2.
+#[test]
+fn bad_state_and_goal_text_are_located() {
+    let (code, _, stderr) = kairos(&[
+        "plan",
+        "--plant",
+        "models/propulsion.ron",
+        "--state",
+        "engine = off, engine = heating, engine.temp = low, PDE != on, valve3 = open",
+        "--goal",
+        "engine = firing",
+    ]);
+    assert_eq!(code, 2);
+    insta::assert_snapshot!("bad_state", stderr);
+    let (code, _, stderr) = kairos(&[
+        "plan",
+        "--plant",
+        "models/propulsion.ron",
+        "--goal",
+        "engine = fring and (",
+    ]);
+    assert_eq!(code, 2);
+    insta::assert_snapshot!("bad_goal_syntax", stderr);
+    let (code, _, stderr) = kairos(&[
+        "plan",
+        "--plant",
+        "models/propulsion.ron",
+        "--goal",
+        "engine = fring, valve = open",
+    ]);
+    assert_eq!(code, 2);
+    insta::assert_snapshot!("bad_goal_names", stderr);
+}
+
+#[test]
+fn arguments_are_checked() {
+    let (code, _, stderr) = kairos(&["plan", "--plant", "models/propulsion.ron"]);
+    assert_eq!(code, 2, "{stderr}");
+    let (code, _, _) = kairos(&[
+        "plan",
+        "--policies",
+        "models/propulsion.ron",
+        "--goal",
+        "engine = firing",
+    ]);
+    assert_eq!(code, 2);
+    let (code, _, stderr) = kairos(&["plan", "--policies", "models/missing.ron"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("cannot read"), "{stderr}");
+}
