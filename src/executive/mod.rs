@@ -12,6 +12,12 @@
 //! 4. **mode reconfiguration** interprets g(i) into a goal state (cached while the goal and ŝ
 //!    stay the same) and the reactive planner returns the first action toward it: μ(i).
 //!
+//! The goal state becomes the plant's *intended configuration*. Goal interpretation keeps the
+//! components a new goal does not name in their intended modes (`interpret_keeping`), and when
+//! no goal is asserted — between goals, or after the program completes — the planner still
+//! works toward the intended configuration, so helpers switched on for a goal (the PDE) are
+//! returned to their intended modes. The executive never changes what no goal asked for.
+//!
 //! The caller sends μ(i) to the plant and calls `step` again at t(i+1) with o(i+1). This is the
 //! cycle of DESIGN.md §3 started at its estimation step, so that each call consumes the evidence
 //! of the previous command and returns the next one. Everything is a value: no globals, no
@@ -31,8 +37,7 @@ pub use observations::NamedValue;
 pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeline, Timelines};
 
 use crate::estimation::{
-    Belief, EstimationError, EstimationEvent, ModeEstimator, PlantEstimate, TimedMe,
-    TimedMeOptions,
+    Belief, EstimationError, EstimationEvent, ModeEstimator, PlantEstimate, TimedMe, TimedMeOptions,
 };
 use crate::logic::{Atom, Formula, ValueId, VarId};
 use crate::opsat::{Budget, Theory, TheoryError};
@@ -122,9 +127,11 @@ pub struct Step {
     pub command: Vec<(VarId, ValueId)>,
     /// The configuration goal g(i); `None` once the program has completed.
     pub goal: Option<ConfigurationGoal>,
-    /// The goal state goal interpretation chose for g(i), if it found one.
+    /// The intended configuration the planner works toward: the goal state goal interpretation
+    /// chose for g(i), or the previous one when g(i) asserts nothing.
     pub goal_state: Option<GoalState>,
-    /// The reactive planner's decision; `None` when there was no goal to pursue.
+    /// The reactive planner's decision; `None` when there is nothing to pursue (no intended
+    /// configuration yet, or goal interpretation failed).
     pub action: Option<Action>,
     /// ŝ(i): the most likely mode of each component, by component index.
     pub most_likely: Vec<ValueId>,
@@ -138,6 +145,18 @@ pub struct Step {
     pub completed: bool,
     /// Where the time went.
     pub times: PhaseTimes,
+}
+
+impl Step {
+    /// True when the program has completed and the plant is in its intended configuration
+    /// (nothing left to command): a loop may stop here.
+    pub fn is_settled(&self) -> bool {
+        self.completed
+            && !matches!(
+                self.action,
+                Some(Action::Command(_)) | Some(Action::Idle(_))
+            )
+    }
 }
 
 /// Builds an [`Executive`]; see [`Executive::builder`].
@@ -205,6 +224,7 @@ impl ExecutiveBuilder {
             estimate: VersionedEstimate::default(),
             answers: AnswerCache::default(),
             interpretation: None,
+            intended: None,
             reported: Reported::default(),
             confidence_atoms,
             timelines,
@@ -247,10 +267,12 @@ fn confidence_atoms(program: &Thca) -> Vec<(VarId, ValueId)> {
     pairs
 }
 
-/// Goal interpretation's last answer, kept while the goal and ŝ are unchanged.
+/// Goal interpretation's last answer, kept while the goal, ŝ and the kept configuration are
+/// unchanged.
 struct Interpretation {
     goal: Formula,
     modes: Vec<ValueId>,
+    keep: Vec<ValueId>,
     result: Result<GoalState, GoalFailed>,
 }
 
@@ -277,6 +299,7 @@ pub struct Executive {
     estimate: VersionedEstimate,
     answers: AnswerCache,
     interpretation: Option<Interpretation>,
+    intended: Option<GoalState>,
     reported: Reported,
     confidence_atoms: Vec<(VarId, ValueId)>,
     timelines: Timelines,
@@ -360,10 +383,7 @@ impl Executive {
         let sequencer = sequencer_started.elapsed();
 
         let reconfiguration_started = Instant::now();
-        let (goal_state, action) = match &goal {
-            Some(goal) => self.reconfigure(goal, &mut log),
-            None => (None, None),
-        };
+        let (goal_state, action) = self.reconfigure(goal.as_ref(), &mut log);
         let command = self.issue(action.as_ref(), &mut log);
         let reconfiguration = reconfiguration_started.elapsed();
 
@@ -417,8 +437,8 @@ impl Executive {
         checked.rejected.into_iter().for_each(|kind| log.push(kind));
         self.report_missing(&checked.values, log);
         self.timelines.record_observation(now, &checked.values);
-        let observation = Observation::new(&self.plant, &checked.values)
-            .map_err(EstimationError::from)?;
+        let observation =
+            Observation::new(&self.plant, &checked.values).map_err(EstimationError::from)?;
         let update = match &self.belief {
             None => self
                 .estimator
@@ -602,55 +622,80 @@ impl Executive {
         self.reported.goal_locations = locations;
         // A conflict reported once is reported again only after it went away.
         self.reported.conflicts.retain(|(a, b)| {
-            goal.conjuncts.iter().all(|c| c.location != *a && c.location != *b)
+            goal.conjuncts
+                .iter()
+                .all(|c| c.location != *a && c.location != *b)
         });
     }
 
-    /// Step 4: goal interpretation (cached while g and ŝ are unchanged) and the planner's action.
+    /// Step 4: goal interpretation (cached while g, ŝ and the intended configuration are
+    /// unchanged) and the planner's action toward the intended configuration.
     fn reconfigure(
         &mut self,
-        goal: &ConfigurationGoal,
+        goal: Option<&ConfigurationGoal>,
         log: &mut EventLog,
     ) -> (Option<GoalState>, Option<Action>) {
-        if matches!(goal.formula, Formula::True) {
-            self.reported.goal_failure = None;
-            return (None, None);
-        }
         let modes = self.most_likely();
+        if let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) {
+            match self.interpret(goal, &modes) {
+                Ok(goal_state) => {
+                    self.reported.goal_failure = None;
+                    self.intended = Some(goal_state);
+                }
+                Err(reason) => {
+                    if self.reported.goal_failure.as_ref() != Some(&reason) {
+                        log.push(EventKind::GoalFailed {
+                            goal: goal.formula.display(self.plant.table()).to_string(),
+                            reason: reason.clone(),
+                        });
+                        self.reported.goal_failure = Some(reason);
+                    }
+                    return (None, None);
+                }
+            }
+        } else {
+            self.reported.goal_failure = None;
+        }
+        let Some(intended) = &self.intended else {
+            return (None, None);
+        };
+        let action = self.reconfiguration.next_action(&modes, intended);
+        (Some(intended.clone()), Some(action))
+    }
+
+    /// Goal interpretation of `goal` from ŝ, keeping the intended configuration where the goal
+    /// allows; the answer is reused while its inputs do not change.
+    fn interpret(
+        &mut self,
+        goal: &ConfigurationGoal,
+        modes: &[ValueId],
+    ) -> Result<GoalState, String> {
+        let keep = self
+            .intended
+            .as_ref()
+            .map_or_else(|| modes.to_vec(), |state| state.modes().to_vec());
         let fresh = self
             .interpretation
             .as_ref()
-            .is_some_and(|i| i.goal == goal.formula && i.modes == modes);
+            .is_some_and(|i| i.goal == goal.formula && i.modes == modes && i.keep == keep);
         if !fresh {
-            let result = self
-                .reconfiguration
-                .interpret(&mut self.theory, &modes, &goal.formula);
+            let result = self.reconfiguration.interpret_keeping(
+                &mut self.theory,
+                modes,
+                &goal.formula,
+                &keep,
+            );
             self.interpretation = Some(Interpretation {
                 goal: goal.formula.clone(),
-                modes: modes.clone(),
+                modes: modes.to_vec(),
+                keep,
                 result,
             });
         }
-        let Some(interpretation) = &self.interpretation else {
-            return (None, None);
-        };
-        match &interpretation.result {
-            Ok(goal_state) => {
-                self.reported.goal_failure = None;
-                let action = self.reconfiguration.next_action(&modes, goal_state);
-                (Some(goal_state.clone()), Some(action))
-            }
-            Err(failed) => {
-                let reason = failed.to_string();
-                if self.reported.goal_failure.as_ref() != Some(&reason) {
-                    log.push(EventKind::GoalFailed {
-                        goal: goal.formula.display(self.plant.table()).to_string(),
-                        reason: reason.clone(),
-                    });
-                    self.reported.goal_failure = Some(reason);
-                }
-                (None, None)
-            }
+        match self.interpretation.as_ref().map(|i| &i.result) {
+            Some(Ok(state)) => Ok(state.clone()),
+            Some(Err(failed)) => Err(failed.to_string()),
+            None => Err("goal interpretation did not run".to_string()),
         }
     }
 
@@ -692,13 +737,13 @@ impl Executive {
                     purpose: wait.describe(&self.plant),
                 });
             }
-            Some(Action::Failure(failure)) => {
-                if self.reported.plan_failure.as_ref() != Some(&failure.reason) {
-                    log.push(EventKind::PlanFailed {
-                        reason: failure.reason.clone(),
-                    });
-                    self.reported.plan_failure = Some(failure.reason.clone());
-                }
+            Some(Action::Failure(failure))
+                if self.reported.plan_failure.as_ref() != Some(&failure.reason) =>
+            {
+                log.push(EventKind::PlanFailed {
+                    reason: failure.reason.clone(),
+                });
+                self.reported.plan_failure = Some(failure.reason.clone());
             }
             _ => {}
         }

@@ -295,7 +295,10 @@ mod tests {
         timelines.record_observation(1.0, &[(VarId(1), ValueId(0))]);
         timelines.record_observation(2.0, &[(VarId(1), ValueId(1)), (VarId(2), ValueId(0))]);
         timelines.record_observation(3.0, &[(VarId(2), ValueId(0))]);
-        let changes: Vec<_> = timelines.observations().map(|c| (c.time, c.var.0)).collect();
+        let changes: Vec<_> = timelines
+            .observations()
+            .map(|c| (c.time, c.var.0))
+            .collect();
         assert_eq!(changes, vec![(0.0, 1), (2.0, 1), (2.0, 2), (3.0, 1)]);
         assert_eq!(timelines.observed_at(VarId(1), 3.5), None);
     }
