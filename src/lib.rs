@@ -10,6 +10,7 @@
 
 pub mod diagnostic;
 pub mod estimation;
+pub mod executive;
 pub mod logic;
 pub mod opsat;
 pub mod plant;

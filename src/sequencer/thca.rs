@@ -271,6 +271,11 @@ impl Thca {
         self.formulas.len()
     }
 
+    /// Every interned formula (goals, guards, maintenance conditions).
+    pub fn formulas(&self) -> &[Formula] {
+        &self.formulas
+    }
+
     /// The variables and clocks the formulas use: the plant's table (ids unchanged) with the
     /// program's clocks added.
     pub fn table(&self) -> &VarTable {

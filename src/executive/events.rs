@@ -1,0 +1,165 @@
+//! What the executive reports, cycle by cycle (DESIGN.md §10): every event has the time and the
+//! cycle it happened in and, where it concerns the program, the source span of the location.
+
+use std::time::Duration;
+
+use crate::diagnostic::Span;
+use crate::estimation::Fallback;
+use crate::opsat::Cut;
+use crate::plant::ComponentId;
+use crate::sequencer::{GoalSource, LocationId};
+
+/// One notable thing in one cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Event {
+    /// Cycle number, from 0.
+    pub cycle: u64,
+    /// Time of the cycle, in seconds.
+    pub time: f64,
+    /// What happened.
+    pub kind: EventKind,
+}
+
+/// The kinds of [`Event`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum EventKind {
+    /// A program location started asserting a goal.
+    GoalAsserted {
+        /// The goal, as text.
+        goal: String,
+        /// The asserting location.
+        location: LocationId,
+        /// Where the goal is written.
+        span: Span,
+    },
+    /// A goal is entailed by the estimate; its location moves on.
+    GoalAchieved {
+        /// The location.
+        location: LocationId,
+        /// Where the goal is written.
+        span: Span,
+    },
+    /// Goal interpretation found no reachable state achieving the configuration goal.
+    GoalFailed {
+        /// The configuration goal, as text.
+        goal: String,
+        /// Why, naming components and modes.
+        reason: String,
+    },
+    /// Two goals asserted in the same cycle contradict each other; neither is pursued.
+    GoalConflict {
+        /// One goal.
+        first: GoalSource,
+        /// The goal contradicting it.
+        second: GoalSource,
+    },
+    /// A `do … watching` or `maintaining` construct was preempted: its maintenance no longer
+    /// holds.
+    Preempted {
+        /// The composite location.
+        location: LocationId,
+        /// Its construct.
+        span: Span,
+    },
+    /// A program clock started.
+    ClockStarted {
+        /// The clock's name.
+        clock: String,
+        /// Where it is started.
+        span: Span,
+    },
+    /// The most likely mode of a component changed.
+    ModeChanged {
+        /// The component.
+        component: ComponentId,
+        /// Its previous most likely mode's name.
+        from: String,
+        /// Its new most likely mode's name.
+        to: String,
+        /// The new mode's marginal probability.
+        probability: f64,
+    },
+    /// A fault mode became the most likely mode of a component.
+    Diagnosis {
+        /// The component.
+        component: ComponentId,
+        /// The fault mode's name.
+        mode: String,
+        /// Its marginal probability.
+        probability: f64,
+    },
+    /// A command was issued.
+    CommandIssued {
+        /// `variable = value` assignments, as text.
+        assignments: Vec<String>,
+        /// What it is for: `engine: off -> heating`.
+        purpose: String,
+        /// True when it repairs a fault.
+        repair: bool,
+    },
+    /// The planner started waiting for a transition that happens by itself.
+    Waiting {
+        /// What is awaited: `engine: heating -> standby, after Uniform(30, 60) s`.
+        purpose: String,
+    },
+    /// The reactive planner has no action toward the goal state.
+    PlanFailed {
+        /// Why.
+        reason: String,
+    },
+    /// No state reachable from the tracked ones explains the observations (DESIGN.md §8).
+    EstimatorInconsistency {
+        /// What the estimator fell back to.
+        fallback: Fallback,
+    },
+    /// A search budget cut mode estimation short; the belief is the best found so far.
+    SearchCut(Cut),
+    /// An observation was ignored for this cycle.
+    ObservationRejected {
+        /// The name given.
+        variable: String,
+        /// The value given.
+        value: String,
+        /// Why it was ignored.
+        reason: String,
+    },
+    /// Observables that were not reported (they count as unknown); reported when the set of
+    /// missing observables changes.
+    ObservationsMissing {
+        /// Their names (empty: all observables are reported again).
+        variables: Vec<String>,
+    },
+    /// The cycle took longer than its deadline.
+    DeadlineOverrun {
+        /// Wall time the cycle took.
+        elapsed: Duration,
+        /// The deadline.
+        deadline: Duration,
+    },
+    /// No program location is marked any more: the program has finished.
+    ProgramCompleted,
+}
+
+impl EventKind {
+    /// The program location the event concerns, if any.
+    pub fn location(&self) -> Option<LocationId> {
+        match self {
+            EventKind::GoalAsserted { location, .. }
+            | EventKind::GoalAchieved { location, .. }
+            | EventKind::Preempted { location, .. } => Some(*location),
+            _ => None,
+        }
+    }
+
+    /// The program source span the event concerns, if any.
+    pub fn span(&self) -> Option<&Span> {
+        match self {
+            EventKind::GoalAsserted { span, .. }
+            | EventKind::GoalAchieved { span, .. }
+            | EventKind::Preempted { span, .. }
+            | EventKind::ClockStarted { span, .. } => Some(span),
+            EventKind::GoalConflict { first, .. } => Some(&first.span),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,772 @@
+//! The executive: the cycle loop that runs a timed model-based program against a plant
+//! (DESIGN.md §3, §10; thesis §4.4, §7.1, Figure 7-1). It is the only module that knows all the
+//! others.
+//!
+//! One call to [`Executive::step`] at time t(i) with the observation o(i) runs one cycle:
+//! 1. the observation is checked against the plant (unknown names and values become events);
+//! 2. **mode estimation** (TimedME) advances the belief from t(i−1) with the command μ(i−1) and
+//!    o(i); ŝ(i) is its most likely plant state;
+//! 3. the **sequencer** finishes the previous cycle with ŝ(i) (Figure 5-3 steps 7–10: goals
+//!    achieved, transitions taken) and begins this one (steps 1–4: clocks, maintenance, the
+//!    configuration goal g(i));
+//! 4. **mode reconfiguration** interprets g(i) into a goal state (cached while the goal and ŝ
+//!    stay the same) and the reactive planner returns the first action toward it: μ(i).
+//!
+//! The goal state becomes the plant's *intended configuration*. Goal interpretation keeps the
+//! components a new goal does not name in their intended modes (`interpret_keeping`), and when
+//! no goal is asserted — between goals, or after the program completes — the planner still
+//! works toward the intended configuration, so helpers switched on for a goal (the PDE) are
+//! returned to their intended modes. The executive never changes what no goal asked for.
+//!
+//! The caller sends μ(i) to the plant and calls `step` again at t(i+1) with o(i+1). This is the
+//! cycle of DESIGN.md §3 started at its estimation step, so that each call consumes the evidence
+//! of the previous command and returns the next one. Everything is a value: no globals, no
+//! threads, no panics on any input; given the same inputs the executive makes the same decisions.
+//! [`adapters`] has the traits and the loop runner for embedding it in a flight loop.
+
+pub mod adapters;
+mod events;
+mod observations;
+mod oracle;
+mod timeline;
+
+use std::time::{Duration, Instant};
+
+pub use events::{Event, EventKind};
+pub use observations::NamedValue;
+pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeline, Timelines};
+
+use crate::estimation::{
+    Belief, EstimationError, EstimationEvent, ModeEstimator, PlantEstimate, TimedMe, TimedMeOptions,
+};
+use crate::logic::{Atom, Formula, ValueId, VarId};
+use crate::opsat::{Budget, Theory, TheoryError};
+use crate::plant::{Commands, ComponentId, ModeKind, Observation, Plant};
+use crate::reconfiguration::{Action, GoalFailed, GoalState, Reconfiguration};
+use crate::sequencer::{self, ConfigurationGoal, LocationId, Sequencer, SequencerError, Thca};
+use observations::check_observation;
+use oracle::{AnswerCache, CachedOracle, VersionedEstimate};
+
+/// How an executive runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExecutiveOptions {
+    /// κ: how many system states mode estimation tracks.
+    pub kappa: usize,
+    /// A cycle that takes longer than this (wall time) raises a deadline-overrun event.
+    pub cycle_deadline: Option<Duration>,
+    /// OPSAT's budget for mode estimation, per tracked state.
+    pub estimation_budget: Budget,
+    /// How much state, command and observation history to keep.
+    pub retention: Retention,
+}
+
+impl Default for ExecutiveOptions {
+    fn default() -> Self {
+        ExecutiveOptions {
+            kappa: 10,
+            cycle_deadline: None,
+            estimation_budget: Budget::default(),
+            retention: Retention::default(),
+        }
+    }
+}
+
+/// Why an executive could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BuildError {
+    /// The program was linked against other variables than the plant's.
+    #[error(
+        "the program was not linked against this plant model (its variables differ at `{0}`): link it with the plant's variable table"
+    )]
+    NotLinkedToPlant(String),
+    /// The plant's constraints could not be encoded.
+    #[error("the plant model cannot be encoded: {0}")]
+    Theory(#[from] TheoryError),
+}
+
+/// Why a cycle could not run at all (bad data is reported as events instead).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StepError {
+    /// Times must be finite and increase from cycle to cycle.
+    #[error("time {now} s is not after the previous cycle's {previous} s")]
+    TimeNotAfter {
+        /// The previous cycle's time (−∞ before the first).
+        previous: f64,
+        /// The time given.
+        now: f64,
+    },
+    /// Mode estimation refused its inputs.
+    #[error("mode estimation failed: {0}")]
+    Estimation(#[from] EstimationError),
+    /// The sequencer refused a call.
+    #[error("the sequencer failed: {0}")]
+    Sequencer(#[from] SequencerError),
+}
+
+/// Wall time spent in each part of a cycle (for `kairos bench` and deadline reports).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PhaseTimes {
+    /// Checking the observation and mode estimation.
+    pub estimation: Duration,
+    /// Both halves of the sequencer's step.
+    pub sequencer: Duration,
+    /// Goal interpretation and reactive planning.
+    pub reconfiguration: Duration,
+    /// The whole cycle, including bookkeeping.
+    pub total: Duration,
+}
+
+/// What one cycle produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Step {
+    /// Cycle number, from 0.
+    pub cycle: u64,
+    /// The cycle's time t(i).
+    pub time: f64,
+    /// μ(i): the control assignments to send (non-idle values only; empty means idle).
+    pub command: Vec<(VarId, ValueId)>,
+    /// The configuration goal g(i); `None` once the program has completed.
+    pub goal: Option<ConfigurationGoal>,
+    /// The intended configuration the planner works toward: the goal state goal interpretation
+    /// chose for g(i), or the previous one when g(i) asserts nothing.
+    pub goal_state: Option<GoalState>,
+    /// The reactive planner's decision; `None` when there is nothing to pursue (no intended
+    /// configuration yet, or goal interpretation failed).
+    pub action: Option<Action>,
+    /// ŝ(i): the most likely mode of each component, by component index.
+    pub most_likely: Vec<ValueId>,
+    /// The plant states of the belief with their probabilities, most likely first.
+    pub estimates: Vec<PlantEstimate>,
+    /// The marked program locations after the sequencer's step.
+    pub marking: Vec<LocationId>,
+    /// What happened.
+    pub events: Vec<Event>,
+    /// True once the program has completed.
+    pub completed: bool,
+    /// Where the time went.
+    pub times: PhaseTimes,
+}
+
+impl Step {
+    /// True when the program has completed and the plant is in its intended configuration
+    /// (nothing left to command): a loop may stop here.
+    pub fn is_settled(&self) -> bool {
+        self.completed
+            && !matches!(
+                self.action,
+                Some(Action::Command(_)) | Some(Action::Idle(_))
+            )
+    }
+}
+
+/// Builds an [`Executive`]; see [`Executive::builder`].
+pub struct ExecutiveBuilder {
+    plant: Plant,
+    program: Thca,
+    options: ExecutiveOptions,
+}
+
+impl ExecutiveBuilder {
+    /// Sets κ, the number of system states mode estimation tracks.
+    pub fn kappa(mut self, kappa: usize) -> Self {
+        self.options.kappa = kappa.max(1);
+        self
+    }
+
+    /// Sets the wall-time deadline of a cycle.
+    pub fn cycle_deadline(mut self, deadline: Duration) -> Self {
+        self.options.cycle_deadline = Some(deadline);
+        self
+    }
+
+    /// Sets OPSAT's budget for mode estimation.
+    pub fn estimation_budget(mut self, budget: Budget) -> Self {
+        self.options.estimation_budget = budget;
+        self
+    }
+
+    /// Sets how much history the timelines keep.
+    pub fn retention(mut self, retention: Retention) -> Self {
+        self.options.retention = retention;
+        self
+    }
+
+    /// Sets every option at once.
+    pub fn options(mut self, options: ExecutiveOptions) -> Self {
+        self.options = options;
+        self
+    }
+
+    /// Encodes the plant, compiles the reconfiguration policies and marks the program's start
+    /// locations.
+    pub fn build(self) -> Result<Executive, BuildError> {
+        let ExecutiveBuilder {
+            plant,
+            program,
+            options,
+        } = self;
+        check_linked(&plant, &program)?;
+        let theory = plant.theory()?;
+        let reconfiguration = Reconfiguration::compile(&plant)?;
+        let mut estimation = TimedMeOptions::kappa(options.kappa);
+        estimation.budget = options.estimation_budget;
+        let confidence_atoms = confidence_atoms(&program);
+        let observables = plant.observables().to_vec();
+        let timelines = Timelines::new(plant.components().len(), &observables, options.retention);
+        Ok(Executive {
+            last_command: Commands::idle(&plant),
+            theory,
+            reconfiguration,
+            estimator: TimedMe::new(estimation),
+            sequencer: Sequencer::new(program),
+            options,
+            belief: None,
+            estimate: VersionedEstimate::default(),
+            answers: AnswerCache::default(),
+            interpretation: None,
+            intended: None,
+            reported: Reported::default(),
+            confidence_atoms,
+            timelines,
+            cycle: 0,
+            last_time: None,
+            plant,
+        })
+    }
+}
+
+/// The program's table must be the plant's, with clocks added (`rmpl::LinkOptions::plant`).
+fn check_linked(plant: &Plant, program: &Thca) -> Result<(), BuildError> {
+    let (ours, theirs) = (plant.table(), program.table());
+    for (id, variable) in ours.variables() {
+        let same = id.index() < theirs.len() && theirs.variable(id) == variable;
+        if !same {
+            return Err(BuildError::NotLinkedToPlant(variable.name().to_string()));
+        }
+    }
+    if theirs.len() != ours.len() {
+        let extra = theirs.variable(VarId(ours.len() as u32)).name().to_string();
+        return Err(BuildError::NotLinkedToPlant(extra));
+    }
+    Ok(())
+}
+
+/// The (variable, value) pairs the program's confidence atoms `P(x = v) op p` read.
+fn confidence_atoms(program: &Thca) -> Vec<(VarId, ValueId)> {
+    let mut pairs: Vec<(VarId, ValueId)> = program
+        .formulas()
+        .iter()
+        .flat_map(Formula::atoms)
+        .filter_map(|atom| match atom {
+            Atom::Confidence { var, value, .. } => Some((*var, *value)),
+            _ => None,
+        })
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
+/// Goal interpretation's last answer, kept while the goal, ŝ and the kept configuration are
+/// unchanged.
+struct Interpretation {
+    goal: Formula,
+    modes: Vec<ValueId>,
+    keep: Vec<ValueId>,
+    result: Result<GoalState, GoalFailed>,
+}
+
+/// What has been reported already, so repeated conditions are reported once.
+#[derive(Default)]
+struct Reported {
+    goal_locations: Vec<LocationId>,
+    conflicts: Vec<(LocationId, LocationId)>,
+    goal_failure: Option<String>,
+    plan_failure: Option<String>,
+    awaited: Option<(ComponentId, ValueId, ValueId)>,
+    missing: Vec<VarId>,
+}
+
+/// A timed model-based executive: a linked program, a plant model, and the state of both.
+pub struct Executive {
+    plant: Plant,
+    theory: Theory,
+    reconfiguration: Reconfiguration,
+    estimator: TimedMe,
+    sequencer: Sequencer,
+    options: ExecutiveOptions,
+    belief: Option<Belief>,
+    estimate: VersionedEstimate,
+    answers: AnswerCache,
+    interpretation: Option<Interpretation>,
+    intended: Option<GoalState>,
+    reported: Reported,
+    confidence_atoms: Vec<(VarId, ValueId)>,
+    timelines: Timelines,
+    last_command: Commands,
+    cycle: u64,
+    last_time: Option<f64>,
+}
+
+impl Executive {
+    /// Starts building an executive for `program`, which must have been linked against
+    /// `plant`'s variables (`rmpl::load` with `LinkOptions { plant: Some(plant.table()), .. }`).
+    pub fn builder(plant: Plant, program: Thca) -> ExecutiveBuilder {
+        ExecutiveBuilder {
+            plant,
+            program,
+            options: ExecutiveOptions::default(),
+        }
+    }
+
+    /// The plant model.
+    pub fn plant(&self) -> &Plant {
+        &self.plant
+    }
+
+    /// The program's automaton.
+    pub fn program(&self) -> &Thca {
+        self.sequencer.thca()
+    }
+
+    /// The options it runs with.
+    pub fn options(&self) -> &ExecutiveOptions {
+        &self.options
+    }
+
+    /// The current belief (`None` before the first cycle).
+    pub fn belief(&self) -> Option<&Belief> {
+        self.belief.as_ref()
+    }
+
+    /// The state timelines and the command and observation histories.
+    pub fn timelines(&self) -> &Timelines {
+        &self.timelines
+    }
+
+    /// The compiled reconfiguration (policies, causal graph).
+    pub fn reconfiguration(&self) -> &Reconfiguration {
+        &self.reconfiguration
+    }
+
+    /// True once the program has completed.
+    pub fn is_complete(&self) -> bool {
+        self.sequencer.is_complete()
+    }
+
+    /// Cycles run so far.
+    pub fn cycles(&self) -> u64 {
+        self.cycle
+    }
+
+    /// Runs one cycle at time `now` with the observations the monitors reported since the last
+    /// cycle (see the module documentation). Observations that do not fit the plant are
+    /// reported as events and ignored; errors are only for times that do not increase.
+    pub fn step(&mut self, now: f64, observed: &[NamedValue]) -> Result<Step, StepError> {
+        let started = Instant::now();
+        let previous = self.last_time.unwrap_or(f64::NEG_INFINITY);
+        if !now.is_finite() || now <= previous {
+            return Err(StepError::TimeNotAfter { previous, now });
+        }
+        let mut log = EventLog {
+            cycle: self.cycle,
+            time: now,
+            events: Vec::new(),
+        };
+
+        let estimation_started = Instant::now();
+        self.estimate(now, observed, &mut log)?;
+        let estimation = estimation_started.elapsed();
+
+        let sequencer_started = Instant::now();
+        let goal = self.sequence(now, &mut log)?;
+        let sequencer = sequencer_started.elapsed();
+
+        let reconfiguration_started = Instant::now();
+        let (goal_state, action) = self.reconfigure(goal.as_ref(), &mut log);
+        let command = self.issue(action.as_ref(), &mut log);
+        let reconfiguration = reconfiguration_started.elapsed();
+
+        let total = started.elapsed();
+        if let Some(deadline) = self.options.cycle_deadline.filter(|&d| total > d) {
+            log.push(EventKind::DeadlineOverrun {
+                elapsed: total,
+                deadline,
+            });
+        }
+        self.last_time = Some(now);
+        self.cycle += 1;
+        let belief = self.belief.as_ref();
+        Ok(Step {
+            cycle: log.cycle,
+            time: now,
+            command,
+            goal,
+            goal_state,
+            action,
+            most_likely: self.most_likely(),
+            estimates: belief.map(Belief::plant_states).unwrap_or_default(),
+            marking: self.sequencer.marking().map(|l| l.id).collect(),
+            events: log.events,
+            completed: self.sequencer.is_complete(),
+            times: PhaseTimes {
+                estimation,
+                sequencer,
+                reconfiguration,
+                total,
+            },
+        })
+    }
+
+    /// ŝ: the most likely mode per component (empty before the first cycle).
+    pub fn most_likely(&self) -> Vec<ValueId> {
+        self.belief
+            .as_ref()
+            .map(|b| b.most_likely_plant_state().modes)
+            .unwrap_or_default()
+    }
+
+    /// Steps 1–2 of the cycle: check the observation, update the belief, report what changed.
+    fn estimate(
+        &mut self,
+        now: f64,
+        observed: &[NamedValue],
+        log: &mut EventLog,
+    ) -> Result<(), StepError> {
+        let checked = check_observation(&self.plant, observed);
+        checked.rejected.into_iter().for_each(|kind| log.push(kind));
+        self.report_missing(&checked.values, log);
+        self.timelines.record_observation(now, &checked.values);
+        let observation =
+            Observation::new(&self.plant, &checked.values).map_err(EstimationError::from)?;
+        let update = match &self.belief {
+            None => self
+                .estimator
+                .initial(&self.plant, &mut self.theory, now, &observation)?,
+            Some(belief) => self.estimator.update(
+                &self.plant,
+                &mut self.theory,
+                belief,
+                &self.last_command,
+                &observation,
+                now,
+            )?,
+        };
+        for event in update.events {
+            log.push(match event {
+                EstimationEvent::InconsistentObservation { fallback } => {
+                    EventKind::EstimatorInconsistency { fallback }
+                }
+                EstimationEvent::SearchCut(cut) => EventKind::SearchCut(cut),
+            });
+        }
+        let before = self.most_likely();
+        self.belief = Some(update.belief);
+        let after = self.most_likely();
+        self.report_mode_changes(&before, &after, log);
+        self.refresh_estimate(&after, before != after);
+        for (c, &mode) in after.iter().enumerate() {
+            let probability = self.marginal(ComponentId(c as u32), mode);
+            self.timelines.record_state(c, now, mode, probability);
+        }
+        Ok(())
+    }
+
+    fn marginal(&self, component: ComponentId, mode: ValueId) -> f64 {
+        let var = self.plant.component(component).mode_var();
+        self.belief
+            .as_ref()
+            .and_then(|b| b.marginal(var, mode))
+            .unwrap_or(0.0)
+    }
+
+    fn report_missing(&mut self, observed: &[(VarId, ValueId)], log: &mut EventLog) {
+        let missing: Vec<VarId> = self
+            .plant
+            .observables()
+            .iter()
+            .copied()
+            .filter(|var| !observed.iter().any(|(x, _)| x == var))
+            .collect();
+        if missing != self.reported.missing {
+            let table = self.plant.table();
+            let variables = missing
+                .iter()
+                .map(|&v| table.variable(v).name().to_string())
+                .collect();
+            log.push(EventKind::ObservationsMissing { variables });
+            self.reported.missing = missing;
+        }
+    }
+
+    fn report_mode_changes(&self, before: &[ValueId], after: &[ValueId], log: &mut EventLog) {
+        for (c, &to) in after.iter().enumerate() {
+            let from = before.get(c).copied();
+            if from == Some(to) {
+                continue;
+            }
+            let component_id = ComponentId(c as u32);
+            let component = self.plant.component(component_id);
+            let probability = self.marginal(component_id, to);
+            let mode = component.mode(to);
+            if let Some(from) = from {
+                log.push(EventKind::ModeChanged {
+                    component: component_id,
+                    from: component.mode(from).name.clone(),
+                    to: mode.name.clone(),
+                    probability,
+                });
+            }
+            if mode.kind == ModeKind::Fault {
+                log.push(EventKind::Diagnosis {
+                    component: component_id,
+                    mode: mode.name.clone(),
+                    probability,
+                });
+            }
+        }
+    }
+
+    /// Rebuilds the sequencer's view of ŝ, bumping its version when it changed (the
+    /// entailment cache depends on it).
+    fn refresh_estimate(&mut self, modes: &[ValueId], modes_changed: bool) {
+        let mut changed = modes_changed || self.estimate.version == 0;
+        if changed {
+            let mut state = sequencer::StateEstimate::new();
+            for (component, &mode) in self.plant.components().iter().zip(modes) {
+                state.set(component.mode_var(), mode);
+            }
+            self.estimate.state = state;
+        }
+        for &(var, value) in &self.confidence_atoms {
+            let belief = self.belief.as_ref().and_then(|b| b.marginal(var, value));
+            let belief = belief.unwrap_or(0.0);
+            if self.estimate.state.belief(var, value) != Some(belief) {
+                self.estimate.state.set_belief(var, value, belief);
+                changed = true;
+            }
+        }
+        if changed {
+            self.estimate.version += 1;
+        }
+    }
+
+    /// Step 3: the sequencer ends the previous cycle with ŝ(i) and begins this one.
+    fn sequence(
+        &mut self,
+        now: f64,
+        log: &mut EventLog,
+    ) -> Result<Option<ConfigurationGoal>, StepError> {
+        let mut oracle = CachedOracle {
+            theory: &mut self.theory,
+            cache: &mut self.answers,
+        };
+        let mut events = Vec::new();
+        if log.cycle > 0 && !self.sequencer.is_complete() {
+            let end = self.sequencer.end_cycle(&self.estimate, &mut oracle)?;
+            events.extend(end.events);
+        }
+        let goal = if self.sequencer.is_complete() {
+            None
+        } else {
+            let start = self
+                .sequencer
+                .begin_cycle(now, &self.estimate, &mut oracle)?;
+            events.extend(start.events);
+            Some(start.goal)
+        };
+        for event in events {
+            self.report_sequencer_event(event, log);
+        }
+        if let Some(goal) = &goal {
+            self.report_new_goals(goal, log);
+        }
+        Ok(goal)
+    }
+
+    fn report_sequencer_event(&mut self, event: sequencer::Event, log: &mut EventLog) {
+        use sequencer::Event as S;
+        let kind = match event {
+            S::ClockStarted { clock, span, .. } => EventKind::ClockStarted {
+                clock: self.program().table().clock_name(clock).to_string(),
+                span,
+            },
+            S::Preempted { location, span } | S::MaintenanceViolated { location, span } => {
+                EventKind::Preempted { location, span }
+            }
+            S::GoalConflict { first, second } => {
+                let pair = (first.location, second.location);
+                if self.reported.conflicts.contains(&pair) {
+                    return;
+                }
+                self.reported.conflicts.push(pair);
+                EventKind::GoalConflict { first, second }
+            }
+            S::GoalAchieved { location, span } => EventKind::GoalAchieved { location, span },
+            S::Completed => EventKind::ProgramCompleted,
+        };
+        log.push(kind);
+    }
+
+    fn report_new_goals(&mut self, goal: &ConfigurationGoal, log: &mut EventLog) {
+        let locations: Vec<LocationId> = goal.conjuncts.iter().map(|c| c.location).collect();
+        for conjunct in &goal.conjuncts {
+            if !self.reported.goal_locations.contains(&conjunct.location) {
+                log.push(EventKind::GoalAsserted {
+                    goal: conjunct.formula.display(self.plant.table()).to_string(),
+                    location: conjunct.location,
+                    span: conjunct.span.clone(),
+                });
+            }
+        }
+        self.reported.goal_locations = locations;
+        // A conflict reported once is reported again only after it went away.
+        self.reported.conflicts.retain(|(a, b)| {
+            goal.conjuncts
+                .iter()
+                .all(|c| c.location != *a && c.location != *b)
+        });
+    }
+
+    /// Step 4: goal interpretation (cached while g, ŝ and the intended configuration are
+    /// unchanged) and the planner's action toward the intended configuration.
+    fn reconfigure(
+        &mut self,
+        goal: Option<&ConfigurationGoal>,
+        log: &mut EventLog,
+    ) -> (Option<GoalState>, Option<Action>) {
+        let modes = self.most_likely();
+        if let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) {
+            match self.interpret(goal, &modes) {
+                Ok(goal_state) => {
+                    self.reported.goal_failure = None;
+                    self.intended = Some(goal_state);
+                }
+                Err(reason) => {
+                    if self.reported.goal_failure.as_ref() != Some(&reason) {
+                        log.push(EventKind::GoalFailed {
+                            goal: goal.formula.display(self.plant.table()).to_string(),
+                            reason: reason.clone(),
+                        });
+                        self.reported.goal_failure = Some(reason);
+                    }
+                    return (None, None);
+                }
+            }
+        } else {
+            self.reported.goal_failure = None;
+        }
+        let Some(intended) = &self.intended else {
+            return (None, None);
+        };
+        let action = self.reconfiguration.next_action(&modes, intended);
+        (Some(intended.clone()), Some(action))
+    }
+
+    /// Goal interpretation of `goal` from ŝ, keeping the intended configuration where the goal
+    /// allows; the answer is reused while its inputs do not change.
+    fn interpret(
+        &mut self,
+        goal: &ConfigurationGoal,
+        modes: &[ValueId],
+    ) -> Result<GoalState, String> {
+        let keep = self
+            .intended
+            .as_ref()
+            .map_or_else(|| modes.to_vec(), |state| state.modes().to_vec());
+        let fresh = self
+            .interpretation
+            .as_ref()
+            .is_some_and(|i| i.goal == goal.formula && i.modes == modes && i.keep == keep);
+        if !fresh {
+            let result = self.reconfiguration.interpret_keeping(
+                &mut self.theory,
+                modes,
+                &goal.formula,
+                &keep,
+            );
+            self.interpretation = Some(Interpretation {
+                goal: goal.formula.clone(),
+                modes: modes.to_vec(),
+                keep,
+                result,
+            });
+        }
+        match self.interpretation.as_ref().map(|i| &i.result) {
+            Some(Ok(state)) => Ok(state.clone()),
+            Some(Err(failed)) => Err(failed.to_string()),
+            None => Err("goal interpretation did not run".to_string()),
+        }
+    }
+
+    /// Turns the planner's action into μ(i), reports it, and remembers it for estimation.
+    fn issue(&mut self, action: Option<&Action>, log: &mut EventLog) -> Vec<(VarId, ValueId)> {
+        let assignments = match action {
+            Some(Action::Command(command)) => command.assignments.clone(),
+            _ => Vec::new(),
+        };
+        self.report_action(action, log);
+        // The planner only commands controls with their own values, so this cannot fail; were
+        // it to, idling is the safe reading.
+        self.last_command = Commands::new(&self.plant, &assignments)
+            .unwrap_or_else(|_| Commands::idle(&self.plant));
+        self.timelines.record_command(log.time, assignments.clone());
+        assignments
+    }
+
+    fn report_action(&mut self, action: Option<&Action>, log: &mut EventLog) {
+        let awaited = action.and_then(|a| match a {
+            Action::Idle(_) => a.intended(),
+            _ => None,
+        });
+        match action {
+            Some(command @ Action::Command(c)) => {
+                let table = self.plant.table();
+                log.push(EventKind::CommandIssued {
+                    assignments: c
+                        .assignments
+                        .iter()
+                        .map(|&(x, v)| table.assignment(x, v).to_string())
+                        .collect(),
+                    purpose: command.describe(&self.plant),
+                    repair: c.repair,
+                });
+            }
+            Some(wait @ Action::Idle(_)) if awaited != self.reported.awaited => {
+                log.push(EventKind::Waiting {
+                    purpose: wait.describe(&self.plant),
+                });
+            }
+            Some(Action::Failure(failure))
+                if self.reported.plan_failure.as_ref() != Some(&failure.reason) =>
+            {
+                log.push(EventKind::PlanFailed {
+                    reason: failure.reason.clone(),
+                });
+                self.reported.plan_failure = Some(failure.reason.clone());
+            }
+            _ => {}
+        }
+        if !matches!(action, Some(Action::Failure(_))) {
+            self.reported.plan_failure = None;
+        }
+        self.reported.awaited = awaited;
+    }
+}
+
+/// Collects a cycle's events with its cycle number and time.
+struct EventLog {
+    cycle: u64,
+    time: f64,
+    events: Vec<Event>,
+}
+
+impl EventLog {
+    fn push(&mut self, kind: EventKind) {
+        self.events.push(Event {
+            cycle: self.cycle,
+            time: self.time,
+            kind,
+        });
+    }
+}

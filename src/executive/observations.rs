@@ -1,0 +1,99 @@
+//! The executive's boundary with the outside: observations and commands by name.
+//!
+//! Monitors report `variable = value` by name; a name that is not an observable of the plant, or
+//! a value outside its domain, is reported as an event and ignored for that cycle — the cycle
+//! goes on (DESIGN.md §10, §13). Observables not reported are unknown for the cycle.
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+use super::events::EventKind;
+use crate::logic::{ValueId, VarId};
+use crate::plant::Plant;
+
+/// `variable = value` by name: an observation from a monitor or a command to a control adapter.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct NamedValue {
+    /// The variable (`valve1.outlet`, `PDE.cmd`).
+    pub variable: String,
+    /// Its value.
+    pub value: String,
+}
+
+impl NamedValue {
+    /// `variable = value`.
+    pub fn new(variable: impl Into<String>, value: impl Into<String>) -> Self {
+        NamedValue {
+            variable: variable.into(),
+            value: value.into(),
+        }
+    }
+
+    /// The named form of a typed assignment.
+    pub fn of(plant: &Plant, var: VarId, value: ValueId) -> Self {
+        let variable = plant.table().variable(var);
+        NamedValue::new(variable.name(), variable.value_name(value))
+    }
+}
+
+impl fmt::Display for NamedValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} = {}", self.variable, self.value)
+    }
+}
+
+impl<A: Into<String>, B: Into<String>> From<(A, B)> for NamedValue {
+    fn from((variable, value): (A, B)) -> Self {
+        NamedValue::new(variable, value)
+    }
+}
+
+/// The observation of one cycle, typed, and the events its checking raised.
+pub(crate) struct CheckedObservation {
+    pub(crate) values: Vec<(VarId, ValueId)>,
+    pub(crate) rejected: Vec<EventKind>,
+}
+
+/// Resolves named observations against the plant's observables. Rejects (as events) unknown
+/// names, names that are not observables, values outside the domain, and a second, different
+/// value for the same observable in one cycle (the first is kept).
+pub(crate) fn check_observation(plant: &Plant, observed: &[NamedValue]) -> CheckedObservation {
+    let table = plant.table();
+    let mut values: Vec<(VarId, ValueId)> = Vec::with_capacity(observed.len());
+    let mut rejected = Vec::new();
+    for item in observed {
+        let reject = |reason: String| EventKind::ObservationRejected {
+            variable: item.variable.clone(),
+            value: item.value.clone(),
+            reason,
+        };
+        let Some(var) = table.variable_id(&item.variable) else {
+            rejected.push(reject("no such variable in the plant model".to_string()));
+            continue;
+        };
+        if !plant.observables().contains(&var) {
+            rejected.push(reject("not an observable of the plant model".to_string()));
+            continue;
+        }
+        let variable = table.variable(var);
+        let Some(value) = variable.value(&item.value) else {
+            rejected.push(reject(format!(
+                "not a value of {} (one of: {})",
+                item.variable,
+                variable.values().join(", ")
+            )));
+            continue;
+        };
+        match values.iter().find(|(x, _)| *x == var) {
+            Some(&(_, earlier)) if earlier != value => rejected.push(reject(format!(
+                "{} was already reported as {} this cycle",
+                item.variable,
+                variable.value_name(earlier)
+            ))),
+            Some(_) => {}
+            None => values.push((var, value)),
+        }
+    }
+    CheckedObservation { values, rejected }
+}

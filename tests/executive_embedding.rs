@@ -1,0 +1,418 @@
+//! The embedding use of the executive (DESIGN.md §1 user 2, §10; issue 6 acceptance): a flight
+//! loop written by hand drives `Executive::step` against a plant simulated in plain Rust, the
+//! propulsion subsystem of thesis Figures 6-14/6-15 (`models/propulsion.ron`).
+
+use std::cell::RefCell;
+
+use kairos::diagnostic::Source;
+use kairos::executive::adapters::{self, ControlAdapter, MonitorAdapter, SimulatedClock};
+use kairos::executive::{EventKind, Executive, NamedValue, Step};
+use kairos::plant::Plant;
+use kairos::rmpl::{self, LinkOptions};
+
+fn propulsion() -> Plant {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/models/propulsion.ron");
+    let text = std::fs::read_to_string(path).expect("the model exists");
+    Plant::load(&Source::new(path, text)).expect("the model is valid")
+}
+
+fn executive(program: &str) -> Executive {
+    let plant = propulsion();
+    let source = Source::new("program.rmpl", program);
+    let options = LinkOptions {
+        plant: Some(plant.table()),
+        ..LinkOptions::default()
+    };
+    let thca = rmpl::load(&source, &options).expect("the program links against the plant");
+    Executive::builder(plant, thca)
+        .kappa(5)
+        .build()
+        .expect("the executive builds")
+}
+
+/// The propulsion hardware as an engineer would simulate it: the PDE relays commands when on;
+/// the engine heats for 40 s; the valves pass tank pressure when open.
+#[derive(Debug, Default)]
+struct Hardware {
+    pde_on: bool,
+    pde_resettable: bool,
+    valve_open: [bool; 2],
+    valve_stuck_closed: [bool; 2],
+    engine: EngineState,
+    heating_since: f64,
+    commands: Vec<(f64, String)>,
+}
+
+#[derive(Debug, Default, Clone, Copy, PartialEq)]
+enum EngineState {
+    #[default]
+    Off,
+    Heating,
+    Standby,
+    Firing,
+}
+
+impl ControlAdapter for Hardware {
+    fn send(&mut self, time: f64, command: &[NamedValue]) -> Result<(), String> {
+        for assignment in command {
+            if assignment.variable != "PDE.cmd" {
+                return Err(format!("no actuator for {assignment}"));
+            }
+            self.commands.push((time, assignment.value.clone()));
+            self.apply(time, &assignment.value);
+        }
+        Ok(())
+    }
+}
+
+impl Hardware {
+    fn apply(&mut self, time: f64, command: &str) {
+        match command {
+            "on" if !self.pde_resettable => self.pde_on = true,
+            "off" => {
+                self.pde_on = false;
+                self.pde_resettable = false;
+            }
+            "reset" if self.pde_resettable => {
+                self.pde_resettable = false;
+                self.pde_on = true;
+            }
+            relayed if self.pde_on && !self.pde_resettable => self.relay(time, relayed),
+            _ => {}
+        }
+    }
+
+    fn relay(&mut self, time: f64, command: &str) {
+        match command {
+            "open1" if !self.valve_stuck_closed[0] => self.valve_open[0] = true,
+            "open2" if !self.valve_stuck_closed[1] => self.valve_open[1] = true,
+            "close1" => self.valve_open[0] = false,
+            "close2" => self.valve_open[1] = false,
+            "engine-standby" if self.engine == EngineState::Off => {
+                self.engine = EngineState::Heating;
+                self.heating_since = time;
+            }
+            "engine-fire" if self.engine == EngineState::Standby => {
+                self.engine = EngineState::Firing;
+            }
+            "engine-off" => self.engine = EngineState::Off,
+            _ => {}
+        }
+    }
+}
+
+impl MonitorAdapter for Hardware {
+    fn observe(&mut self, time: f64) -> Vec<NamedValue> {
+        if self.engine == EngineState::Heating && time - self.heating_since >= 40.0 {
+            self.engine = EngineState::Standby;
+        }
+        let level = |high: bool| if high { "high" } else { "low" };
+        let powered = self.engine != EngineState::Off;
+        let hot = matches!(self.engine, EngineState::Standby | EngineState::Firing);
+        vec![
+            NamedValue::new("valve1.outlet", level(self.valve_open[0])),
+            NamedValue::new("valve2.outlet", level(self.valve_open[1])),
+            NamedValue::new("engine.power", if powered { "nominal" } else { "zero" }),
+            NamedValue::new("engine.temp", if hot { "nominal" } else { "low" }),
+            NamedValue::new(
+                "engine.thrust",
+                if self.engine == EngineState::Firing {
+                    "nominal"
+                } else {
+                    "zero"
+                },
+            ),
+        ]
+    }
+}
+
+/// The monitor and the control adapter of one piece of hardware, for `adapters::run`.
+struct Monitor<'a>(&'a RefCell<Hardware>);
+struct Control<'a>(&'a RefCell<Hardware>);
+
+impl MonitorAdapter for Monitor<'_> {
+    fn observe(&mut self, time: f64) -> Vec<NamedValue> {
+        self.0.borrow_mut().observe(time)
+    }
+}
+
+impl ControlAdapter for Control<'_> {
+    fn send(&mut self, time: f64, command: &[NamedValue]) -> Result<(), String> {
+        self.0.borrow_mut().send(time, command)
+    }
+}
+
+/// The loop written by hand, as an embedder with its own scheduler would: observe, step, send.
+fn drive(executive: &mut Executive, hardware: &mut Hardware, until: f64) -> Vec<Step> {
+    let mut steps = Vec::new();
+    let mut time = 0.0;
+    while time <= until {
+        let observation = hardware.observe(time);
+        let step = executive.step(time, &observation).expect("time increases");
+        let command: Vec<NamedValue> = step
+            .command
+            .iter()
+            .map(|&(x, v)| NamedValue::of(executive.plant(), x, v))
+            .collect();
+        hardware
+            .send(time, &command)
+            .expect("only PDE commands are issued");
+        let done = step.completed;
+        steps.push(step);
+        if done {
+            break;
+        }
+        time += 1.0;
+    }
+    steps
+}
+
+fn commands(hardware: &Hardware) -> Vec<&str> {
+    hardware.commands.iter().map(|(_, c)| c.as_str()).collect()
+}
+
+#[test]
+fn engine_firing_is_reached_with_the_section_6_3_3_sequence() {
+    let mut executive = executive("Fire() :: { engine = firing }");
+    let mut hardware = Hardware::default();
+    let steps = drive(&mut executive, &mut hardware, 300.0);
+    let last = steps.last().expect("cycles ran");
+    assert!(
+        last.completed,
+        "the goal is achieved and the program completes"
+    );
+    // §6.3.3 with the standby command routed through the PDE (the only control of
+    // propulsion.ron): the PDE must be on to relay any command, and is switched off last —
+    // after the program has completed (its goal, engine = firing, is achieved when the engine
+    // fires), because the executive keeps working toward the intended configuration.
+    assert_eq!(
+        commands(&hardware),
+        [
+            "on",
+            "engine-standby",
+            "open1",
+            "open2",
+            "engine-fire",
+            "off"
+        ]
+    );
+    let engine_standby_at = hardware.commands[1].0;
+    let open1_at = hardware.commands[2].0;
+    assert!(
+        open1_at - engine_standby_at >= 40.0,
+        "the valves open only after the engine is confirmed in standby (waited {} s)",
+        open1_at - engine_standby_at
+    );
+    let waits = steps
+        .iter()
+        .flat_map(|s| &s.events)
+        .filter(|e| matches!(e.kind, EventKind::Waiting { .. }))
+        .count();
+    assert_eq!(waits, 1, "one wait: heating -> standby");
+}
+
+#[test]
+fn the_loop_runner_drives_the_same_cycle() {
+    let mut executive = executive("Standby() :: { engine = standby }");
+    let hardware = RefCell::new(Hardware::default());
+    let mut clock = SimulatedClock::new(0.0, 1.0);
+    let mut steps = Vec::new();
+    let cycles = adapters::run(
+        &mut executive,
+        &mut clock,
+        &mut Monitor(&hardware),
+        &mut Control(&hardware),
+        |step| {
+            steps.push(step.clone());
+            step.is_settled() || step.time >= 300.0
+        },
+    )
+    .expect("the loop runs");
+    assert!(
+        steps.last().is_some_and(|s| s.completed),
+        "engine standby reached"
+    );
+    assert_eq!(cycles as usize, steps.len());
+    assert!(steps.windows(2).all(|w| w[1].time - w[0].time == 1.0));
+    assert_eq!(
+        commands(&hardware.borrow()),
+        ["on", "engine-standby", "off"]
+    );
+}
+
+/// §6.3, §7.2.4: "should the PDE suddenly be determined to have transitioned into its
+/// resettable fault mode, RP then issues the appropriate recovery command". The PDE fails just
+/// before the engine standby command; the command goes unanswered (the engine stays unpowered),
+/// which a resettable PDE explains better than a failed engine; the planner resets the PDE and
+/// carries on.
+#[test]
+fn a_resettable_pde_is_repaired_and_the_goal_still_reached() {
+    let mut executive = executive("Fire() :: { engine = firing }");
+    let mut hardware = Hardware::default();
+    let mut time = 0.0;
+    let mut diagnosed = false;
+    let mut settled = false;
+    while time <= 400.0 {
+        if time == 1.0 {
+            hardware.pde_resettable = true;
+            hardware.pde_on = false;
+        }
+        let observation = hardware.observe(time);
+        let step = executive.step(time, &observation).expect("time increases");
+        diagnosed |= step
+            .events
+            .iter()
+            .any(|e| matches!(&e.kind, EventKind::Diagnosis { mode, .. } if mode == "resettable"));
+        let command: Vec<NamedValue> = step
+            .command
+            .iter()
+            .map(|&(x, v)| NamedValue::of(executive.plant(), x, v))
+            .collect();
+        hardware.send(time, &command).expect("PDE commands only");
+        if step.is_settled() {
+            settled = true;
+            break;
+        }
+        time += 1.0;
+    }
+    let issued = commands(&hardware);
+    assert!(diagnosed, "the resettable PDE is diagnosed: {issued:?}");
+    assert_eq!(issued[..3], ["on", "engine-standby", "reset"], "{issued:?}");
+    assert!(settled, "and the engine still fires: {issued:?}");
+    assert_eq!(
+        issued[3..],
+        ["engine-standby", "open1", "open2", "engine-fire", "off"]
+    );
+}
+
+#[test]
+fn odd_observations_are_events_and_the_cycle_goes_on() {
+    let mut executive = executive("Standby() :: { engine = standby }");
+    let mut hardware = Hardware::default();
+    let mut observation = hardware.observe(0.0);
+    observation.push(NamedValue::new("engine.colour", "blue"));
+    observation.push(NamedValue::new("engine.temp", "scorching"));
+    observation.push(NamedValue::new("PDE.cmd", "on"));
+    observation.retain(|o| o.variable != "valve2.outlet");
+    let step = executive.step(0.0, &observation).expect("the cycle runs");
+    let rejected: Vec<&str> = step
+        .events
+        .iter()
+        .filter_map(|e| match &e.kind {
+            EventKind::ObservationRejected { variable, .. } => Some(variable.as_str()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(rejected, ["engine.colour", "engine.temp", "PDE.cmd"]);
+    assert!(step.events.iter().any(|e| matches!(
+        &e.kind,
+        EventKind::ObservationsMissing { variables } if variables == &["valve2.outlet"]
+    )));
+    assert!(
+        !step.command.is_empty(),
+        "the executive still acts: {:?}",
+        step.action
+    );
+    // Time must move forward; a repeated time is an error value, not a panic.
+    assert!(executive.step(0.0, &[]).is_err());
+    assert!(executive.step(f64::NAN, &[]).is_err());
+}
+
+/// A lamp with no fault modes: nothing explains a lit lamp that was never switched on.
+const LAMP: &str = r#"Plant(
+    name: "lamp",
+    components: [
+        Component(
+            name: "lamp",
+            attributes: { "cmd": ["none", "on", "off"], "light": ["dark", "lit"] },
+            modes: [
+                Mode(name: "off", constraint: "lamp.light = dark", reward: 0),
+                Mode(name: "on", constraint: "lamp.light = lit", reward: -1),
+            ],
+            initial: { "off": 1.0 },
+            transitions: [
+                (from: "off", to: "on", guard: "lamp.cmd = on", probability: 1.0),
+                (from: "on", to: "off", guard: "lamp.cmd = off", probability: 1.0),
+            ],
+        ),
+    ],
+    controls: { "lamp.cmd": "none" },
+    observables: ["lamp.light"],
+)"#;
+
+/// DESIGN.md §8: "if no state is consistent with the observations ... the estimator must say
+/// so, keep running ... and never panic"; issue 6: a contradictory observation produces an
+/// event and the run continues to completion.
+#[test]
+fn a_contradictory_observation_is_reported_and_execution_continues() {
+    let plant = Plant::load(&Source::new("lamp.ron", LAMP)).expect("a valid model");
+    let program = "Lamp() :: { t = 0; when (t >= 5) donext lamp = on }";
+    let options = LinkOptions {
+        plant: Some(plant.table()),
+        ..LinkOptions::default()
+    };
+    let thca = rmpl::load(&Source::new("lamp.rmpl", program), &options).expect("links");
+    let mut executive = Executive::builder(plant, thca).build().expect("builds");
+    let mut lamp_on = false;
+    let mut inconsistencies = 0;
+    let mut settled_at = None;
+    for i in 0..20 {
+        let time = f64::from(i);
+        // At t = 2 the sensor claims the lamp is lit though it was never switched on.
+        let lit = lamp_on || i == 2;
+        let observation = [NamedValue::new(
+            "lamp.light",
+            if lit { "lit" } else { "dark" },
+        )];
+        let step = executive.step(time, &observation).expect("the cycle runs");
+        inconsistencies += step
+            .events
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::EstimatorInconsistency { .. }))
+            .count();
+        lamp_on |= step.command.iter().any(|&(x, v)| {
+            executive.plant().table().assignment(x, v).to_string() == "lamp.cmd = on"
+        });
+        if step.is_settled() {
+            settled_at = Some(time);
+            break;
+        }
+    }
+    assert_eq!(inconsistencies, 1, "the contradiction is reported once");
+    assert!(settled_at.is_some(), "the program still completes");
+}
+
+#[test]
+fn a_program_not_linked_to_the_plant_is_refused() {
+    let plant = propulsion();
+    let thca = rmpl::load(
+        &Source::new("p.rmpl", "P() :: { engine = firing }"),
+        &LinkOptions::default(),
+    )
+    .expect("links against its own names");
+    assert!(Executive::builder(plant, thca).build().is_err());
+}
+
+#[test]
+fn timelines_record_the_most_likely_modes_over_time() {
+    let mut executive = executive("Fire() :: { engine = firing }");
+    let mut hardware = Hardware::default();
+    drive(&mut executive, &mut hardware, 300.0);
+    let plant = executive.plant();
+    let engine = plant.component_named("engine").expect("an engine");
+    let timeline = executive
+        .timelines()
+        .state(engine.index())
+        .expect("a timeline");
+    let names: Vec<&str> = timeline
+        .intervals()
+        .map(|i| plant.component(engine).mode(i.value).name.as_str())
+        .collect();
+    assert_eq!(names, ["off", "heating", "standby", "firing"]);
+    let heating = plant
+        .component(engine)
+        .mode_named("heating")
+        .expect("heating");
+    assert_eq!(timeline.at(20.0).map(|i| i.value), Some(heating));
+    assert_eq!(executive.timelines().commands().len(), 6);
+}
