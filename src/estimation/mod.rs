@@ -20,6 +20,7 @@ mod exact;
 mod expand;
 pub mod log;
 mod observe;
+mod streams;
 mod timed_me;
 
 use std::sync::Arc;

@@ -273,20 +273,17 @@ pub fn step_tcca(
     Ok(successor(state, targets, to))
 }
 
-/// An OCSP whose decisions are the components' next modes with costs −ln p, subject to the
-/// plant's theory and `observation`: its solutions are the next plant states consistent with the
-/// observation, most probable first (Figure 6-11 step 3 for one source state).
-pub(crate) fn target_ocsp(
-    plant: &Plant,
-    choices: &[Vec<(ValueId, f64)>],
-    observation: &Observation,
-) -> Ocsp {
+/// An OCSP whose decisions are the components' next modes with the given costs (−ln p), subject
+/// to the plant's theory and `observation`: its solutions are the next plant states consistent
+/// with the observation, most probable first (Figure 6-11 step 3 for one source state).
+pub(crate) fn target_ocsp<C, I>(plant: &Plant, costs: C, observation: &Observation) -> Ocsp
+where
+    C: IntoIterator<Item = I>,
+    I: IntoIterator<Item = (ValueId, f64)>,
+{
     let mut ocsp = Ocsp::new();
-    for (component, distribution) in plant.components().iter().zip(choices) {
-        let options = distribution
-            .iter()
-            .filter(|(_, p)| p.is_finite() && *p > 0.0)
-            .map(|&(value, p)| (value, -p.ln()));
+    for (component, next) in plant.components().iter().zip(costs) {
+        let options = next.into_iter().filter(|(_, cost)| cost.is_finite());
         if ocsp.decide(component.mode_var(), options).is_err() {
             unreachable!("each component decides once, with finite costs");
         }
@@ -311,7 +308,10 @@ pub fn consistent_state(
     to: f64,
 ) -> Result<Option<SystemState>, TheoryError> {
     let choices = transition_choices(plant, theory, state, commands, from, to)?;
-    let ocsp = target_ocsp(plant, &choices, observation);
+    let costs = choices
+        .iter()
+        .map(|d| d.iter().map(|&(value, p)| (value, -p.ln())));
+    let ocsp = target_ocsp(plant, costs, observation);
     let best = ocsp.best(theory, 1);
     Ok(best.solutions.into_iter().next().map(|solution| {
         let targets = solution.assignment.into_iter().map(|(_, v)| v).collect();
