@@ -37,6 +37,10 @@ const MARGIN: f64 = 1.0;
 /// …but fetches at most this many solutions beyond the one asked for.
 const PREFETCH: usize = 6;
 
+/// A shape that has collected this many solutions without being complete starts afresh, so
+/// that certifying stays cheap.
+const KNOWN_LIMIT: usize = 256;
+
 /// What is known about the feasible solutions of one OCSP shape.
 #[derive(Default)]
 struct Known {
@@ -196,18 +200,28 @@ impl<'o> Streams<'o> {
         streams
     }
 
-    /// Puts the knowledge back into the cache, with the certificates live enumerations earned.
-    pub(crate) fn put_back(mut self, cache: &mut SolutionCache) {
+    /// Puts the knowledge back into the cache, with the certificates live enumerations earned:
+    /// a certificate under this cycle's costs replaces an older one (the next cycle's costs will
+    /// be compared with it), the highest bound winning among this cycle's.
+    pub(crate) fn put_back(self, cache: &mut SolutionCache) {
+        let mut renewed: Vec<Option<(Rc<Choices>, f64)>> = vec![None; self.known.len()];
         for stream in &self.streams {
             if let Some(bound) = stream.live_bound {
-                let known = &mut self.known[stream.shape];
-                let better = known.certificate.as_ref().is_none_or(|(_, b)| bound >= *b);
-                if better {
-                    known.certificate = Some((Rc::clone(&stream.choices), bound));
+                let slot = &mut renewed[stream.shape];
+                if slot.as_ref().is_none_or(|(_, b)| bound > *b) {
+                    *slot = Some((Rc::clone(&stream.choices), bound));
                 }
             }
         }
-        cache.shapes.extend(self.keys.into_iter().zip(self.known));
+        for ((key, mut known), certificate) in self.keys.into_iter().zip(self.known).zip(renewed) {
+            if certificate.is_some() {
+                known.certificate = certificate;
+            }
+            if !known.complete && known.solutions.len() > KNOWN_LIMIT {
+                known = Known::default();
+            }
+            cache.shapes.insert(key, known);
+        }
     }
 
     /// The next modes of solution `i` of source `k` (which [`Streams::cost`] has fetched).

@@ -51,7 +51,7 @@ impl TimedMeOptions {
     pub fn kappa(kappa: usize) -> Self {
         TimedMeOptions {
             kappa: kappa.max(1),
-            candidates_per_state: 8,
+            candidates_per_state: 4,
             budget: Budget::default(),
         }
     }

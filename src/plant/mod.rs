@@ -35,7 +35,7 @@ pub use timing::{Timing, TransitionLaw, mode_distribution};
 
 use crate::diagnostic::{Source, SourceErrors};
 use crate::logic::{Formula, ValueId, VarId, VarTable};
-use crate::opsat::{Theory, TheoryError};
+use crate::opsat::{Theory, TheoryError, TheoryOptions};
 
 /// A component, by position in [`Plant::components`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -285,6 +285,12 @@ impl Plant {
     /// it to estimation, the sequencer and goal interpretation).
     pub fn theory(&self) -> Result<Theory, TheoryError> {
         Theory::new(self.table.clone(), &self.constraints())
+    }
+
+    /// [`Plant::theory`] with chosen options (SAT backend, conflict minimisation; BENCHMARKS.md
+    /// measures their effect on estimation).
+    pub fn theory_with(&self, options: TheoryOptions) -> Result<Theory, TheoryError> {
+        Theory::with_options(self.table.clone(), &self.constraints(), options)
     }
 }
 
