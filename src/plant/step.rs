@@ -31,6 +31,46 @@ pub enum InputError {
     StateShape,
 }
 
+/// Why a step could not be taken.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum StepError {
+    /// The state, commands or observation do not fit the plant.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// The theory refused a formula (it is not this plant's theory).
+    #[error(transparent)]
+    Theory(#[from] TheoryError),
+}
+
+/// Checks that every component has a mode of its own.
+pub(crate) fn check_modes(plant: &Plant, modes: &[ValueId]) -> Result<(), InputError> {
+    let components = plant.components();
+    if modes.len() != components.len() {
+        return Err(InputError::StateShape);
+    }
+    for (component, mode) in components.iter().zip(modes) {
+        if mode.index() >= component.modes().len() {
+            return Err(InputError::OutOfDomain {
+                name: component.name().to_string(),
+                value: mode.0,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Checks that the control action and observation name variables and values of the plant.
+fn check_inputs(
+    plant: &Plant,
+    commands: &Commands,
+    observation: &Observation,
+) -> Result<(), InputError> {
+    for &(var, value) in commands.values().iter().chain(observation.values()) {
+        check_value(plant, var, value)?;
+    }
+    Ok(())
+}
+
 /// Checks that `(var, value)` names a variable of the plant and a value of its domain.
 fn check_value(plant: &Plant, var: VarId, value: ValueId) -> Result<(), InputError> {
     if var.index() >= plant.table().len() {
@@ -164,7 +204,9 @@ pub fn enabled_transitions(
     theory: &mut Theory,
     modes: &[ValueId],
     commands: &Commands,
-) -> Result<Vec<Vec<usize>>, TheoryError> {
+) -> Result<Vec<Vec<usize>>, StepError> {
+    check_modes(plant, modes)?;
+    check_inputs(plant, commands, &Observation::none())?;
     let mut store = mode_literals(plant, modes);
     store.extend(commands.literals());
     let guarded = |t: &usize, c: &super::Component| c.transitions()[*t].guard != Formula::True;
@@ -205,12 +247,12 @@ pub fn component_distributions(
 ) -> Vec<Vec<(ValueId, f64)>> {
     plant
         .component_ids()
+        .zip(&state.modes)
         .zip(enabled)
-        .map(|((id, component), enabled)| {
-            let mode = state.modes[id.index()];
-            let laws = enabled.iter().map(|&t| {
-                let transition = &component.transitions()[t];
-                (transition.target, transition.law)
+        .map(|(((id, component), &mode), enabled)| {
+            let laws = enabled.iter().filter_map(|&t| {
+                let transition = component.transitions().get(t)?;
+                Some((transition.target, transition.law))
             });
             mode_distribution(mode, laws, state.clock(id, from), to - from)
         })
@@ -226,7 +268,8 @@ pub fn transition_choices(
     commands: &Commands,
     from: f64,
     to: f64,
-) -> Result<Vec<Vec<(ValueId, f64)>>, TheoryError> {
+) -> Result<Vec<Vec<(ValueId, f64)>>, StepError> {
+    state.check(plant)?;
     let enabled = enabled_transitions(plant, theory, &state.modes, commands)?;
     Ok(component_distributions(plant, state, &enabled, from, to))
 }
@@ -258,16 +301,17 @@ pub fn step_tcca(
     from: f64,
     to: f64,
     mut choose: impl FnMut(ComponentId, &[(ValueId, f64)]) -> usize,
-) -> Result<SystemState, TheoryError> {
+) -> Result<SystemState, StepError> {
     let choices = transition_choices(plant, theory, state, commands, from, to)?;
     let targets = choices
         .iter()
+        .zip(&state.modes)
         .enumerate()
-        .map(|(c, distribution)| {
+        .map(|(c, (distribution, &current))| {
             let pick = choose(ComponentId(c as u32), distribution);
             distribution
                 .get(pick)
-                .map_or(state.modes[c], |&(target, _)| target)
+                .map_or(current, |&(target, _)| target)
         })
         .collect();
     Ok(successor(state, targets, to))
@@ -306,7 +350,8 @@ pub fn consistent_state(
     observation: &Observation,
     from: f64,
     to: f64,
-) -> Result<Option<SystemState>, TheoryError> {
+) -> Result<Option<SystemState>, StepError> {
+    check_inputs(plant, commands, observation)?;
     let choices = transition_choices(plant, theory, state, commands, from, to)?;
     let costs = choices
         .iter()
