@@ -47,7 +47,8 @@ pub struct TimedMeOptions {
 }
 
 impl TimedMeOptions {
-    /// κ states, the default candidate allowance, no budget.
+    /// κ states, 4 candidates per state (2, 4 and 8 agree equally with the exact update on
+    /// random plants; BENCHMARKS.md), no budget.
     pub fn kappa(kappa: usize) -> Self {
         TimedMeOptions {
             kappa: kappa.max(1),
