@@ -3,10 +3,10 @@
 //! TimedME on synthetic chain and tree plants of 10, 100 and 1000 components.
 //!
 //! "warm" steps repeat a cycle the estimator has seen (a quiet cycle: the caches of enabled
-//! transitions, OCSP solutions and observation factors answer); "cold" steps start from fresh
-//! caches, so every SAT call and OPSAT search is made; "heating" steps advance the engine's
-//! clock inside its 30–60 s window, so that state's OCSP changes every cycle while the others
-//! hit the cache. Run with `cargo bench --bench estimation`; numbers in BENCHMARKS.md.
+//! transitions, OCSP solutions and observation factors answer); "jittery" steps are quiet cycles
+//! whose length varies by up to 5 %, so every probability that depends on it moves; "cold"
+//! steps start from fresh caches, so every SAT call and OPSAT search is made; "heating" steps
+//! advance the engine's clock inside its 30–60 s window. Run with `cargo bench --bench estimation`; numbers in BENCHMARKS.md.
 
 #[path = "../tests/support/mod.rs"]
 mod support;
@@ -18,7 +18,7 @@ use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_ma
 use kairos::diagnostic::Source;
 use kairos::estimation::log::replay;
 use kairos::estimation::{Belief, BeliefUpdate, ModeEstimator, TimedMe, TimedMeOptions};
-use kairos::opsat::Theory;
+use kairos::opsat::{Theory, TheoryOptions};
 use kairos::plant::{Commands, Observation, Plant};
 use support::plants::{log, model};
 use support::random_ocsp::sample;
@@ -87,6 +87,24 @@ fn propulsion(c: &mut Criterion) {
                     .expect("update")
             })
         });
+        let mut jitter = 0u32;
+        group.bench_with_input(BenchmarkId::new("quiet_jittery", kappa), &kappa, |b, _| {
+            b.iter(|| {
+                // Cycle lengths that differ by a few per cent from one cycle to the next.
+                jitter = jitter.wrapping_add(7919);
+                let time = 101.0 + f64::from(jitter % 1000) * 5e-5;
+                estimator
+                    .update(
+                        &plant,
+                        &mut theory,
+                        black_box(&quiet),
+                        &idle,
+                        &observation,
+                        time,
+                    )
+                    .expect("update")
+            })
+        });
         group.bench_with_input(BenchmarkId::new("quiet_cold", kappa), &kappa, |b, _| {
             b.iter_batched(
                 || TimedMe::new(TimedMeOptions::kappa(kappa)),
@@ -105,6 +123,29 @@ fn propulsion(c: &mut Criterion) {
                 BatchSize::SmallInput,
             )
         });
+        let mut plain = unminimised(&plant);
+        group.bench_with_input(
+            BenchmarkId::new("quiet_cold_unminimised", kappa),
+            &kappa,
+            |b, _| {
+                b.iter_batched(
+                    || TimedMe::new(TimedMeOptions::kappa(kappa)),
+                    |mut fresh| {
+                        fresh
+                            .update(
+                                &plant,
+                                &mut plain,
+                                black_box(&quiet),
+                                &idle,
+                                &observation,
+                                101.0,
+                            )
+                            .expect("update")
+                    },
+                    BatchSize::SmallInput,
+                )
+            },
+        );
         let (heating, observation) = propulsion_at(&plant, &mut theory, kappa, 40, false);
         let mut estimator = TimedMe::new(TimedMeOptions::kappa(kappa));
         let mut nudge = 0u32;
@@ -285,17 +326,66 @@ fn pipes(n: usize, upstream: impl Fn(usize) -> usize) -> Plant {
     Plant::load(&Source::new("pipes.ron", text)).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The plant's theory without conflict minimisation (see BENCHMARKS.md for why it is measured).
+fn unminimised(plant: &Plant) -> Theory {
+    plant
+        .theory_with(TheoryOptions {
+            minimize_conflicts: false,
+            ..TheoryOptions::default()
+        })
+        .expect("theory")
+}
+
+/// Which segment feeds segment i.
+type Upstream = fn(usize) -> usize;
+
+/// A theory and a TimedME (κ = 10) that has run three quiet cycles on a synthetic plant, with its
+/// belief.
+struct Warmed {
+    theory: Theory,
+    estimator: TimedMe,
+    belief: Belief,
+}
+
+impl Warmed {
+    fn new(plant: &Plant, mut theory: Theory, observation: &Observation) -> Warmed {
+        let idle = Commands::idle(plant);
+        let mut estimator = TimedMe::new(TimedMeOptions::kappa(10));
+        let mut belief = estimator
+            .initial(plant, &mut theory, 0.0, observation)
+            .expect("initial")
+            .belief;
+        for t in 1..=3 {
+            belief = estimator
+                .update(
+                    plant,
+                    &mut theory,
+                    &belief,
+                    &idle,
+                    observation,
+                    f64::from(t),
+                )
+                .expect("update")
+                .belief;
+        }
+        Warmed {
+            theory,
+            estimator,
+            belief,
+        }
+    }
+}
+
 fn scaling(c: &mut Criterion) {
     let mut group = c.benchmark_group("me_step/synthetic");
     group.sample_size(10);
     group.measurement_time(Duration::from_secs(4));
-    for (shape, upstream) in [
-        ("chain", (|i| i - 1) as fn(usize) -> usize),
-        ("tree", |i| (i - 1) / 2),
-    ] {
-        for n in [10usize, 100, 1000] {
+    // A cold step on 1000 components takes tens of seconds: opt in with KAIROS_BENCH_HUGE=1.
+    let huge = std::env::var("KAIROS_BENCH_HUGE").is_ok();
+    let shapes: [(&str, Upstream); 2] = [("chain", |i| i - 1), ("tree", |i| (i - 1) / 2)];
+    for (shape, upstream) in shapes {
+        for n in [10usize, 100, 300, 1000] {
             let plant = pipes(n, upstream);
-            let mut theory = plant.theory().expect("theory");
             let high: Vec<_> = plant
                 .observables()
                 .iter()
@@ -303,42 +393,58 @@ fn scaling(c: &mut Criterion) {
                 .collect();
             let observation = Observation::new(&plant, &high).expect("observation");
             let idle = Commands::idle(&plant);
-            let mut estimator = TimedMe::new(TimedMeOptions::kappa(10));
-            let mut belief = estimator
-                .initial(&plant, &mut theory, 0.0, &observation)
-                .expect("initial")
-                .belief;
-            for t in 1..=3 {
-                belief = estimator
-                    .update(
-                        &plant,
-                        &mut theory,
-                        &belief,
-                        &idle,
-                        &observation,
-                        f64::from(t),
-                    )
-                    .expect("update")
-                    .belief;
-            }
-            group.bench_with_input(BenchmarkId::new(format!("{shape}_warm"), n), &n, |b, _| {
-                b.iter(|| {
-                    estimator
-                        .update(&plant, &mut theory, &belief, &idle, &observation, 4.0)
-                        .expect("update")
-                })
-            });
-            group.bench_with_input(BenchmarkId::new(format!("{shape}_cold"), n), &n, |b, _| {
-                b.iter_batched(
-                    || TimedMe::new(TimedMeOptions::kappa(10)),
-                    |mut fresh| {
-                        fresh
-                            .update(&plant, &mut theory, &belief, &idle, &observation, 4.0)
-                            .expect("update")
+            for minimised in [true, false] {
+                let variant = if minimised { "" } else { "_unminimised" };
+                let theory = || {
+                    if minimised {
+                        plant.theory().expect("theory")
+                    } else {
+                        unminimised(&plant)
+                    }
+                };
+                // Built on first use, so that benchmarks left out by a filter cost nothing.
+                let mut warmed: Option<Warmed> = None;
+                group.bench_with_input(
+                    BenchmarkId::new(format!("{shape}_warm{variant}"), n),
+                    &n,
+                    |b, _| {
+                        let w = warmed
+                            .get_or_insert_with(|| Warmed::new(&plant, theory(), &observation));
+                        b.iter(|| {
+                            w.estimator
+                                .update(&plant, &mut w.theory, &w.belief, &idle, &observation, 4.0)
+                                .expect("update")
+                        })
                     },
-                    BatchSize::SmallInput,
-                )
-            });
+                );
+                let cold_fits = n <= 100 || (n <= 300 && !minimised) || huge;
+                if cold_fits {
+                    group.bench_with_input(
+                        BenchmarkId::new(format!("{shape}_cold{variant}"), n),
+                        &n,
+                        |b, _| {
+                            let w = warmed
+                                .get_or_insert_with(|| Warmed::new(&plant, theory(), &observation));
+                            b.iter_batched(
+                                || TimedMe::new(TimedMeOptions::kappa(10)),
+                                |mut fresh| {
+                                    fresh
+                                        .update(
+                                            &plant,
+                                            &mut w.theory,
+                                            &w.belief,
+                                            &idle,
+                                            &observation,
+                                            4.0,
+                                        )
+                                        .expect("update")
+                                },
+                                BatchSize::SmallInput,
+                            )
+                        },
+                    );
+                }
+            }
         }
     }
     group.finish();

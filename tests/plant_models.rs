@@ -8,7 +8,7 @@ use kairos::diagnostic::Source;
 use kairos::logic::{ValueId, VarId};
 use kairos::opsat::{Consistency, Literal, Theory};
 use kairos::plant::{
-    Commands, ComponentId, ModeKind, Observation, Plant, SystemState, TransitionLaw,
+    Commands, ComponentId, ModeKind, Observation, Plant, StepError, SystemState, TransitionLaw,
     TransitionSource, consistent_state, step_tcca, transition_choices,
 };
 
@@ -274,4 +274,35 @@ fn graph_draws_one_cluster_per_component_with_timed_windows() {
     let (code, listing) = kairos(&["graph", "models/driver_valve.ron"]);
     assert_eq!(code, 0);
     insta::assert_snapshot!(listing);
+}
+
+/// A state that does not fit the plant is reported by `check`, and the step functions do not
+/// panic on it (DESIGN.md §13: no panics on any input).
+#[test]
+fn a_state_of_the_wrong_shape_is_reported_not_a_panic() {
+    let plant = model("driver_valve");
+    let mut theory = plant.theory().expect("theory");
+    let idle = Commands::idle(&plant);
+    for state in [
+        SystemState {
+            modes: vec![ValueId(0)],
+            clock_starts: vec![Some(0.0)],
+        },
+        SystemState {
+            modes: vec![ValueId(0), ValueId(42)],
+            clock_starts: vec![None],
+        },
+    ] {
+        assert!(state.check(&plant).is_err());
+        let stepped = step_tcca(&plant, &mut theory, &state, &idle, 0.0, 1.0, |_, _| 0);
+        assert!(matches!(stepped, Err(StepError::Input(_))));
+        let choices = transition_choices(&plant, &mut theory, &state, &idle, 0.0, 1.0);
+        assert!(matches!(choices, Err(StepError::Input(_))));
+        let none = Observation::none();
+        let next = consistent_state(&plant, &mut theory, &state, &idle, &none, 0.0, 1.0);
+        assert!(matches!(next, Err(StepError::Input(_))));
+        let _ = state.describe(&plant);
+    }
+    let good = SystemState::entered_at(&plant, modes(&plant, &["off", "closed"]), 0.0);
+    assert_eq!(good.check(&plant), Ok(()));
 }

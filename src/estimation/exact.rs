@@ -18,7 +18,7 @@
 
 use std::collections::HashMap;
 
-use super::expand::{Expander, Limits, SourceChoices};
+use super::expand::{Choices, Expander, Limits, SourceChoices};
 use super::timed_me::{Outcome, initial_belief, with_fault_jumps};
 use super::{Belief, EstimationError, ModeEstimator, Update, WeightedState, check_step};
 use crate::logic::ValueId;
@@ -153,17 +153,17 @@ impl Targets {
 }
 
 /// Calls `visit(modes, probability)` for every combination of one choice per component.
-fn for_each_combination(choices: &[Vec<(ValueId, f64)>], mut visit: impl FnMut(&[ValueId], f64)) {
+fn for_each_combination(choices: &Choices, mut visit: impl FnMut(&[ValueId], f64)) {
     if choices.iter().any(Vec::is_empty) {
         return;
     }
     let mut position = vec![0usize; choices.len()];
-    let mut modes: Vec<ValueId> = choices.iter().map(|c| c[0].0).collect();
+    let mut modes: Vec<ValueId> = choices.iter().map(|c| c[0].mode).collect();
     loop {
         let p: f64 = choices
             .iter()
             .zip(&position)
-            .map(|(c, &i)| c[i].1)
+            .map(|(c, &i)| c[i].probability)
             .product();
         visit(&modes, p);
         // Odometer: advance the last component, carrying leftwards.
@@ -175,11 +175,11 @@ fn for_each_combination(choices: &[Vec<(ValueId, f64)>], mut visit: impl FnMut(&
             j -= 1;
             position[j] += 1;
             if position[j] < choices[j].len() {
-                modes[j] = choices[j][position[j]].0;
+                modes[j] = choices[j][position[j]].mode;
                 break;
             }
             position[j] = 0;
-            modes[j] = choices[j][0].0;
+            modes[j] = choices[j][0].mode;
         }
     }
 }

@@ -16,34 +16,69 @@
 //! on candidates.
 //!
 //! Quiet cycles repeat themselves: the same source modes under the same commands enable the
-//! same transitions, and the same OCSP meets the same observation. Both are cached across calls —
-//! enabled transitions per (modes, μ), OCSP solution prefixes per (choices, observation),
-//! observation factors per (modes, observation) — so a quiescent step makes no SAT call.
+//! same transitions, and the same OCSP shapes meet the same observation. Enabled transitions are
+//! cached per (modes, μ), observation factors per (modes, observation), and each OCSP shape's
+//! feasible solutions with a certificate that stays valid as probabilities drift (`streams.rs`),
+//! so a quiet step — even with a jittery cycle length or a clock running — makes no SAT call.
 
 use std::cell::OnceCell;
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
+use std::hash::{Hash, Hasher};
 use std::rc::Rc;
 
+use rustc_hash::{FxHashMap, FxHasher};
+
 use super::observe::ObservationModel;
+use super::streams::{SolutionCache, Streams};
 use super::{EstimationError, WeightedState};
 use crate::logic::ValueId;
-use crate::opsat::{Cut, Enumeration, Ocsp, SearchOptions, Theory};
+use crate::opsat::{Cut, Ocsp, SearchOptions, Theory};
 use crate::plant::{
     Commands, Observation, Plant, SystemState, component_distributions, enabled_transitions,
-    target_ocsp,
 };
 
 /// Past this many entries a cache starts afresh.
 const CACHE_LIMIT: usize = 20_000;
 
-/// One source of candidates: a probability and, per component, the next modes with their
-/// probabilities.
+/// One next mode of a component, with its probability and its cost (−ln p).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct NextMode {
+    /// The mode.
+    pub(crate) mode: ValueId,
+    /// Its probability in this step.
+    pub(crate) probability: f64,
+    /// −ln of it.
+    pub(crate) cost: f64,
+}
+
+impl NextMode {
+    pub(crate) fn new(mode: ValueId, probability: f64) -> NextMode {
+        NextMode {
+            mode,
+            probability,
+            cost: -probability.ln(),
+        }
+    }
+}
+
+/// Per component, the next modes a source state may take.
+pub(crate) type Choices = Vec<Vec<NextMode>>;
+
+/// Choices from per-component (mode, probability) distributions.
+pub(crate) fn choices_from(distributions: Vec<Vec<(ValueId, f64)>>) -> Choices {
+    distributions
+        .into_iter()
+        .map(|d| d.into_iter().map(|(m, p)| NextMode::new(m, p)).collect())
+        .collect()
+}
+
+/// One source of candidates: a probability and, per component, its next modes.
 pub(crate) struct SourceChoices {
     /// The source state's probability (1 for the initial distribution's pseudo-source).
     pub(crate) probability: f64,
-    /// Per component, next modes and probabilities.
-    pub(crate) choices: Vec<Vec<(ValueId, f64)>>,
+    /// Per component, next modes (shared: quiet sources reuse them from cycle to cycle).
+    pub(crate) choices: Rc<Choices>,
 }
 
 /// What an expansion found.
@@ -54,13 +89,6 @@ pub(crate) struct Expansion {
     pub(crate) candidates: u64,
     /// Set when an OPSAT budget ran out.
     pub(crate) cut: Option<Cut>,
-}
-
-/// The solutions of one OCSP found so far, cheapest first.
-#[derive(Default)]
-struct CachedStream {
-    solutions: Vec<(Vec<ValueId>, f64)>,
-    exhausted: bool,
 }
 
 /// How many candidates and which OPSAT options an expansion may use.
@@ -77,15 +105,19 @@ pub(crate) struct Limits {
 /// The expansion machinery and its caches (one per estimator, per plant).
 #[derive(Default)]
 pub(crate) struct Expander {
-    enabled: HashMap<Vec<u32>, Rc<Vec<Vec<usize>>>>,
-    solutions: HashMap<Vec<u64>, CachedStream>,
+    enabled: FxHashMap<Vec<u32>, Rc<Vec<Vec<usize>>>>,
+    prepared: FxHashMap<Vec<u64>, Rc<Choices>>,
+    solutions: SolutionCache,
     pub(crate) observe: ObservationModel,
     scratch: Vec<u32>,
+    step_key: Vec<u64>,
 }
 
 impl Expander {
-    /// Each component's distribution over its next mode from `state` (Figure 6-10's "identify
-    /// enabled transitions", with the enabled set cached per modes and μ).
+    /// Each component's next modes from `state` in the step `from`–`to` (Figure 6-10's
+    /// "identify enabled transitions" and §6.2.2's probabilities). Both halves are cached: the
+    /// enabled transitions per (modes, μ), the resulting choices per (modes, μ, step length,
+    /// the clocks that matter) — so a quiet source is prepared once.
     pub(crate) fn choices(
         &mut self,
         plant: &Plant,
@@ -94,24 +126,55 @@ impl Expander {
         commands: &Commands,
         from: f64,
         to: f64,
-    ) -> Result<Vec<Vec<(ValueId, f64)>>, EstimationError> {
+    ) -> Result<Rc<Choices>, EstimationError> {
+        self.step_key.clear();
+        self.step_key
+            .extend(state.modes.iter().map(|m| u64::from(m.0)));
+        self.step_key
+            .extend(commands.values().iter().map(|(_, v)| u64::from(v.0)));
+        self.step_key.push((to - from).to_bits());
+        for (c, start) in state.clock_starts.iter().enumerate() {
+            if let Some(start) = start {
+                self.step_key.extend([c as u64, (from - start).to_bits()]);
+            }
+        }
+        if let Some(prepared) = self.prepared.get(self.step_key.as_slice()) {
+            return Ok(Rc::clone(prepared));
+        }
+        let enabled = self.enabled(plant, theory, state, commands)?;
+        let prepared = Rc::new(choices_from(component_distributions(
+            plant, state, &enabled, from, to,
+        )));
+        if self.prepared.len() >= CACHE_LIMIT {
+            self.prepared.clear();
+        }
+        self.prepared
+            .insert(self.step_key.clone(), Rc::clone(&prepared));
+        Ok(prepared)
+    }
+
+    /// The enabled transitions from `state` under μ, cached per (modes, μ).
+    fn enabled(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        state: &SystemState,
+        commands: &Commands,
+    ) -> Result<Rc<Vec<Vec<usize>>>, EstimationError> {
         self.scratch.clear();
         self.scratch.extend(state.modes.iter().map(|m| m.0));
         self.scratch
             .extend(commands.values().iter().map(|(_, v)| v.0));
-        let enabled = match self.enabled.get(self.scratch.as_slice()) {
-            Some(enabled) => Rc::clone(enabled),
-            None => {
-                let enabled = Rc::new(enabled_transitions(plant, theory, &state.modes, commands)?);
-                if self.enabled.len() >= CACHE_LIMIT {
-                    self.enabled.clear();
-                }
-                self.enabled
-                    .insert(self.scratch.clone(), Rc::clone(&enabled));
-                enabled
-            }
-        };
-        Ok(component_distributions(plant, state, &enabled, from, to))
+        if let Some(enabled) = self.enabled.get(self.scratch.as_slice()) {
+            return Ok(Rc::clone(enabled));
+        }
+        let enabled = Rc::new(enabled_transitions(plant, theory, &state.modes, commands)?);
+        if self.enabled.len() >= CACHE_LIMIT {
+            self.enabled.clear();
+        }
+        self.enabled
+            .insert(self.scratch.clone(), Rc::clone(&enabled));
+        Ok(enabled)
     }
 
     /// The most likely next system states (see the module documentation). `successor(k, modes)`
@@ -125,14 +188,16 @@ impl Expander {
         limits: Limits,
         successor: impl Fn(usize, Vec<ValueId>) -> SystemState,
     ) -> Result<Expansion, EstimationError> {
-        if self.solutions.len() >= CACHE_LIMIT {
-            self.solutions.clear();
-        }
-        let mut streams = Streams::take(&mut self.solutions, sources, observation, limits.search);
-        let ocsps: Vec<OnceCell<Ocsp>> = streams.keys.iter().map(|_| OnceCell::new()).collect();
-        let mut live: Vec<Option<Enumeration>> = streams.keys.iter().map(|_| None).collect();
-        let mut fetch = |streams: &mut Streams, k: usize, i: usize, theory: &mut Theory| {
-            streams.cost(k, i, &ocsps, &mut live, plant, sources, observation, theory)
+        let ocsps: Vec<OnceCell<Ocsp>> = sources.iter().map(|_| OnceCell::new()).collect();
+        let mut streams = Streams::take(
+            &mut self.solutions,
+            sources,
+            observation,
+            limits.search,
+            &ocsps,
+        );
+        let fetch = |streams: &mut Streams, k: usize, i: usize, theory: &mut Theory| {
+            streams.cost(k, i, plant, sources, observation, theory)
         };
         let source_cost: Vec<f64> = sources.iter().map(|s| -s.probability.ln()).collect();
         let mut frontier = BinaryHeap::new();
@@ -185,139 +250,29 @@ fn order(cost: f64) -> u64 {
     cost.max(0.0).to_bits()
 }
 
-/// The identity of a source's OCSP: its choices (values and probability bits) and the
-/// observation.
-fn ocsp_key(choices: &[Vec<(ValueId, f64)>], observation: &Observation) -> Vec<u64> {
-    let mut key = Vec::with_capacity(choices.len() * 5 + observation.values().len() + 1);
-    for distribution in choices {
-        key.push(distribution.len() as u64);
-        for &(value, p) in distribution {
-            key.extend([u64::from(value.0), p.to_bits()]);
-        }
-    }
-    key.push(u64::MAX);
-    for &(x, v) in observation.values() {
-        key.push((u64::from(x.0) << 32) | u64::from(v.0));
-    }
-    key
-}
-
-/// The solution streams of one expansion: one per distinct OCSP (sources with equal choices
-/// share one), each a cached prefix extended by a live OPSAT enumeration when it is not long
-/// enough. The cached streams are taken out of the cache for the expansion and put back after.
-struct Streams {
-    keys: Vec<Vec<u64>>,
-    streams: Vec<CachedStream>,
-    /// Per source, its stream.
-    of_source: Vec<usize>,
-    /// Per stream, a source it belongs to (whose choices build the OCSP).
-    first_source: Vec<usize>,
-    options: SearchOptions,
-    cut: Option<Cut>,
-}
-
-impl Streams {
-    fn take(
-        cache: &mut HashMap<Vec<u64>, CachedStream>,
-        sources: &[SourceChoices],
-        observation: &Observation,
-        options: SearchOptions,
-    ) -> Streams {
-        let mut streams = Streams {
-            keys: Vec::new(),
-            streams: Vec::new(),
-            of_source: Vec::with_capacity(sources.len()),
-            first_source: Vec::new(),
-            options,
-            cut: None,
-        };
-        for (k, source) in sources.iter().enumerate() {
-            let key = ocsp_key(&source.choices, observation);
-            let index = match streams.keys.iter().position(|other| *other == key) {
-                Some(index) => index,
-                None => {
-                    streams.streams.push(cache.remove(&key).unwrap_or_default());
-                    streams.keys.push(key);
-                    streams.first_source.push(k);
-                    streams.keys.len() - 1
-                }
-            };
-            streams.of_source.push(index);
-        }
-        streams
-    }
-
-    fn put_back(self, cache: &mut HashMap<Vec<u64>, CachedStream>) {
-        cache.extend(self.keys.into_iter().zip(self.streams));
-    }
-
-    /// The next modes of solution `i` of source `k` (which [`Streams::cost`] has fetched).
-    fn modes(&self, k: usize, i: usize) -> Vec<ValueId> {
-        self.streams[self.of_source[k]]
-            .solutions
-            .get(i)
-            .map(|(modes, _)| modes.clone())
-            .unwrap_or_default()
-    }
-
-    /// The cost of solution `i` of source `k`, fetching it from OPSAT if needed; `None` when
-    /// there is none (or the budget ran out).
-    #[allow(clippy::too_many_arguments)]
-    fn cost<'o>(
-        &mut self,
-        k: usize,
-        i: usize,
-        ocsps: &'o [OnceCell<Ocsp>],
-        live: &mut [Option<Enumeration<'o>>],
-        plant: &Plant,
-        sources: &[SourceChoices],
-        observation: &Observation,
-        theory: &mut Theory,
-    ) -> Option<f64> {
-        let s = self.of_source[k];
-        loop {
-            let stream = &mut self.streams[s];
-            if let Some((_, cost)) = stream.solutions.get(i) {
-                return Some(*cost);
-            }
-            if stream.exhausted || self.cut.is_some() {
-                return None;
-            }
-            let choices = &sources[self.first_source[s]].choices;
-            let enumeration = live[s].get_or_insert_with(|| {
-                ocsps[s]
-                    .get_or_init(|| target_ocsp(plant, choices, observation))
-                    .enumerate(theory, self.options)
-            });
-            match enumeration.next(theory) {
-                Ok(Some(solution)) => {
-                    let modes: Vec<ValueId> =
-                        solution.assignment.into_iter().map(|(_, v)| v).collect();
-                    // A fresh enumeration re-finds what an earlier call cached: skip those.
-                    if !stream.solutions.iter().any(|(m, _)| *m == modes) {
-                        stream.solutions.push((modes, solution.cost));
-                    }
-                }
-                Ok(None) => stream.exhausted = true,
-                Err(cut) => self.cut = Some(cut),
-            }
-        }
-    }
-}
-
-/// Next system states with summed weights, in order of first appearance.
+/// Next system states with summed weights, in order of first appearance. Indexed by hash, so a
+/// new state is stored once (hash collisions fall back to comparing states).
 #[derive(Default)]
 struct Merged {
-    index: HashMap<SystemState, usize>,
+    index: FxHashMap<u64, usize>,
     states: Vec<WeightedState>,
+    scratch: Vec<f64>,
 }
 
 impl Merged {
     fn add(&mut self, state: SystemState, weight: f64) {
-        match self.index.get(&state) {
-            Some(&i) => self.states[i].probability += weight,
+        let mut hasher = FxHasher::default();
+        state.hash(&mut hasher);
+        let hash = hasher.finish();
+        let found = match self.index.get(&hash) {
+            Some(&i) if self.states[i].state == state => Some(i),
+            Some(_) => self.states.iter().position(|w| w.state == state),
+            None => None,
+        };
+        match found {
+            Some(i) => self.states[i].probability += weight,
             None => {
-                self.index.insert(state.clone(), self.states.len());
+                self.index.entry(hash).or_insert(self.states.len());
                 self.states.push(WeightedState {
                     state,
                     probability: weight,
@@ -327,13 +282,16 @@ impl Merged {
     }
 
     /// The `k`-th largest weight, or 0 with fewer than `k` states.
-    fn kth_weight(&self, k: usize) -> f64 {
+    fn kth_weight(&mut self, k: usize) -> f64 {
         if k == 0 || self.states.len() < k {
             return 0.0;
         }
-        let mut weights: Vec<f64> = self.states.iter().map(|w| w.probability).collect();
-        weights.select_nth_unstable_by(k - 1, |a, b| b.total_cmp(a));
-        weights[k - 1]
+        self.scratch.clear();
+        self.scratch
+            .extend(self.states.iter().map(|w| w.probability));
+        self.scratch
+            .select_nth_unstable_by(k - 1, |a, b| b.total_cmp(a));
+        self.scratch[k - 1]
     }
 
     /// The `k` heaviest states, heaviest first (ties in order of appearance).

@@ -20,6 +20,7 @@ mod exact;
 mod expand;
 pub mod log;
 mod observe;
+mod streams;
 mod timed_me;
 
 use std::sync::Arc;
@@ -29,7 +30,7 @@ pub use timed_me::{TimedMe, TimedMeOptions};
 
 use crate::logic::{ValueId, VarId};
 use crate::opsat::{Cut, Theory, TheoryError};
-use crate::plant::{Commands, InputError, Observation, Plant, SystemState};
+use crate::plant::{Commands, InputError, Observation, Plant, StepError, SystemState};
 
 /// Plant-state probabilities this close (relatively) count as tied.
 const TIE: f64 = 1e-9;
@@ -66,7 +67,7 @@ impl Belief {
     /// A belief from weighted states (normalised here, most probable first). `None` when the
     /// states have no positive total probability or do not fit the plant.
     pub fn new(plant: &Plant, time: f64, states: Vec<WeightedState>) -> Option<Belief> {
-        let fits = states.iter().all(|w| state_fits(plant, &w.state).is_ok());
+        let fits = states.iter().all(|w| w.state.check(plant).is_ok());
         let total: f64 = states.iter().map(|w| w.probability).sum();
         if !(fits && total > 0.0 && total.is_finite() && time.is_finite()) {
             return None;
@@ -245,6 +246,15 @@ pub enum EstimationError {
     Theory(#[from] TheoryError),
 }
 
+impl From<StepError> for EstimationError {
+    fn from(error: StepError) -> Self {
+        match error {
+            StepError::Input(e) => EstimationError::Input(e),
+            StepError::Theory(e) => EstimationError::Theory(e),
+        }
+    }
+}
+
 /// The shape of every mode estimator: TimedME and the exact update.
 pub trait ModeEstimator {
     /// The belief at `time` before any transition: the initial distribution P_Θ over plant
@@ -271,23 +281,6 @@ pub trait ModeEstimator {
     ) -> Result<Update, EstimationError>;
 }
 
-/// A system state's modes and clocks fit the plant.
-fn state_fits(plant: &Plant, state: &SystemState) -> Result<(), InputError> {
-    let components = plant.components();
-    if state.modes.len() != components.len() || state.clock_starts.len() != components.len() {
-        return Err(InputError::StateShape);
-    }
-    for (component, mode) in components.iter().zip(&state.modes) {
-        if mode.index() >= component.modes().len() {
-            return Err(InputError::OutOfDomain {
-                name: component.name().to_string(),
-                value: mode.0,
-            });
-        }
-    }
-    Ok(())
-}
-
 /// Checks what an update is given: values in their domains, a belief for this plant, a time
 /// that does not go backwards.
 fn check_step(
@@ -300,7 +293,7 @@ fn check_step(
     check_values(plant, commands.values())?;
     check_values(plant, observation.values())?;
     for weighted in &belief.states {
-        state_fits(plant, &weighted.state)?;
+        weighted.state.check(plant)?;
     }
     if !time.is_finite() || time < belief.time {
         return Err(EstimationError::TimeWentBackwards {

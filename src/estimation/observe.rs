@@ -7,7 +7,7 @@
 //! The factor depends on the modes only, never on clocks, so it is cached per (modes,
 //! observation): in a quiet cycle the same few states meet the same observation again.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use crate::logic::{Formula, ValueId, VarId};
 use crate::opsat::{Consistency, Literal, Theory, TheoryError};
@@ -19,7 +19,7 @@ const CACHE_LIMIT: usize = 50_000;
 /// P_O with a cache.
 #[derive(Debug, Default)]
 pub(crate) struct ObservationModel {
-    cache: HashMap<Vec<u32>, f64>,
+    cache: FxHashMap<Vec<u32>, f64>,
     key: Vec<u32>,
 }
 

@@ -17,7 +17,9 @@
 //! components jump into their unconstrained fault modes, which explain anything of theirs; if
 //! even that fails, it keeps the previous belief, clocks running on.
 
-use super::expand::{Expander, Expansion, Limits, SourceChoices};
+use std::rc::Rc;
+
+use super::expand::{Expander, Expansion, Limits, NextMode, SourceChoices, choices_from};
 use super::{
     Belief, EstimationError, EstimationEvent, Fallback, ModeEstimator, Update, UpdateStats,
     WeightedState, check_step,
@@ -45,11 +47,12 @@ pub struct TimedMeOptions {
 }
 
 impl TimedMeOptions {
-    /// κ states, the default candidate allowance, no budget.
+    /// κ states, 4 candidates per state (2, 4 and 8 agree equally with the exact update on
+    /// random plants; BENCHMARKS.md), no budget.
     pub fn kappa(kappa: usize) -> Self {
         TimedMeOptions {
             kappa: kappa.max(1),
-            candidates_per_state: 8,
+            candidates_per_state: 4,
             budget: Budget::default(),
         }
     }
@@ -171,18 +174,19 @@ pub(crate) fn initial_belief(
         });
     }
     let sat_before = theory.stats().sat_calls;
+    let initial = plant
+        .components()
+        .iter()
+        .map(|c| {
+            (0..c.modes().len())
+                .map(|m| (ValueId(m as u32), c.initial()[m]))
+                .filter(|(_, p)| *p > 0.0)
+                .collect()
+        })
+        .collect();
     let mut sources = vec![SourceChoices {
         probability: 1.0,
-        choices: plant
-            .components()
-            .iter()
-            .map(|c| {
-                (0..c.modes().len())
-                    .map(|m| (ValueId(m as u32), c.initial()[m]))
-                    .filter(|(_, p)| *p > 0.0)
-                    .collect()
-            })
-            .collect(),
+        choices: Rc::new(choices_from(initial)),
     }];
     let entered = |_: usize, modes: Vec<ValueId>| SystemState::entered_at(plant, modes, time);
     let expansion = expander.expand(plant, theory, &sources, observation, limits, entered)?;
@@ -208,11 +212,12 @@ pub(crate) fn initial_belief(
 /// [`JUMP`] (DESIGN.md §8's first fallback).
 pub(crate) fn with_fault_jumps(plant: &Plant, sources: &mut [SourceChoices]) {
     for source in sources {
-        for (component, choices) in plant.components().iter().zip(&mut source.choices) {
+        let choices = Rc::make_mut(&mut source.choices);
+        for (component, next) in plant.components().iter().zip(choices) {
             for (m, mode) in component.modes().iter().enumerate() {
                 let mode_value = ValueId(m as u32);
-                if mode.is_unconstrained_fault() && !choices.iter().any(|(v, _)| *v == mode_value) {
-                    choices.push((mode_value, JUMP));
+                if mode.is_unconstrained_fault() && !next.iter().any(|n| n.mode == mode_value) {
+                    next.push(NextMode::new(mode_value, JUMP));
                 }
             }
         }

@@ -691,11 +691,12 @@ impl Loader {
                 }
             }
             (p, None, Some(after)) => {
-                let p_ok = probability_ok(self, p.unwrap_or(1.0));
-                let timing = self.timing(c, t, &describe, after);
-                (p_ok && timing.is_some()).then(|| TransitionLaw::Timed {
-                    probability: p.unwrap_or(1.0),
-                    timing: timing.unwrap_or(Timing::Fixed { delay: 0.0 }),
+                let probability = p.unwrap_or(1.0);
+                let p_ok = probability_ok(self, probability);
+                let timing = self.timing(c, t, &describe, after)?;
+                p_ok.then_some(TransitionLaw::Timed {
+                    probability,
+                    timing,
                 })
             }
             (None, None, None) => {

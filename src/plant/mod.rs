@@ -27,7 +27,7 @@ mod validate;
 use std::hash::{Hash, Hasher};
 
 pub use step::{
-    Commands, InputError, Observation, component_distributions, consistent_state,
+    Commands, InputError, Observation, StepError, component_distributions, consistent_state,
     enabled_transitions, step_tcca, successor, transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};
@@ -35,7 +35,7 @@ pub use timing::{Timing, TransitionLaw, mode_distribution};
 
 use crate::diagnostic::{Source, SourceErrors};
 use crate::logic::{Formula, ValueId, VarId, VarTable};
-use crate::opsat::{Theory, TheoryError};
+use crate::opsat::{Theory, TheoryError, TheoryOptions};
 
 /// A component, by position in [`Plant::components`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -158,9 +158,9 @@ impl Component {
     }
 
     /// The transitions leaving `mode`, by index into [`Component::transitions`], with `"*"`
-    /// expanded.
+    /// expanded (none for a value that is not a mode of this component).
     pub fn outgoing(&self, mode: ValueId) -> &[usize] {
-        &self.outgoing[mode.index()]
+        self.outgoing.get(mode.index()).map_or(&[], Vec::as_slice)
     }
 
     /// True when some transition out of `mode` depends on the time spent in it. When not, the
@@ -286,6 +286,12 @@ impl Plant {
     pub fn theory(&self) -> Result<Theory, TheoryError> {
         Theory::new(self.table.clone(), &self.constraints())
     }
+
+    /// [`Plant::theory`] with chosen options (SAT backend, conflict minimisation; BENCHMARKS.md
+    /// measures their effect on estimation).
+    pub fn theory_with(&self, options: TheoryOptions) -> Result<Theory, TheoryError> {
+        Theory::with_options(self.table.clone(), &self.constraints(), options)
+    }
 }
 
 /// A system state (§6.2.2): every component's mode and the absolute time its clock started
@@ -314,9 +320,10 @@ impl SystemState {
 
     /// Forgets the clocks that cannot matter in the components' current modes.
     pub fn forget_idle_clocks(mut self, plant: &Plant) -> SystemState {
-        for (i, (component, mode)) in plant.components.iter().zip(&self.modes).enumerate() {
+        let modes = plant.components.iter().zip(&self.modes);
+        for ((component, mode), start) in modes.zip(&mut self.clock_starts) {
             if !component.clock_matters(*mode) {
-                self.clock_starts[i] = None;
+                *start = None;
             }
         }
         self
@@ -324,7 +331,21 @@ impl SystemState {
 
     /// Component `component`'s clock at `time` (time since it entered its mode), if known.
     pub fn clock(&self, component: ComponentId, time: f64) -> Option<f64> {
-        self.clock_starts[component.index()].map(|start| time - start)
+        self.clock_starts
+            .get(component.index())
+            .copied()
+            .flatten()
+            .map(|start| time - start)
+    }
+
+    /// Checks that the state fits the plant: one mode and one clock start per component, each
+    /// mode a mode of its component. States built by this module and by estimation always fit;
+    /// the step functions refuse one that does not ([`StepError::Input`]).
+    pub fn check(&self, plant: &Plant) -> Result<(), InputError> {
+        if self.clock_starts.len() != self.modes.len() {
+            return Err(InputError::StateShape);
+        }
+        step::check_modes(plant, &self.modes)
     }
 
     /// `component = mode, ...` with names.
@@ -364,7 +385,13 @@ pub fn describe_modes(plant: &Plant, modes: &[ValueId]) -> String {
         .components
         .iter()
         .zip(modes)
-        .map(|(c, m)| format!("{} = {}", c.name, c.mode(*m).name))
+        .map(|(c, m)| {
+            let mode = c
+                .modes
+                .get(m.index())
+                .map_or("?", |mode| mode.name.as_str());
+            format!("{} = {mode}", c.name)
+        })
         .collect::<Vec<_>>()
         .join(", ")
 }

@@ -31,6 +31,46 @@ pub enum InputError {
     StateShape,
 }
 
+/// Why a step could not be taken.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum StepError {
+    /// The state, commands or observation do not fit the plant.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// The theory refused a formula (it is not this plant's theory).
+    #[error(transparent)]
+    Theory(#[from] TheoryError),
+}
+
+/// Checks that every component has a mode of its own.
+pub(crate) fn check_modes(plant: &Plant, modes: &[ValueId]) -> Result<(), InputError> {
+    let components = plant.components();
+    if modes.len() != components.len() {
+        return Err(InputError::StateShape);
+    }
+    for (component, mode) in components.iter().zip(modes) {
+        if mode.index() >= component.modes().len() {
+            return Err(InputError::OutOfDomain {
+                name: component.name().to_string(),
+                value: mode.0,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Checks that the control action and observation name variables and values of the plant.
+fn check_inputs(
+    plant: &Plant,
+    commands: &Commands,
+    observation: &Observation,
+) -> Result<(), InputError> {
+    for &(var, value) in commands.values().iter().chain(observation.values()) {
+        check_value(plant, var, value)?;
+    }
+    Ok(())
+}
+
 /// Checks that `(var, value)` names a variable of the plant and a value of its domain.
 fn check_value(plant: &Plant, var: VarId, value: ValueId) -> Result<(), InputError> {
     if var.index() >= plant.table().len() {
@@ -164,7 +204,9 @@ pub fn enabled_transitions(
     theory: &mut Theory,
     modes: &[ValueId],
     commands: &Commands,
-) -> Result<Vec<Vec<usize>>, TheoryError> {
+) -> Result<Vec<Vec<usize>>, StepError> {
+    check_modes(plant, modes)?;
+    check_inputs(plant, commands, &Observation::none())?;
     let mut store = mode_literals(plant, modes);
     store.extend(commands.literals());
     let guarded = |t: &usize, c: &super::Component| c.transitions()[*t].guard != Formula::True;
@@ -205,12 +247,12 @@ pub fn component_distributions(
 ) -> Vec<Vec<(ValueId, f64)>> {
     plant
         .component_ids()
+        .zip(&state.modes)
         .zip(enabled)
-        .map(|((id, component), enabled)| {
-            let mode = state.modes[id.index()];
-            let laws = enabled.iter().map(|&t| {
-                let transition = &component.transitions()[t];
-                (transition.target, transition.law)
+        .map(|(((id, component), &mode), enabled)| {
+            let laws = enabled.iter().filter_map(|&t| {
+                let transition = component.transitions().get(t)?;
+                Some((transition.target, transition.law))
             });
             mode_distribution(mode, laws, state.clock(id, from), to - from)
         })
@@ -226,7 +268,8 @@ pub fn transition_choices(
     commands: &Commands,
     from: f64,
     to: f64,
-) -> Result<Vec<Vec<(ValueId, f64)>>, TheoryError> {
+) -> Result<Vec<Vec<(ValueId, f64)>>, StepError> {
+    state.check(plant)?;
     let enabled = enabled_transitions(plant, theory, &state.modes, commands)?;
     Ok(component_distributions(plant, state, &enabled, from, to))
 }
@@ -258,35 +301,33 @@ pub fn step_tcca(
     from: f64,
     to: f64,
     mut choose: impl FnMut(ComponentId, &[(ValueId, f64)]) -> usize,
-) -> Result<SystemState, TheoryError> {
+) -> Result<SystemState, StepError> {
     let choices = transition_choices(plant, theory, state, commands, from, to)?;
     let targets = choices
         .iter()
+        .zip(&state.modes)
         .enumerate()
-        .map(|(c, distribution)| {
+        .map(|(c, (distribution, &current))| {
             let pick = choose(ComponentId(c as u32), distribution);
             distribution
                 .get(pick)
-                .map_or(state.modes[c], |&(target, _)| target)
+                .map_or(current, |&(target, _)| target)
         })
         .collect();
     Ok(successor(state, targets, to))
 }
 
-/// An OCSP whose decisions are the components' next modes with costs −ln p, subject to the
-/// plant's theory and `observation`: its solutions are the next plant states consistent with the
-/// observation, most probable first (Figure 6-11 step 3 for one source state).
-pub(crate) fn target_ocsp(
-    plant: &Plant,
-    choices: &[Vec<(ValueId, f64)>],
-    observation: &Observation,
-) -> Ocsp {
+/// An OCSP whose decisions are the components' next modes with the given costs (−ln p), subject
+/// to the plant's theory and `observation`: its solutions are the next plant states consistent
+/// with the observation, most probable first (Figure 6-11 step 3 for one source state).
+pub(crate) fn target_ocsp<C, I>(plant: &Plant, costs: C, observation: &Observation) -> Ocsp
+where
+    C: IntoIterator<Item = I>,
+    I: IntoIterator<Item = (ValueId, f64)>,
+{
     let mut ocsp = Ocsp::new();
-    for (component, distribution) in plant.components().iter().zip(choices) {
-        let options = distribution
-            .iter()
-            .filter(|(_, p)| p.is_finite() && *p > 0.0)
-            .map(|&(value, p)| (value, -p.ln()));
+    for (component, next) in plant.components().iter().zip(costs) {
+        let options = next.into_iter().filter(|(_, cost)| cost.is_finite());
         if ocsp.decide(component.mode_var(), options).is_err() {
             unreachable!("each component decides once, with finite costs");
         }
@@ -309,9 +350,13 @@ pub fn consistent_state(
     observation: &Observation,
     from: f64,
     to: f64,
-) -> Result<Option<SystemState>, TheoryError> {
+) -> Result<Option<SystemState>, StepError> {
+    check_inputs(plant, commands, observation)?;
     let choices = transition_choices(plant, theory, state, commands, from, to)?;
-    let ocsp = target_ocsp(plant, &choices, observation);
+    let costs = choices
+        .iter()
+        .map(|d| d.iter().map(|&(value, p)| (value, -p.ln())));
+    let ocsp = target_ocsp(plant, costs, observation);
     let best = ocsp.best(theory, 1);
     Ok(best.solutions.into_iter().next().map(|solution| {
         let targets = solution.assignment.into_iter().map(|(_, v)| v).collect();

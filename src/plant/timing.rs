@@ -201,29 +201,33 @@ impl std::fmt::Display for TransitionLaw {
 /// Parallel transitions to one target add up (§6.2.2, footnote 1); targets with probability 0 are
 /// left out. Should the per-cycle and timed probabilities add up to more than 1 (a model that
 /// validation would refuse), they are scaled down to fit.
-pub fn mode_distribution(
+pub fn mode_distribution<I>(
     current: ValueId,
-    enabled: impl IntoIterator<Item = (ValueId, TransitionLaw)>,
+    enabled: I,
     clock: Option<f64>,
     step: f64,
-) -> Vec<(ValueId, f64)> {
-    let enabled: Vec<(ValueId, TransitionLaw)> = enabled.into_iter().collect();
+) -> Vec<(ValueId, f64)>
+where
+    I: IntoIterator<Item = (ValueId, TransitionLaw)>,
+    I::IntoIter: Clone,
+{
+    let enabled = enabled.into_iter();
     let total_rate: f64 = enabled
-        .iter()
+        .clone()
         .filter_map(|(_, law)| match law {
-            TransitionLaw::Rate { per_second } => Some(*per_second),
+            TransitionLaw::Rate { per_second } => Some(per_second),
             _ => None,
         })
         .sum();
     let no_hazard = (-total_rate * step.max(0.0)).exp();
     let hazard = 1.0 - no_hazard;
     let ordinary: f64 = enabled
-        .iter()
+        .clone()
         .filter(|(_, law)| !matches!(law, TransitionLaw::Rate { .. }))
         .map(|(_, law)| law.step_probability(clock, step))
         .sum();
     let scale = if ordinary > 1.0 { 1.0 / ordinary } else { 1.0 };
-    let mut out: Vec<(ValueId, f64)> = Vec::with_capacity(enabled.len() + 1);
+    let mut out: Vec<(ValueId, f64)> = Vec::with_capacity(4);
     let mut add = |target: ValueId, p: f64| {
         if p <= 0.0 {
             return;
@@ -233,7 +237,7 @@ pub fn mode_distribution(
             None => out.push((target, p)),
         }
     };
-    for (target, law) in &enabled {
+    for (target, law) in enabled {
         let p = match law {
             TransitionLaw::Rate { per_second } if total_rate > 0.0 => {
                 hazard * per_second / total_rate
@@ -241,7 +245,7 @@ pub fn mode_distribution(
             TransitionLaw::Rate { .. } => 0.0,
             law => no_hazard * scale * law.step_probability(clock, step),
         };
-        add(*target, p);
+        add(target, p);
     }
     add(current, no_hazard * (1.0 - ordinary * scale).max(0.0));
     out

@@ -48,7 +48,7 @@ pub use simulate::{Move, NominalRun, PlanOutcome, PlanStep};
 
 use crate::logic::{Formula, ValueId};
 use crate::opsat::{Theory, TheoryError};
-use crate::plant::{ComponentId, ModeKind, Plant};
+use crate::plant::{ComponentId, ModeKind, Plant, StepError};
 use causal::Influence;
 use requirement::GuardCompiler;
 
@@ -173,7 +173,7 @@ impl Reconfiguration {
         start: &[ValueId],
         goal: &GoalState,
         max_steps: usize,
-    ) -> Result<NominalRun, TheoryError> {
+    ) -> Result<NominalRun, StepError> {
         simulate::simulate_nominal(self, theory, start, goal, max_steps)
     }
 }

@@ -12,8 +12,8 @@ use super::Reconfiguration;
 use super::goal::GoalState;
 use super::planner::{Action, PlanFailure};
 use crate::logic::ValueId;
-use crate::opsat::{Theory, TheoryError};
-use crate::plant::{ComponentId, ModeKind, TransitionLaw, enabled_transitions};
+use crate::opsat::Theory;
+use crate::plant::{ComponentId, ModeKind, StepError, TransitionLaw, enabled_transitions};
 
 /// A transition a component took in a simulated cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,7 +71,7 @@ pub(crate) fn simulate_nominal(
     start: &[ValueId],
     goal: &GoalState,
     max_steps: usize,
-) -> Result<NominalRun, TheoryError> {
+) -> Result<NominalRun, StepError> {
     let mut state = start.to_vec();
     let mut steps = Vec::new();
     for _ in 0..max_steps {
@@ -109,7 +109,7 @@ fn cycle(
     theory: &mut Theory,
     state: &[ValueId],
     action: &Action,
-) -> Result<Vec<Move>, TheoryError> {
+) -> Result<Vec<Move>, StepError> {
     let plant = reconfiguration.plant();
     let Ok(commands) = action.commands(plant) else {
         return Ok(Vec::new());

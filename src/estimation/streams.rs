@@ -1,0 +1,323 @@
+//! Per-source solution streams for TimedME: each source state's next plant states, cheapest
+//! first, from OPSAT — and from what earlier cycles already learned, whenever that is provably
+//! the same answer.
+//!
+//! A source's OCSP has a *shape* — which next modes each component may take, and the
+//! observation — and costs (−ln p). The feasible solutions depend on the shape only; their order
+//! depends on the costs, which move every cycle a clock runs or the cycle length jitters (rates
+//! depend on it). So the cache keeps, per shape, the feasible solutions found so far and a
+//! **certificate**: "every feasible solution not listed costs at least `bound` under the costs
+//! `c₀`". Under new costs `c₁`, with `Δ = Σ_components max_value |c₁ − c₀|`, an unlisted solution
+//! costs at least `bound − Δ`; listed solutions cheaper than that are served in `c₁` order
+//! without any search. Past that point a live OPSAT enumeration with `c₁` takes over (skipping
+//! what was served), runs a [`MARGIN`] further so that the next cycles stay certified, and
+//! renews the certificate. A shape whose enumeration ran out is complete: any costs are served
+//! from the list.
+
+use std::cell::OnceCell;
+
+use rustc_hash::FxHashMap;
+
+use std::rc::Rc;
+
+use super::expand::{Choices, SourceChoices};
+use crate::logic::ValueId;
+use crate::opsat::{Cut, Enumeration, Ocsp, SearchOptions, Theory};
+use crate::plant::{Observation, Plant, target_ocsp};
+
+/// Past this many shapes the cache starts afresh.
+const CACHE_LIMIT: usize = 20_000;
+
+/// A live enumeration goes on past the first solution more than this much dearer (in nats) than
+/// the one asked for, to the next dearer one: the merge always looks one solution ahead, so the
+/// certificate's bound must lie strictly beyond that look-ahead for the next cycles' slightly
+/// different costs to stay certified…
+const MARGIN: f64 = 1.0;
+
+/// …but fetches at most this many solutions beyond the one asked for.
+const PREFETCH: usize = 6;
+
+/// A shape that has collected this many solutions without being complete starts afresh, so
+/// that certifying stays cheap.
+const KNOWN_LIMIT: usize = 256;
+
+/// What is known about the feasible solutions of one OCSP shape.
+#[derive(Default)]
+struct Known {
+    /// Feasible next plant states, distinct.
+    solutions: Vec<Vec<ValueId>>,
+    /// Every feasible solution not in `solutions` costs at least `bound` under these choices'
+    /// costs.
+    certificate: Option<(Rc<Choices>, f64)>,
+    /// `solutions` holds every feasible solution.
+    complete: bool,
+}
+
+/// Cached knowledge, per OCSP shape, across calls.
+#[derive(Default)]
+pub(crate) struct SolutionCache {
+    shapes: FxHashMap<Vec<u64>, Known>,
+}
+
+/// One source's stream during an expansion.
+struct Stream {
+    /// Index into [`Streams::known`].
+    shape: usize,
+    choices: Rc<Choices>,
+    /// Solutions handed out (or fetched ahead), cheapest first under `costs`.
+    served: Vec<(Vec<ValueId>, f64)>,
+    /// Certified known solutions not yet served, by index into the shape's solutions, dearest
+    /// first (served from the back).
+    certified: Vec<(usize, f64)>,
+    /// The live enumeration's last cost, when one ran.
+    live_bound: Option<f64>,
+    done: bool,
+}
+
+/// The streams of one expansion; the cache's knowledge is taken out for it and put back after.
+pub(crate) struct Streams<'o> {
+    keys: Vec<Vec<u64>>,
+    known: Vec<Known>,
+    streams: Vec<Stream>,
+    ocsps: &'o [OnceCell<Ocsp>],
+    live: Vec<Option<Enumeration<'o>>>,
+    options: SearchOptions,
+    /// Set when an OPSAT budget ran out.
+    pub(crate) cut: Option<Cut>,
+}
+
+/// The shape of a source's OCSP: the allowed values per component and the observation.
+fn shape_key(choices: &Choices, observation: &Observation) -> Vec<u64> {
+    let mut key = Vec::with_capacity(choices.len() * 3 + observation.values().len() + 1);
+    for next in choices {
+        key.push(next.len() as u64);
+        key.extend(next.iter().map(|n| u64::from(n.mode.0)));
+    }
+    key.push(u64::MAX);
+    for &(x, v) in observation.values() {
+        key.push((u64::from(x.0) << 32) | u64::from(v.0));
+    }
+    key
+}
+
+/// The cost of `modes` under `choices` (`None` if a mode is not among them).
+fn cost_of(choices: &Choices, modes: &[ValueId]) -> Option<f64> {
+    choices
+        .iter()
+        .zip(modes)
+        .map(|(next, m)| next.iter().find(|n| n.mode == *m).map(|n| n.cost))
+        .sum()
+}
+
+/// Per component, (mode, cost) pairs for OPSAT.
+fn costs(choices: &Choices) -> impl Iterator<Item = impl Iterator<Item = (ValueId, f64)> + '_> {
+    choices
+        .iter()
+        .map(|next| next.iter().map(|n| (n.mode, n.cost)))
+}
+
+/// Σ over components of the largest change of a mode's cost (same shape, so same order).
+fn drift(old: &Choices, new: &Choices) -> f64 {
+    old.iter()
+        .zip(new)
+        .map(|(a, b)| {
+            a.iter()
+                .zip(b)
+                .map(|(x, y)| (x.cost - y.cost).abs())
+                .fold(0.0, f64::max)
+        })
+        .sum()
+}
+
+impl Known {
+    /// The known solutions servable under `choices`' costs before any unknown one (by index),
+    /// dearest first.
+    fn certified(&self, choices: &Choices) -> Vec<(usize, f64)> {
+        let limit = if self.complete {
+            f64::INFINITY
+        } else {
+            match &self.certificate {
+                Some((old, bound)) => bound - drift(old, choices),
+                None => return Vec::new(),
+            }
+        };
+        let mut out: Vec<(usize, f64)> = self
+            .solutions
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| Some((i, cost_of(choices, s)?)))
+            .filter(|(_, cost)| *cost <= limit)
+            .collect();
+        out.sort_by(|a, b| b.1.total_cmp(&a.1));
+        out
+    }
+}
+
+impl<'o> Streams<'o> {
+    /// Streams for `sources`, with the cache's knowledge of their shapes taken out of it.
+    /// `ocsps` holds one lazily built OCSP per source.
+    pub(crate) fn take(
+        cache: &mut SolutionCache,
+        sources: &[SourceChoices],
+        observation: &Observation,
+        options: SearchOptions,
+        ocsps: &'o [OnceCell<Ocsp>],
+    ) -> Streams<'o> {
+        if cache.shapes.len() >= CACHE_LIMIT {
+            cache.shapes.clear();
+        }
+        let mut streams = Streams {
+            keys: Vec::new(),
+            known: Vec::new(),
+            streams: Vec::with_capacity(sources.len()),
+            ocsps,
+            live: sources.iter().map(|_| None).collect(),
+            options,
+            cut: None,
+        };
+        for source in sources {
+            let key = shape_key(&source.choices, observation);
+            let shape = match streams.keys.iter().position(|k| *k == key) {
+                Some(shape) => shape,
+                None => {
+                    streams
+                        .known
+                        .push(cache.shapes.remove(&key).unwrap_or_default());
+                    streams.keys.push(key);
+                    streams.keys.len() - 1
+                }
+            };
+            let known = &streams.known[shape];
+            streams.streams.push(Stream {
+                shape,
+                certified: known.certified(&source.choices),
+                done: known.complete,
+                choices: Rc::clone(&source.choices),
+                served: Vec::new(),
+                live_bound: None,
+            });
+        }
+        streams
+    }
+
+    /// Puts the knowledge back into the cache, with the certificates live enumerations earned:
+    /// a certificate under this cycle's costs replaces an older one (the next cycle's costs will
+    /// be compared with it), the highest bound winning among this cycle's.
+    pub(crate) fn put_back(self, cache: &mut SolutionCache) {
+        let mut renewed: Vec<Option<(Rc<Choices>, f64)>> = vec![None; self.known.len()];
+        for stream in &self.streams {
+            if let Some(bound) = stream.live_bound {
+                let slot = &mut renewed[stream.shape];
+                if slot.as_ref().is_none_or(|(_, b)| bound > *b) {
+                    *slot = Some((Rc::clone(&stream.choices), bound));
+                }
+            }
+        }
+        for ((key, mut known), certificate) in self.keys.into_iter().zip(self.known).zip(renewed) {
+            if certificate.is_some() {
+                known.certificate = certificate;
+            }
+            if !known.complete && known.solutions.len() > KNOWN_LIMIT {
+                known = Known::default();
+            }
+            cache.shapes.insert(key, known);
+        }
+    }
+
+    /// The next modes of solution `i` of source `k` (which [`Streams::cost`] has fetched).
+    pub(crate) fn modes(&self, k: usize, i: usize) -> Vec<ValueId> {
+        self.streams[k]
+            .served
+            .get(i)
+            .map(|(modes, _)| modes.clone())
+            .unwrap_or_default()
+    }
+
+    /// The cost of solution `i` of source `k`, cheapest first, fetching it if needed; `None`
+    /// when there is none (or the budget ran out).
+    pub(crate) fn cost(
+        &mut self,
+        k: usize,
+        i: usize,
+        plant: &Plant,
+        sources: &[SourceChoices],
+        observation: &Observation,
+        theory: &mut Theory,
+    ) -> Option<f64> {
+        loop {
+            let stream = &mut self.streams[k];
+            if let Some((_, cost)) = stream.served.get(i) {
+                return Some(*cost);
+            }
+            if let Some((index, cost)) = stream.certified.pop() {
+                let modes = self.known[stream.shape].solutions[index].clone();
+                stream.served.push((modes, cost));
+                continue;
+            }
+            if stream.done || self.cut.is_some() {
+                return None;
+            }
+            self.run_live(k, plant, sources, observation, theory);
+        }
+    }
+
+    /// Extends source `k`'s stream from a live OPSAT enumeration: one new solution, then on up to
+    /// [`MARGIN`] dearer (at most [`PREFETCH`] more), recording what it finds.
+    fn run_live(
+        &mut self,
+        k: usize,
+        plant: &Plant,
+        sources: &[SourceChoices],
+        observation: &Observation,
+        theory: &mut Theory,
+    ) {
+        let options = self.options;
+        let ocsps = self.ocsps;
+        let enumeration = self.live[k].get_or_insert_with(|| {
+            ocsps[k]
+                .get_or_init(|| target_ocsp(plant, costs(&sources[k].choices), observation))
+                .enumerate(theory, options)
+        });
+        let stream = &mut self.streams[k];
+        let known = &mut self.known[stream.shape];
+        let wanted = stream.served.len();
+        let mut target = f64::INFINITY;
+        let mut beyond = f64::INFINITY;
+        loop {
+            match enumeration.next(theory) {
+                Ok(Some(solution)) => {
+                    let cost = solution.cost;
+                    let modes: Vec<ValueId> =
+                        solution.assignment.into_iter().map(|(_, v)| v).collect();
+                    stream.live_bound = Some(cost);
+                    if !known.solutions.contains(&modes) {
+                        known.solutions.push(modes.clone());
+                    }
+                    // A fresh enumeration re-finds what was served from the certificate.
+                    if stream.served.iter().any(|(m, _)| *m == modes) {
+                        continue;
+                    }
+                    stream.served.push((modes, cost));
+                    if stream.served.len() == wanted + 1 {
+                        target = cost + MARGIN;
+                    }
+                    if cost > target && beyond == f64::INFINITY {
+                        beyond = cost;
+                    }
+                    if cost > beyond || stream.served.len() > wanted + PREFETCH {
+                        break;
+                    }
+                }
+                Ok(None) => {
+                    stream.done = true;
+                    known.complete = true;
+                    break;
+                }
+                Err(cut) => {
+                    self.cut = Some(cut);
+                    break;
+                }
+            }
+        }
+    }
+}
