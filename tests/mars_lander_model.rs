@@ -282,6 +282,46 @@ fn faults_are_hazards_and_pyro_misfires_are_outcomes_of_firing() {
 }
 
 #[test]
+fn nominal_rewards_are_flat_so_achieved_goals_stay_achieved() {
+    // Goal interpretation picks the maximum-reward state that entails the goal (§6.3.1), and
+    // Appendix B asserts most goals once and moves on: were the engine's standby or an open
+    // valve to cost reward (as §6.1.3's valve does), a later goal would turn the engine off in
+    // cruise or close the valves — and so stop the engine — in powered descent. Only the PDE,
+    // which holds no other component's mode, is biased off (§6.3.3: "turn off the driver to
+    // conserve power"); faults keep §6.1.3's scale.
+    let plant = lander();
+    for component in plant.components() {
+        let rewards: Vec<(&str, f64)> = component
+            .modes()
+            .iter()
+            .filter(|m| m.kind == ModeKind::Nominal)
+            .map(|m| (m.name.as_str(), m.reward))
+            .collect();
+        if component.name() == "PDE" {
+            assert_eq!(rewards, [("off", 0.0), ("on", -2.0)]);
+        } else {
+            assert!(
+                rewards.iter().all(|&(_, r)| r == 0.0),
+                "{}: {rewards:?}",
+                component.name()
+            );
+        }
+        for mode in component
+            .modes()
+            .iter()
+            .filter(|m| m.kind == ModeKind::Fault)
+        {
+            assert!(
+                [-10.0, -20.0].contains(&mode.reward),
+                "{}.{}",
+                component.name(),
+                mode.name
+            );
+        }
+    }
+}
+
+#[test]
 fn every_observable_is_determined_by_each_nominal_mode_of_its_component() {
     // The model's observation design (header of the model): every nominal mode entails a value
     // of each of its component's observables, so an unconstrained fault mode pays the
