@@ -666,6 +666,38 @@ fn a_valve_that_does_not_open_for_powered_descent_is_stuck_closed() {
 }
 
 #[test]
+fn a_slew_that_has_not_ended_after_300_s_has_failed() {
+    // §7.2.4's slew window, 0 to 300 s, diagnosed like the engine's heating (§7.2.5): the ACS
+    // switches to the entry set-point but the attitude never gets there.
+    let mut t = Timeline::default();
+    t.at(10.0, &[], &[("att.cmd", "to-entry")]).at(
+        10.1,
+        &[("att.ACS", "entry"), ("att.att_obs", "off-set-point")],
+        &[],
+    );
+    let run = t.estimate(312.0, 1.0);
+    for time in [10.1, 160.0, 310.0] {
+        run.expect(time, "att", "slew-to-entry");
+    }
+    run.expect(311.0, "att", "failed");
+    assert!(run.belief(311.0, "att", "failed") > 0.999);
+}
+
+#[test]
+fn an_entry_minutes_before_the_predicted_time_is_still_explained() {
+    // The entry trigger's Gaussian is unbounded (§7.2.4, DESIGN.md §6.2): drag sensed 400 s
+    // (13 standard deviations) early, even before separation, is an early entry — the case for
+    // which DescentLandingSequence re-asserts `lander = separated` (§7.2.3) — not an
+    // inconsistency.
+    let mut t = Timeline::default();
+    t.at(16400.0, &[("entry.drag", "sensed")], &[]);
+    let run = t.estimate(16401.0, 600.0);
+    run.expect(16399.9, "entry", "not-initiated");
+    run.expect(16400.0, "entry", "initiated");
+    run.expect(16400.0, "lander", "connected");
+}
+
+#[test]
 fn a_pyro_that_does_not_fire_has_failed_the_cycle_it_shows() {
     // Every pyro subsystem (§7.2.2): a firing that leaves its switch where it was is a misfire.
     for (component, command) in [
