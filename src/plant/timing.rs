@@ -105,7 +105,21 @@ impl Timing {
         if survived <= SPENT {
             return 1.0;
         }
-        (1.0 - self.survival(before + step.max(0.0)) / survived).clamp(0.0, 1.0)
+        (self.mass_between(before, before + step.max(0.0)) / survived).clamp(0.0, 1.0)
+    }
+
+    /// `F(to) − F(from)` for `from <= to`, from the tail where it is accurate: long before a
+    /// Gaussian's mean `1 − F` rounds to 1, and the difference of two survivals to 0, so the
+    /// probability of an early event (an atmospheric entry minutes before the predicted time)
+    /// would come out as exactly 0; the lower tail's CDF keeps it.
+    fn mass_between(&self, from: f64, to: f64) -> f64 {
+        match *self {
+            Timing::Gaussian { mean, sd } if to <= mean => {
+                let cdf = |x: f64| 0.5 * libm::erfc((mean - x) / (sd * std::f64::consts::SQRT_2));
+                cdf(to) - cdf(from)
+            }
+            _ => self.survival(from) - self.survival(to),
+        }
     }
 }
 
@@ -308,6 +322,24 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn an_event_long_before_a_gaussians_mean_keeps_its_small_probability() {
+        // The EDL entry trigger (§7.2.4): drag sensed 10 standard deviations before the
+        // predicted entry time is unlikely, not impossible: the mass of the step is about the
+        // density at its middle times the step, ≈ 2.6e-25.
+        let entry = Timing::Gaussian {
+            mean: 16800.0,
+            sd: 30.0,
+        };
+        let p = entry.conditional(16500.0, 0.1);
+        let z: f64 = (16500.05 - 16800.0) / 30.0;
+        let density = (-z * z / 2.0).exp() / (2.0 * std::f64::consts::PI).sqrt() / 30.0;
+        assert!((p / (density * 0.1) - 1.0).abs() < 1e-3, "{p}");
+        // Near and after the mean nothing changes.
+        let near = entry.conditional(16790.0, 0.1);
+        assert!((near - (1.0 - entry.survival(16790.1) / entry.survival(16790.0))).abs() < 1e-12);
     }
 
     #[test]
