@@ -1,20 +1,10 @@
 //! `kairos estimate` (issue 4, item 6): replays a log and prints the top estimates per cycle,
 //! with TimedME or the exact update, as text or JSON lines; a bad log exits 2 with located errors.
 
-use std::process::Command;
+#[path = "support/cli.rs"]
+mod cli;
 
-fn kairos(args: &[&str]) -> (i32, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the kairos binary runs");
-    (
-        output.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
-}
+use cli::kairos;
 
 const PLANT: &str = "models/driver_valve.ron";
 const LOG: &str = "tests/logs/driver_valve_stuck.jsonl";

@@ -2,20 +2,10 @@
 //! policy tables for review (Table 6.2), and its exit codes — 0 when the plan reaches the goal
 //! state, 1 when the goal fails, 2 with a located error for bad `--state`/`--goal` text.
 
-use std::process::Command;
+#[path = "support/cli.rs"]
+mod cli;
 
-fn kairos(args: &[&str]) -> (i32, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the kairos binary runs");
-    (
-        output.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
-}
+use cli::kairos;
 
 /// Table 6.2 is the engine's table here; the PDE's shows the repairs of §6.3.
 #[test]

@@ -1,20 +1,10 @@
 //! `kairos check` and `kairos compile` (issue 3, items 3 and 6): exit 0 on good programs, exit 2
 //! with every located error on bad ones.
 
-use std::process::Command;
+#[path = "support/cli.rs"]
+mod cli;
 
-fn kairos(args: &[&str]) -> (i32, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the kairos binary runs");
-    (
-        output.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
-}
+use cli::kairos;
 
 #[test]
 fn check_accepts_the_shipped_programs() {

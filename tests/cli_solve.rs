@@ -1,20 +1,10 @@
 //! `kairos solve` on the shipped example OCSPs and on bad input (issue 2 acceptance: "prints
 //! correct answers (snapshot tests)"; "exits 2 with a located error on bad input").
 
-use std::process::Command;
+#[path = "support/cli.rs"]
+mod cli;
 
-fn kairos(args: &[&str]) -> (i32, String, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the kairos binary runs");
-    (
-        output.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
-}
+use cli::kairos;
 
 #[test]
 fn full_adder_diagnosis_is_the_single_fault_x1() {

@@ -262,20 +262,30 @@ fn describe_expected(rules: &[Rule]) -> String {
 }
 
 fn rule_words(rule: Rule) -> Option<&'static str> {
-    Some(match rule {
-        Rule::EOI => "end of formula",
-        Rule::expr | Rule::disjunction | Rule::conjunction | Rule::negation => "a formula",
-        Rule::comparison | Rule::name | Rule::ident => "a name",
-        Rule::constant => "`true`/`false`",
-        Rule::confidence => "`P(x = v)`",
-        Rule::not_op => "`not`",
-        Rule::and_op => "`and`",
-        Rule::or_op => "`or`",
-        Rule::implies_op => "`=>`",
-        Rule::cmp_op | Rule::eq_op => "a comparison (`=`, `!=`, `>=`, ...)",
-        Rule::operand | Rule::quantity => "a value or a number",
-        Rule::number => "a number",
-        Rule::unit => "a time unit",
+    match rule {
+        Rule::EOI => Some("end of formula"),
+        _ => describe_rule(&format!("{rule:?}")),
+    }
+}
+
+/// What a rule of `grammar/constraint.pest`, named as pest names it, stands for in an error
+/// message ("expected a value or a number"). Grammars that include the constraint rules (RMPL)
+/// describe those rules with this too; pest gives each grammar its own `Rule` type, so the
+/// rules are matched by name.
+pub fn describe_rule(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "expr" | "disjunction" | "conjunction" | "negation" => "a formula",
+        "comparison" | "name" | "ident" => "a name",
+        "constant" => "`true`/`false`",
+        "confidence" => "`P(x = v)`",
+        "not_op" => "`not`",
+        "and_op" => "`and`",
+        "or_op" => "`or`",
+        "implies_op" => "`=>`",
+        "cmp_op" | "eq_op" => "a comparison (`=`, `!=`, `>=`, ...)",
+        "operand" | "quantity" => "a value or a number",
+        "number" => "a number",
+        "unit" => "a time unit",
         _ => return None,
     })
 }

@@ -378,19 +378,8 @@ fn rule_words(rule: Rule) -> Option<&'static str> {
         Rule::assertion => "an assertion",
         Rule::condition => "a condition",
         Rule::argument => "an argument (a name or a time)",
-        Rule::expr | Rule::disjunction | Rule::conjunction | Rule::negation => "a formula",
-        Rule::comparison | Rule::name | Rule::ident => "a name",
-        Rule::constant => "`true`/`false`",
-        Rule::confidence => "`P(x = v)`",
-        Rule::not_op => "`not`",
-        Rule::and_op => "`and`",
-        Rule::or_op => "`or`",
-        Rule::implies_op => "`=>`",
-        Rule::cmp_op | Rule::eq_op => "a comparison (`=`, `!=`, `>=`, ...)",
-        Rule::operand | Rule::quantity => "a value or a number",
-        Rule::number => "a number",
-        Rule::unit => "a time unit",
-        _ => return None,
+        // The constraint grammar's own rules.
+        _ => return crate::logic::syntax::describe_rule(&format!("{rule:?}")),
     })
 }
 
