@@ -465,7 +465,7 @@ fn explain(
         assumptions.push(literal);
         origins.push(Origin::Component(id));
     }
-    let Consistency::Conflict(conflict) = theory.consistent(&assumptions) else {
+    let Consistency::Conflict(conflict) = theory.minimal_conflict(&assumptions) else {
         return GoalFailed {
             reason: "no reachable state achieves the goal".to_string(),
             cause: FailureCause::NotEntailed,

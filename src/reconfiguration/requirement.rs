@@ -19,7 +19,7 @@
 
 use super::causal::{Dependencies, Influence, conjuncts};
 use crate::logic::{Formula, ValueId, VarId};
-use crate::opsat::{Consistency, Literal, Theory, TheoryError, TheoryOptions};
+use crate::opsat::{Consistency, Literal, Theory, TheoryError};
 use crate::plant::{ComponentId, ModeKind, Plant};
 
 /// At most this many candidate assignments are tried per group of a guard; a guard more
@@ -163,13 +163,9 @@ pub(crate) struct GuardCompiler<'a> {
 impl<'a> GuardCompiler<'a> {
     /// A compiler over a fresh theory of `plant`.
     pub fn new(plant: &'a Plant, influence: &'a Influence) -> Result<Self, TheoryError> {
-        // Compilation asks yes/no questions only: minimising conflicts would be wasted work.
-        let options = TheoryOptions {
-            minimize_conflicts: false,
-            ..TheoryOptions::default()
-        };
-        let mut theory =
-            Theory::with_options(plant.table().clone(), &plant.constraints(), options)?;
+        // Compilation asks yes/no questions only (the default theory does not minimise
+        // conflicts).
+        let mut theory = Theory::new(plant.table().clone(), &plant.constraints())?;
         let mut nominal = Vec::with_capacity(plant.components().len());
         let mut nominal_modes = Vec::with_capacity(plant.components().len());
         for component in plant.components() {
