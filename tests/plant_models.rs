@@ -2,7 +2,10 @@
 //! agreed, Table 6.1's numbers, §6.2's per-step probabilities, Step_TCCA (Figure 6-6) and
 //! ConsistentState (Figure 6-7), and `kairos graph`.
 
-use std::process::Command;
+#[path = "support/cli.rs"]
+mod cli;
+
+use cli::kairos;
 
 use kairos::diagnostic::Source;
 use kairos::logic::{ValueId, VarId};
@@ -246,23 +249,11 @@ fn commands_and_observations_are_checked_against_the_plant() {
     assert_eq!(commands.issued(&plant).collect::<Vec<_>>(), vec![command]);
 }
 
-fn kairos(args: &[&str]) -> (i32, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the kairos binary runs");
-    (
-        output.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-    )
-}
-
 /// `kairos graph MODEL --dot`: one cluster per component automaton, timed edges labelled with
 /// their windows (issue 4, item 1).
 #[test]
 fn graph_draws_one_cluster_per_component_with_timed_windows() {
-    let (code, dot) = kairos(&["graph", "models/engine_camera.ron", "--dot"]);
+    let (code, dot, _) = kairos(&["graph", "models/engine_camera.ron", "--dot"]);
     assert_eq!(code, 0);
     assert!(dot.contains("subgraph \"cluster_engine\""), "{dot}");
     assert!(dot.contains("subgraph \"cluster_camera\""), "{dot}");
@@ -271,7 +262,7 @@ fn graph_draws_one_cluster_per_component_with_timed_windows() {
         "{dot}"
     );
     insta::assert_snapshot!(dot);
-    let (code, listing) = kairos(&["graph", "models/driver_valve.ron"]);
+    let (code, listing, _) = kairos(&["graph", "models/driver_valve.ron"]);
     assert_eq!(code, 0);
     insta::assert_snapshot!(listing);
 }
