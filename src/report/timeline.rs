@@ -1129,3 +1129,43 @@ fn stylesheet() -> String {
         goal = colour::GOAL,
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tick(x: f64, major: bool) -> Tick {
+        Tick {
+            time: x,
+            x,
+            major,
+            step: 1.0,
+        }
+    }
+
+    #[test]
+    fn tick_labels_clear_the_edges_and_never_drop_a_segment_start() {
+        let clock = Clock { hours: false };
+        // "0:00" is 24.8 px wide at 10 px: centred on 100 it would start at 87.6.
+        let labels = readable_ticks(&[tick(100.0, true)], &clock, (95.0, 1000.0));
+        assert_eq!(labels[0].left, 95.0);
+        let labels = readable_ticks(&[tick(990.0, false)], &clock, (0.0, 1000.0));
+        assert!((labels[0].left + text_width(&labels[0].text, px::SMALL) - 1000.0).abs() < 1e-9);
+
+        // Two segment starts too close for one line: the second goes on the next line.
+        let labels = readable_ticks(&[tick(100.0, true), tick(110.0, true)], &clock, (0.0, 1e3));
+        let lines: Vec<usize> = labels.iter().map(|l| l.line).collect();
+        assert_eq!(lines, [0, 1]);
+
+        // With both lines taken, an ordinary tick gives way to a segment start.
+        let ticks = [
+            tick(100.0, true),
+            tick(105.0, true),
+            tick(135.0, false),
+            tick(137.0, true),
+        ];
+        let labels = readable_ticks(&ticks, &clock, (0.0, 1e3));
+        let kept: Vec<(f64, usize)> = labels.iter().map(|l| (l.tick.x, l.line)).collect();
+        assert_eq!(kept, [(100.0, 0), (105.0, 1), (137.0, 0)]);
+    }
+}

@@ -220,7 +220,7 @@ pub(super) fn nice_step(raw: f64) -> f64 {
         1.0, 2.0, 5.0, 10.0, 15.0, 30.0, 60.0, 120.0, 300.0, 600.0, 900.0, 1800.0, 3600.0, 7200.0,
         10800.0, 21600.0, 43200.0, 86400.0,
     ];
-    if !(raw > 0.0) || !raw.is_finite() {
+    if !raw.is_finite() || raw <= 0.0 {
         return 1.0;
     }
     if raw <= 1.0 {
@@ -260,7 +260,7 @@ impl Clock {
 
     /// `t` written to the precision of `step` seconds (0 to 3 decimals).
     pub fn format(&self, t: f64, step: f64) -> String {
-        let decimals = if step >= 1.0 || !(step > 0.0) {
+        let decimals = if step.is_nan() || step <= 0.0 || step >= 1.0 {
             0
         } else {
             ((-step.log10() - 1e-9).ceil() as usize).min(3)
