@@ -1,4 +1,5 @@
-//! Output for people and tools: Graphviz DOT today; the console mission log, the JSON-lines
-//! trace and the SVG timeline join it with the executive (DESIGN.md §2, §12).
+//! Output for people and tools: Graphviz DOT and the SVG timeline of a run today; the console
+//! mission log and the JSON-lines trace join them with the executive (DESIGN.md §2, §12).
 
 pub mod dot;
+pub mod timeline;

@@ -1,0 +1,1171 @@
+//! The SVG timeline: one picture of a run (DESIGN.md §12; issue 7 item 4).
+//!
+//! From what a finished or ongoing run has — the plant, the program, the executive's
+//! [`Timelines`] and the [`Event`]s of every step — [`render`] draws:
+//!
+//! - a **swimlane per state variable** (component), in the plant's order, with its most likely
+//!   mode over time as coloured segments labelled with the mode's name where there is room: the
+//!   component's initial mode neutral grey, its other nominal modes in colours, **fault modes
+//!   red**; a segment is paler the less likely its mode was at its least likely cycle
+//!   (`min_probability`) and outlined dashed if that fell below one half;
+//! - three rows of **marks** above the lanes: the *program* (goals asserted, each with its text
+//!   and program line and a bar to the cycle it was achieved; failures, conflicts, preemptions,
+//!   completion), *commands* (repairs in orange) and *faults* (diagnoses, inconsistent
+//!   observations, planning failures). Labels are stacked on levels so that none overlaps
+//!   another; past a few levels they are thinned (the mark and its tooltip stay). Commands and
+//!   diagnoses draw a faint guide down through the lanes;
+//! - a **time axis** in mission elapsed time in which long idle stretches — no mode change, no
+//!   command, no drawn event for longer than a threshold (1 min by default) — are compressed to
+//!   a fixed-width zig-zag break marked with the idle duration (`≈ 4 h 30 min idle`), while the
+//!   rest of the run shares one linear scale, ticked in each segment (see `scale`).
+//!
+//! Every mark, mode segment and break has a `<title>` (its full text on hover). The document is
+//! built with the `svg` crate, which escapes text; characters XML forbids are dropped first.
+//! Lanes are `<g class="lane" data-component="…">`, marks `<g class="event …">`, breaks
+//! `<g class="idle-break">`, so tools and tests can read the picture back.
+//!
+//! Nothing here panics: empty runs, a single cycle, zero-length intervals, events outside the
+//! window, unknown components or values, and huge times (clamped to ±10¹⁵ s) all draw.
+
+mod labels;
+mod marks;
+mod scale;
+
+use svg::Document;
+use svg::node::element::path::Data;
+use svg::node::element::{Circle, Group, Line, Path, Rectangle, Style, Text, Title};
+
+use crate::executive::{Event, Interval, Timelines};
+use crate::plant::{Component, ModeKind, Plant};
+use crate::sequencer::Thca;
+
+use labels::{Placement, Request, clean, file_name, ident, place, text_width};
+use marks::{Mark, Marks, Row, Sources, Symbol, colour};
+use scale::{Clock, Compression, Scale, Tick, format_duration};
+
+/// What a run has, for [`render`]; independent of how the run was driven.
+#[derive(Debug, Clone, Copy)]
+pub struct TimelineInput<'a> {
+    /// The plant model: one lane per component.
+    pub plant: &'a Plant,
+    /// The program, for goal lines and preemption conditions (optional).
+    pub program: Option<&'a Thca>,
+    /// The executive's state timelines and command history
+    /// ([`Executive::timelines`](crate::executive::Executive::timelines)).
+    pub timelines: &'a Timelines,
+    /// The events of every step, in any order.
+    pub events: &'a [Event],
+    /// When the drawn window starts (seconds; usually the first cycle's time).
+    pub start: f64,
+    /// When it ends (usually the last cycle's time).
+    pub end: f64,
+    /// The picture's title.
+    pub title: &'a str,
+}
+
+/// How the timeline is drawn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimelineOptions {
+    /// Width of the picture in pixels (at least 480).
+    pub width: f64,
+    /// A stretch longer than this (seconds) with no mode change, command or drawn event is
+    /// compressed into a break.
+    pub idle_threshold: f64,
+    /// Levels of labels per row of marks before labels are thinned.
+    pub max_label_levels: usize,
+}
+
+impl Default for TimelineOptions {
+    /// 1600 px wide, idle past one minute, up to 10 levels of labels.
+    fn default() -> Self {
+        TimelineOptions {
+            width: 1600.0,
+            idle_threshold: 60.0,
+            max_label_levels: 10,
+        }
+    }
+}
+
+/// The SVG document of a run, with the default options.
+pub fn render(input: &TimelineInput) -> String {
+    render_with(input, &TimelineOptions::default())
+}
+
+/// The SVG document of a run.
+pub fn render_with(input: &TimelineInput, options: &TimelineOptions) -> String {
+    let picture = Picture::new(input, options);
+    picture.document().to_string()
+}
+
+/// Times are clamped to this magnitude (seconds; about 30 million years).
+const MAX_TIME: f64 = 1e15;
+
+/// Geometry, in pixels.
+mod px {
+    pub const MARGIN: f64 = 12.0;
+    pub const FONT: f64 = 11.0;
+    pub const SMALL: f64 = 10.0;
+    pub const TITLE: f64 = 16.0;
+    pub const HEADER: f64 = 78.0;
+    pub const LEVEL: f64 = 14.0;
+    pub const MARKS: f64 = 18.0;
+    pub const ROW_GAP: f64 = 4.0;
+    pub const AXIS: f64 = 24.0;
+    pub const LANE: f64 = 20.0;
+    pub const FOOTER_LINE: f64 = 15.0;
+    pub const BREAK: f64 = 28.0;
+    pub const PAD: f64 = 8.0;
+    pub const TICK_SPACING: f64 = 90.0;
+    /// Narrowest fault segment: a fault reset within a cycle still shows.
+    pub const MIN_FAULT: f64 = 4.0;
+}
+
+/// Colours of mode segments.
+mod fill {
+    /// A component's initial mode.
+    pub const INITIAL: &str = "#dedede";
+    /// Its other nominal modes, in declaration order.
+    pub const NOMINAL: [&str; 8] = [
+        "#9ecae1", "#a1d99b", "#fdd49e", "#c6b8e0", "#99d8c9", "#f2e08c", "#c6dbef", "#d4d79b",
+    ];
+    /// Fault modes.
+    pub const FAULT: &str = "#d62728";
+}
+
+/// A mode interval's segment's probability below which it is outlined dashed.
+const UNCERTAIN: f64 = 0.5;
+
+/// A row of marks, laid out.
+struct RowLayout {
+    row: Row,
+    /// Indices into the marks.
+    marks: Vec<usize>,
+    /// Label placement, by position in `marks`.
+    placements: Vec<Option<Placement>>,
+    top: f64,
+    /// y of the marks.
+    mark_y: f64,
+    bottom: f64,
+}
+
+/// Everything needed to draw, computed once.
+struct Picture<'a> {
+    input: &'a TimelineInput<'a>,
+    options: TimelineOptions,
+    window: (f64, f64),
+    clock: Clock,
+    marks: Marks,
+    scale: Scale,
+    plot_left: f64,
+    plot_right: f64,
+    rows: Vec<RowLayout>,
+    lanes_top: f64,
+    lanes_bottom: f64,
+    height: f64,
+}
+
+impl<'a> Picture<'a> {
+    fn new(input: &'a TimelineInput<'a>, options: &TimelineOptions) -> Picture<'a> {
+        let options = sanitize(options);
+        let window = window(input);
+        let clock = Clock::for_run(window.0, window.1);
+        let marks = marks::collect(&Sources {
+            plant: input.plant,
+            program: input.program,
+            timelines: input.timelines,
+            events: input.events,
+            clock,
+            window,
+        });
+        let plot_left = px::MARGIN + names_width(input.plant) + 8.0;
+        let plot_right = options.width - px::MARGIN - 4.0;
+        let compression = Compression {
+            threshold: options.idle_threshold,
+            break_width: px::BREAK,
+            pad: px::PAD,
+        };
+        let activity = activity(input, &marks, window);
+        let scale = Scale::new(&activity, plot_left, plot_right, &compression);
+        let mut picture = Picture {
+            input,
+            options,
+            window,
+            clock,
+            marks,
+            scale,
+            plot_left,
+            plot_right,
+            rows: Vec::new(),
+            lanes_top: 0.0,
+            lanes_bottom: 0.0,
+            height: 0.0,
+        };
+        picture.lay_out();
+        picture
+    }
+
+    /// Places the rows' labels and stacks rows, axis, lanes and footer.
+    fn lay_out(&mut self) {
+        let mut y = px::HEADER;
+        for row in Row::ALL {
+            let layout = self.lay_out_row(row, y);
+            y = layout.bottom;
+            self.rows.push(layout);
+        }
+        self.lanes_top = y + px::AXIS;
+        self.lanes_bottom = self.lanes_top + px::LANE * self.input.plant.components().len() as f64;
+        let footer_lines = 2.0 + f64::from(u8::from(!self.marks.omitted.is_empty()));
+        self.height = self.lanes_bottom + px::AXIS + footer_lines * px::FOOTER_LINE + px::MARGIN;
+    }
+
+    fn lay_out_row(&self, row: Row, top: f64) -> RowLayout {
+        let marks: Vec<usize> = (0..self.marks.marks.len())
+            .filter(|&i| self.marks.marks[i].row == row)
+            .collect();
+        let requests: Vec<Request> = marks
+            .iter()
+            .map(|&i| {
+                let mark = &self.marks.marks[i];
+                let x = self.scale.x(mark.time);
+                let width = mark
+                    .label
+                    .as_deref()
+                    .map_or(0.0, |l| text_width(l, px::FONT));
+                let reach = mark.until.map_or(x, |t| self.scale.x(t).max(x));
+                Request { x, width, reach }
+            })
+            .collect();
+        let labelled: Vec<usize> = (0..marks.len())
+            .filter(|&k| self.marks.marks[marks[k]].label.is_some())
+            .collect();
+        let subset: Vec<Request> = labelled.iter().map(|&k| requests[k]).collect();
+        let placed = place(&subset, self.plot_right, self.options.max_label_levels);
+        let mut placements = vec![None; marks.len()];
+        for (k, placement) in labelled.into_iter().zip(placed) {
+            placements[k] = placement;
+        }
+        let levels = labels::levels_used(&placements).max(1) as f64;
+        let mark_y = top + levels * px::LEVEL + px::MARKS / 2.0 + 2.0;
+        RowLayout {
+            row,
+            marks,
+            placements,
+            top,
+            mark_y,
+            bottom: mark_y + px::MARKS / 2.0 + px::ROW_GAP,
+        }
+    }
+
+    fn document(&self) -> Document {
+        let width = self.options.width;
+        Document::new()
+            .set("width", r(width))
+            .set("height", r(self.height))
+            .set("viewBox", (0, 0, r(width), r(self.height)))
+            .add(Title::new(clean(self.input.title)))
+            .add(Style::new(stylesheet()))
+            .add(
+                Rectangle::new()
+                    .set("width", "100%")
+                    .set("height", "100%")
+                    .set("fill", "#ffffff"),
+            )
+            .add(self.header())
+            .add(self.lanes())
+            .add(self.guides())
+            .add(self.breaks())
+            .add(self.axes())
+            .add(self.event_rows())
+            .add(self.footer())
+    }
+
+    // ----- header -----
+
+    fn header(&self) -> Group {
+        let input = self.input;
+        let (start, end) = self.window;
+        let commands = self.count("command");
+        let diagnoses = self.count("diagnosis");
+        let mut facts = vec![input.plant.name().to_string()];
+        if let Some(program) = input.program {
+            facts.push(file_name(&program.source().name).to_string());
+        }
+        facts.push(format!(
+            "{} – {} ({})",
+            self.clock.precise(start),
+            self.clock.precise(end),
+            format_duration(end - start)
+        ));
+        facts.push(format!(
+            "{} state variables",
+            input.plant.components().len()
+        ));
+        facts.push(plural(commands, "command"));
+        facts.push(plural(diagnoses, "diagnosis"));
+        Group::new()
+            .set("id", "header")
+            .add(text(input.title, px::MARGIN, 24.0).set("class", "title"))
+            .add(text(&facts.join(" · "), px::MARGIN, 43.0).set("class", "subtitle"))
+            .add(self.legend(62.0))
+    }
+
+    fn count(&self, class: &str) -> usize {
+        self.marks
+            .marks
+            .iter()
+            .filter(|m| m.class.split(' ').next() == Some(class))
+            .count()
+    }
+
+    fn legend(&self, y: f64) -> Group {
+        let mut group = Group::new().set("id", "legend");
+        let mut x = px::MARGIN;
+        let swatch = |fill: &str, opacity: f64, dashed: bool| {
+            let rect = Rectangle::new()
+                .set("width", 16)
+                .set("height", 10)
+                .set("y", r(y - 9.0))
+                .set("fill", fill.to_string())
+                .set("fill-opacity", opacity);
+            if dashed {
+                rect.set("stroke", "#555555").set("stroke-dasharray", "2,2")
+            } else {
+                rect
+            }
+        };
+        let items: [(LegendKey, &str); 10] = [
+            (LegendKey::Swatch(fill::INITIAL, 1.0, false), "initial mode"),
+            (
+                LegendKey::Swatch(fill::NOMINAL[0], 1.0, false),
+                "nominal mode",
+            ),
+            (LegendKey::Swatch(fill::FAULT, 1.0, false), "fault mode"),
+            (
+                LegendKey::Swatch(fill::NOMINAL[0], 0.45, true),
+                "probability < 0.5 at times",
+            ),
+            (
+                LegendKey::Mark(Symbol::Down, colour::GOAL),
+                "goal (bar: until achieved)",
+            ),
+            (LegendKey::Mark(Symbol::Up, colour::COMMAND), "command"),
+            (LegendKey::Mark(Symbol::Up, colour::REPAIR), "repair"),
+            (LegendKey::Mark(Symbol::Diamond, colour::FAULT), "diagnosis"),
+            (LegendKey::Mark(Symbol::Cross, colour::FAULT), "failure"),
+            (LegendKey::Break, "idle stretch, compressed"),
+        ];
+        for (key, label) in items {
+            let label_width = text_width(label, px::FONT);
+            if x + 22.0 + label_width > self.options.width - px::MARGIN {
+                break;
+            }
+            group = match key {
+                LegendKey::Swatch(fill, opacity, dashed) => {
+                    group.add(swatch(fill, opacity, dashed).set("x", r(x)))
+                }
+                LegendKey::Mark(symbol, colour) => {
+                    group.add(symbol_at(symbol, x + 8.0, y - 4.0, colour))
+                }
+                LegendKey::Break => group.add(zigzag(x + 8.0, y - 11.0, y + 2.0)),
+            };
+            group = group.add(text(label, x + 20.0, y).set("class", "legend"));
+            x += 20.0 + label_width + 16.0;
+        }
+        group
+    }
+
+    // ----- rows of marks -----
+
+    fn event_rows(&self) -> Group {
+        let mut group = Group::new().set("id", "events");
+        for layout in &self.rows {
+            group = group.add(self.event_row(layout));
+        }
+        group
+    }
+
+    fn event_row(&self, layout: &RowLayout) -> Group {
+        let name = layout.row.name();
+        let mut group = Group::new()
+            .set("class", format!("row {name}"))
+            .add(
+                Line::new()
+                    .set("x1", r(self.plot_left))
+                    .set("x2", r(self.plot_right))
+                    .set("y1", r(layout.mark_y))
+                    .set("y2", r(layout.mark_y))
+                    .set("class", "baseline"),
+            )
+            .add(
+                text(name, self.plot_left - 8.0, layout.mark_y + 4.0)
+                    .set("class", "row-name")
+                    .set("text-anchor", "end"),
+            );
+        if layout.marks.is_empty() {
+            group = group.add(
+                text("none", self.plot_left + px::PAD, layout.mark_y - 6.0).set("class", "none"),
+            );
+        }
+        let mut leaders = Group::new().set("class", "leaders");
+        for (k, &i) in layout.marks.iter().enumerate() {
+            if let Some(placement) = layout.placements[k] {
+                let x = self.scale.x(self.marks.marks[i].time);
+                let top = level_baseline(layout, placement.level) + 3.0;
+                leaders = leaders.add(segment(x, layout.mark_y - 5.0, x, top));
+            }
+        }
+        group = group.add(leaders);
+        for (k, &i) in layout.marks.iter().enumerate() {
+            group = group.add(self.event_mark(layout, &self.marks.marks[i], layout.placements[k]));
+        }
+        group
+    }
+
+    fn event_mark(&self, layout: &RowLayout, mark: &Mark, placement: Option<Placement>) -> Group {
+        let x = self.scale.x(mark.time);
+        let mut group = Group::new()
+            .set("class", format!("event {}", mark.class))
+            .set("data-time", mark.time)
+            .add(Title::new(clean(&mark.tooltip)));
+        if let (Some(placement), Some(label)) = (placement, &mark.label) {
+            let baseline = level_baseline(layout, placement.level);
+            if let Some(until) = mark.until {
+                let end = self.scale.x(until).max(x + 1.0);
+                group = group.add(
+                    Rectangle::new()
+                        .set("class", "goal-bar")
+                        .set("x", r(x))
+                        .set("y", r(baseline - 10.0))
+                        .set("width", r(end - x))
+                        .set("height", 13),
+                );
+            }
+            group = group.add(
+                text(label, placement.left, baseline)
+                    .set("class", "label")
+                    .set("fill", mark.colour),
+            );
+        }
+        group.add(symbol_at(mark.symbol, x, layout.mark_y, mark.colour))
+    }
+
+    /// Faint lines from commands and diagnoses down through the lanes.
+    fn guides(&self) -> Group {
+        let mut group = Group::new().set("id", "guides");
+        let Some(from) = self.rows.iter().find(|l| l.row == Row::Commands) else {
+            return group;
+        };
+        for mark in self.marks.marks.iter().filter(|m| m.guide) {
+            let x = self.scale.x(mark.time);
+            group = group.add(
+                segment(x, from.top, x, self.lanes_bottom)
+                    .set("stroke", mark.colour)
+                    .set("class", "guide"),
+            );
+        }
+        group
+    }
+
+    // ----- lanes -----
+
+    fn lanes(&self) -> Group {
+        let plant = self.input.plant;
+        let mut group = Group::new().set("id", "lanes");
+        for (index, component) in plant.components().iter().enumerate() {
+            let y = self.lanes_top + index as f64 * px::LANE;
+            let timeline = self.input.timelines.state(index);
+            let intervals: Vec<&Interval> = timeline
+                .map(|t| t.intervals().collect())
+                .unwrap_or_default();
+            group = group.add(self.lane(index, component, &intervals, y));
+        }
+        group
+    }
+
+    fn lane(&self, index: usize, component: &Component, intervals: &[&Interval], y: f64) -> Group {
+        let faulty = intervals.iter().any(|i| is_fault(component, i));
+        let stripe = if index % 2 == 0 { "#f7f7f7" } else { "#ffffff" };
+        let mut group = Group::new()
+            .set("class", "lane")
+            .set("id", format!("lane-{}", ident(component.name())))
+            .set("data-component", clean(component.name()))
+            .add(
+                Rectangle::new()
+                    .set("x", r(px::MARGIN))
+                    .set("y", r(y))
+                    .set("width", r(self.plot_right - px::MARGIN))
+                    .set("height", px::LANE)
+                    .set("fill", stripe),
+            )
+            .add(
+                text(component.name(), self.plot_left - 8.0, y + 14.0)
+                    .set(
+                        "class",
+                        if faulty {
+                            "lane-name faulty"
+                        } else {
+                            "lane-name"
+                        },
+                    )
+                    .set("text-anchor", "end"),
+            );
+        if intervals.is_empty() {
+            return group
+                .add(text("no estimate", self.plot_left + px::PAD, y + 14.0).set("class", "none"));
+        }
+        let colours = mode_colours(component);
+        let (start, end) = self.window;
+        // Faults are drawn after the nominal segments so that a brief one stays on top.
+        let mut faults = Vec::new();
+        for (k, interval) in intervals.iter().enumerate() {
+            let next = intervals.get(k + 1).map(|n| n.from);
+            let (from, to) = (interval.from.max(start), next.unwrap_or(end).min(end));
+            if interval.from > end || next.is_some_and(|n| n < start) {
+                continue;
+            }
+            let x0 = self.scale.x(from);
+            // A value still held at the end runs into the padding after it, so that one
+            // estimated at the last cycle shows.
+            let x1 = match next {
+                Some(n) if n <= end => self.scale.x(n),
+                _ => self.scale.end_x() + px::PAD,
+            };
+            let fill = colours
+                .get(interval.value.index())
+                .copied()
+                .unwrap_or(fill::INITIAL);
+            let drawn = self.segment(component, interval, (from, to), (x0, x1), y, fill);
+            if is_fault(component, interval) {
+                faults.push(drawn);
+            } else {
+                group = group.add(drawn);
+            }
+        }
+        faults.into_iter().fold(group, Group::add)
+    }
+
+    /// One interval's segment in a lane: rectangle, tooltip, and its mode's name in every
+    /// stretch between breaks wide enough for it.
+    fn segment(
+        &self,
+        component: &Component,
+        interval: &Interval,
+        (from, to): (f64, f64),
+        (x0, x1): (f64, f64),
+        y: f64,
+        fill: &str,
+    ) -> Group {
+        let mode = mode_name(component, interval);
+        let fault = is_fault(component, interval);
+        let min_p = probability(interval.min_probability);
+        let uncertain = min_p < UNCERTAIN;
+        let class = match (fault, uncertain) {
+            (true, true) => "interval fault uncertain",
+            (true, false) => "interval fault",
+            (false, true) => "interval uncertain",
+            (false, false) => "interval",
+        };
+        let tooltip = format!(
+            "{} = {mode}{} from {} to {} ({}): probability {:.3} at its last cycle, {:.3} at its lowest",
+            component.name(),
+            if fault { " (fault mode)" } else { "" },
+            self.clock.precise(from),
+            self.clock.precise(to),
+            format_duration(to - from),
+            probability(interval.probability),
+            min_p,
+        );
+        let mut rect = Rectangle::new()
+            .set("class", class)
+            .set("data-mode", clean(&mode))
+            .set("x", r(x0))
+            .set("y", r(y + 2.0))
+            .set(
+                "width",
+                r((x1 - x0).max(if fault { px::MIN_FAULT } else { 1.0 })),
+            )
+            .set("height", px::LANE - 4.0)
+            .set("fill", fill.to_string())
+            .set("fill-opacity", r2(0.3 + 0.7 * min_p))
+            .add(Title::new(clean(&tooltip)));
+        if uncertain {
+            rect = rect.set("stroke", "#555555").set("stroke-dasharray", "3,2");
+        }
+        let mut group = Group::new().add(rect);
+        let width = text_width(&mode, px::SMALL);
+        for (left, right) in self.visible(x0, x1) {
+            if right - left >= width + 6.0 {
+                let label = text(&mode, left + 3.0, y + 13.5)
+                    .set("class", if fault { "mode fault" } else { "mode" });
+                group = group.add(label);
+            }
+        }
+        group
+    }
+
+    /// The parts of `[x0, x1]` not under a break's band.
+    fn visible(&self, x0: f64, x1: f64) -> Vec<(f64, f64)> {
+        let mut parts = Vec::new();
+        let mut left = x0;
+        for piece in self.scale.breaks() {
+            let (band0, band1) = piece.band(px::PAD);
+            if band1 <= left || band0 >= x1 {
+                continue;
+            }
+            if band0 > left {
+                parts.push((left, band0));
+            }
+            left = band1;
+        }
+        if x1 > left {
+            parts.push((left, x1));
+        }
+        parts
+    }
+
+    // ----- breaks and axes -----
+
+    fn breaks(&self) -> Group {
+        let mut group = Group::new().set("id", "breaks");
+        let top = self.rows.first().map_or(self.lanes_top, |l| l.top);
+        let bottom = self.lanes_bottom + 4.0;
+        for piece in self.scale.breaks() {
+            let (x0, x1) = piece.band(px::PAD);
+            let idle = piece.t1 - piece.t0;
+            let words = format!("≈ {} idle", format_duration(idle));
+            let label = if text_width(&words, px::FONT) + 12.0 <= bottom - top {
+                words
+            } else {
+                format!("≈ {}", format_duration(idle))
+            };
+            let (cx, cy) = ((x0 + x1) / 2.0, (top + bottom) / 2.0);
+            let tooltip = format!(
+                "idle from {} to {} ({}): no mode change, command or event",
+                self.clock.precise(piece.t0),
+                self.clock.precise(piece.t1),
+                format_duration(idle)
+            );
+            group = group.add(
+                Group::new()
+                    .set("class", "idle-break")
+                    .set("data-from", piece.t0)
+                    .set("data-until", piece.t1)
+                    .add(Title::new(clean(&tooltip)))
+                    .add(
+                        Rectangle::new()
+                            .set("class", "break-band")
+                            .set("x", r(x0))
+                            .set("y", r(top))
+                            .set("width", r(x1 - x0))
+                            .set("height", r(bottom - top)),
+                    )
+                    .add(zigzag(x0, top, bottom))
+                    .add(zigzag(x1, top, bottom))
+                    .add(
+                        text(&label, cx, cy + 4.0)
+                            .set("class", "break-label")
+                            .set("text-anchor", "middle")
+                            .set("transform", format!("rotate(-90 {} {})", r(cx), r(cy))),
+                    ),
+            );
+        }
+        group
+    }
+
+    fn axes(&self) -> Group {
+        let bounds = (self.plot_left - 4.0, self.options.width - px::MARGIN);
+        let ticks = readable_ticks(&self.scale.ticks(px::TICK_SPACING), &self.clock, bounds);
+        let mut group = Group::new().set("id", "axis");
+        let unit = if self.clock.hours { "h:mm:ss" } else { "m:ss" };
+        group = group.add(
+            text(
+                &format!("time ({unit})"),
+                self.plot_left - 8.0,
+                self.lanes_top - 8.0,
+            )
+            .set("class", "row-name")
+            .set("text-anchor", "end"),
+        );
+        for (y, below) in [(self.lanes_top, false), (self.lanes_bottom, true)] {
+            group = group.add(self.axis(&ticks, y, below));
+        }
+        let mut grid = Group::new().set("class", "grid");
+        for label in &ticks {
+            let x = label.tick.x;
+            grid = grid.add(segment(x, self.lanes_top, x, self.lanes_bottom));
+        }
+        group.add(grid)
+    }
+
+    fn axis(&self, ticks: &[TickLabel], y: f64, below: bool) -> Group {
+        let mut group = Group::new().set("class", "axis");
+        for segment_piece in self.scale.segments() {
+            group = group.add(
+                segment(
+                    segment_piece.x0 - px::PAD / 2.0,
+                    y,
+                    segment_piece.x1 + px::PAD / 2.0,
+                    y,
+                )
+                .set("class", "axis-line"),
+            );
+        }
+        let (tick_end, label_y, outward) = if below {
+            (y + 4.0, y + 15.0, px::SMALL + 1.0)
+        } else {
+            (y - 4.0, y - 7.0, -(px::SMALL + 1.0))
+        };
+        for label in ticks {
+            let tick = label.tick;
+            group = group
+                .add(segment(tick.x, y, tick.x, tick_end).set("class", "axis-line"))
+                .add(
+                    text(
+                        &label.text,
+                        label.left,
+                        label_y + label.line as f64 * outward,
+                    )
+                    .set("class", if tick.major { "tick major" } else { "tick" }),
+                );
+        }
+        group
+    }
+
+    fn footer(&self) -> Group {
+        let mut y = self.lanes_bottom + px::AXIS + px::FOOTER_LINE;
+        let mut lines = vec![self.compression_note()];
+        lines.push(
+            "Hover a mark, a mode or a break for its details. Commands and diagnoses are traced down through the lanes."
+                .to_string(),
+        );
+        if !self.marks.omitted.is_empty() {
+            let counts: Vec<String> = self
+                .marks
+                .omitted
+                .iter()
+                .map(|(what, n)| format!("{what}: {n}"))
+                .collect();
+            lines.push(format!(
+                "Not drawn (see the mission log): {}.",
+                counts.join(", ")
+            ));
+        }
+        let mut group = Group::new().set("id", "footer");
+        for line in lines {
+            group = group.add(text(&line, px::MARGIN, y).set("class", "note"));
+            y += px::FOOTER_LINE;
+        }
+        group
+    }
+
+    fn compression_note(&self) -> String {
+        let breaks = self.scale.breaks().count();
+        let rate = self
+            .scale
+            .segments()
+            .find(|s| s.t1 > s.t0)
+            .map(|s| (s.x1 - s.x0) / (s.t1 - s.t0));
+        let scale = match rate {
+            Some(rate) if rate >= 1.0 => format!("1 s = {rate:.1} px"),
+            Some(rate) if rate > 0.0 => format!("1 min = {:.1} px", rate * 60.0),
+            _ => "a single instant".to_string(),
+        };
+        let threshold = format_duration(self.options.idle_threshold);
+        match breaks {
+            0 => format!("Time scale: {scale}; no idle stretch longer than {threshold}."),
+            n => format!(
+                "Time scale: {scale}, except {} longer than {threshold} with no mode change, command or event, compressed (zig-zag).",
+                plural(n, "idle stretch")
+            ),
+        }
+    }
+}
+
+/// What a legend entry shows.
+enum LegendKey {
+    Swatch(&'static str, f64, bool),
+    Mark(Symbol, &'static str),
+    Break,
+}
+
+/// Width, height and threshold made usable.
+fn sanitize(options: &TimelineOptions) -> TimelineOptions {
+    let defaults = TimelineOptions::default();
+    let width = if options.width.is_finite() {
+        options.width.clamp(480.0, 100_000.0)
+    } else {
+        defaults.width
+    };
+    let idle_threshold = if options.idle_threshold.is_nan() {
+        defaults.idle_threshold
+    } else {
+        options.idle_threshold.max(0.0)
+    };
+    TimelineOptions {
+        width,
+        idle_threshold,
+        max_label_levels: options.max_label_levels.clamp(1, 50),
+    }
+}
+
+/// A finite time, clamped to ±[`MAX_TIME`].
+fn clamp_time(t: f64) -> Option<f64> {
+    (!t.is_nan()).then(|| t.clamp(-MAX_TIME, MAX_TIME))
+}
+
+/// The drawn window: the input's start and end, or the data's extent where they are not numbers;
+/// never reversed.
+fn window(input: &TimelineInput) -> (f64, f64) {
+    let data: Vec<f64> = input
+        .timelines
+        .states()
+        .iter()
+        .flat_map(|t| t.intervals().flat_map(|i| [i.from, i.until]))
+        .chain(input.events.iter().map(|e| e.time))
+        .filter_map(clamp_time)
+        .collect();
+    let lowest = data.iter().copied().reduce(f64::min);
+    let highest = data.iter().copied().reduce(f64::max);
+    let start = clamp_time(input.start).or(lowest).unwrap_or(0.0);
+    let end = clamp_time(input.end).or(highest).unwrap_or(start);
+    (start.min(end), start.max(end))
+}
+
+/// The times something happens: the window's ends, every mode change and every mark, in order.
+fn activity(input: &TimelineInput, marks: &Marks, (start, end): (f64, f64)) -> Vec<f64> {
+    let changes = input
+        .timelines
+        .states()
+        .iter()
+        .flat_map(|t| t.intervals().map(|i| i.from));
+    let mut times: Vec<f64> = changes
+        .chain(
+            marks
+                .marks
+                .iter()
+                .flat_map(|m| [Some(m.time), m.until])
+                .flatten(),
+        )
+        .filter_map(clamp_time)
+        .map(|t| t.clamp(start, end))
+        .chain([start, end])
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times.dedup();
+    times
+}
+
+/// Width of the column of names left of the plot.
+fn names_width(plant: &Plant) -> f64 {
+    let longest = plant
+        .components()
+        .iter()
+        .map(|c| c.name().chars().count())
+        .chain(Row::ALL.iter().map(|r| r.name().len()))
+        .chain(["time (h:mm:ss)".len()])
+        .max()
+        .unwrap_or(0);
+    (longest as f64 * px::FONT * labels::CHAR_WIDTH).clamp(60.0, 240.0)
+}
+
+/// Each mode's fill: the initial mode (the most likely initially) neutral, other nominal modes
+/// from the palette in declaration order, fault modes red.
+fn mode_colours(component: &Component) -> Vec<&'static str> {
+    let initial = component
+        .initial()
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(i, _)| i);
+    let mut next = 0;
+    component
+        .modes()
+        .iter()
+        .enumerate()
+        .map(|(i, mode)| {
+            if mode.kind == ModeKind::Fault {
+                fill::FAULT
+            } else if Some(i) == initial {
+                fill::INITIAL
+            } else {
+                next += 1;
+                fill::NOMINAL[(next - 1) % fill::NOMINAL.len()]
+            }
+        })
+        .collect()
+}
+
+fn mode_name(component: &Component, interval: &Interval) -> String {
+    component
+        .modes()
+        .get(interval.value.index())
+        .map_or_else(|| format!("mode {}", interval.value.0), |m| m.name.clone())
+}
+
+fn is_fault(component: &Component, interval: &Interval) -> bool {
+    component
+        .modes()
+        .get(interval.value.index())
+        .is_some_and(|m| m.kind == ModeKind::Fault)
+}
+
+/// A probability made drawable: in [0, 1], 1 when not a number.
+fn probability(p: f64) -> f64 {
+    if p.is_nan() { 1.0 } else { p.clamp(0.0, 1.0) }
+}
+
+/// The baseline of a row's label level.
+fn level_baseline(layout: &RowLayout, level: usize) -> f64 {
+    layout.mark_y - px::MARKS / 2.0 - 3.0 - level as f64 * px::LEVEL
+}
+
+/// A tick and its label's text, left edge and line (0 next to the axis, 1 further out).
+struct TickLabel {
+    tick: Tick,
+    text: String,
+    left: f64,
+    line: usize,
+}
+
+/// Space kept between neighbouring tick labels.
+const TICK_GAP: f64 = 8.0;
+
+/// The ticks whose labels fit, left to right, each label centred on its tick but kept between
+/// `left` and `right` (so the first one clears the axis's name). A segment's first time is
+/// never dropped, since a reader needs it after a break: it goes on a second line when the
+/// first is taken, and it replaces an ordinary tick it would overlap.
+fn readable_ticks(ticks: &[Tick], clock: &Clock, (left, right): (f64, f64)) -> Vec<TickLabel> {
+    let mut kept: Vec<TickLabel> = Vec::new();
+    // Where each line's last label ends.
+    let mut ends = [f64::NEG_INFINITY; 2];
+    for tick in ticks {
+        let text = clock.format(tick.time, tick.step);
+        let width = text_width(&text, px::SMALL);
+        let start = (tick.x - width / 2.0).min(right - width).max(left);
+        let free = |line: usize, ends: &[f64; 2]| start >= ends[line] + TICK_GAP;
+        let line = if free(0, &ends) {
+            Some(0)
+        } else if tick.major && free(1, &ends) {
+            Some(1)
+        } else if tick.major && kept.last().is_some_and(|l| !l.tick.major && l.line == 0) {
+            kept.pop();
+            ends[0] = kept
+                .iter()
+                .rfind(|l| l.line == 0)
+                .map_or(f64::NEG_INFINITY, |l| {
+                    l.left + text_width(&l.text, px::SMALL)
+                });
+            free(0, &ends).then_some(0)
+        } else {
+            None
+        };
+        if let Some(line) = line {
+            ends[line] = start + width;
+            kept.push(TickLabel {
+                tick: *tick,
+                text,
+                left: start,
+                line,
+            });
+        }
+    }
+    kept
+}
+
+/// The shape of a mark at (x, y).
+fn symbol_at(symbol: Symbol, x: f64, y: f64, colour: &str) -> Group {
+    let point = |dx: f64, dy: f64| (r(x + dx), r(y + dy));
+    let closed = |points: &[(f64, f64)]| {
+        let mut data = Data::new().move_to(point(points[0].0, points[0].1));
+        for &(dx, dy) in &points[1..] {
+            data = data.line_to(point(dx, dy));
+        }
+        data.close()
+    };
+    let shape: Box<dyn svg::Node> = match symbol {
+        Symbol::Down => Box::new(filled(
+            closed(&[(-5.0, -4.0), (5.0, -4.0), (0.0, 4.0)]),
+            colour,
+        )),
+        Symbol::Up => Box::new(filled(
+            closed(&[(-5.0, 4.0), (5.0, 4.0), (0.0, -4.0)]),
+            colour,
+        )),
+        Symbol::Diamond => Box::new(filled(
+            closed(&[(0.0, -5.0), (5.0, 0.0), (0.0, 5.0), (-5.0, 0.0)]),
+            colour,
+        )),
+        Symbol::Hollow => Box::new(
+            stroked(
+                closed(&[(0.0, -5.0), (5.0, 0.0), (0.0, 5.0), (-5.0, 0.0)]),
+                colour,
+            )
+            .set("fill", "#ffffff"),
+        ),
+        Symbol::Square => Box::new(filled(
+            closed(&[(-4.0, -4.0), (4.0, -4.0), (4.0, 4.0), (-4.0, 4.0)]),
+            colour,
+        )),
+        Symbol::Check => Box::new(stroked(
+            Data::new()
+                .move_to(point(-4.0, 0.0))
+                .line_to(point(-1.0, 3.0))
+                .line_to(point(4.0, -4.0)),
+            colour,
+        )),
+        Symbol::Cross => Box::new(stroked(
+            Data::new()
+                .move_to(point(-4.0, -4.0))
+                .line_to(point(4.0, 4.0))
+                .move_to(point(4.0, -4.0))
+                .line_to(point(-4.0, 4.0)),
+            colour,
+        )),
+        Symbol::Ring => Box::new(
+            Circle::new()
+                .set("cx", r(x))
+                .set("cy", r(y))
+                .set("r", 3.5)
+                .set("fill", "#ffffff")
+                .set("stroke", colour.to_string())
+                .set("stroke-width", 1.5),
+        ),
+    };
+    Group::new().set("class", "mark").add(shape)
+}
+
+fn filled(data: Data, colour: &str) -> Path {
+    Path::new().set("d", data).set("fill", colour.to_string())
+}
+
+fn stroked(data: Data, colour: &str) -> Path {
+    Path::new()
+        .set("d", data)
+        .set("fill", "none")
+        .set("stroke", colour.to_string())
+        .set("stroke-width", 2)
+}
+
+/// A vertical zig-zag line at x from `top` to `bottom`: the mark of a break.
+fn zigzag(x: f64, top: f64, bottom: f64) -> Path {
+    let mut data = Data::new().move_to((r(x), r(top)));
+    let mut y = top;
+    let mut side = 1.0;
+    while y + 4.0 < bottom {
+        y += 4.0;
+        data = data.line_to((r(x + 3.0 * side), r(y)));
+        side = -side;
+    }
+    data = data.line_to((r(x), r(bottom)));
+    Path::new().set("class", "zigzag").set("d", data)
+}
+
+/// A thin line.
+fn segment(x1: f64, y1: f64, x2: f64, y2: f64) -> Line {
+    Line::new()
+        .set("x1", r(x1))
+        .set("y1", r(y1))
+        .set("x2", r(x2))
+        .set("y2", r(y2))
+}
+
+/// A text element with cleaned content.
+fn text(content: &str, x: f64, y: f64) -> Text {
+    Text::new(clean(content)).set("x", r(x)).set("y", r(y))
+}
+
+/// A coordinate to a tenth of a pixel (0 when not a number).
+fn r(value: f64) -> f64 {
+    if value.is_finite() {
+        (value * 10.0).round() / 10.0
+    } else {
+        0.0
+    }
+}
+
+/// An opacity to two decimals.
+fn r2(value: f64) -> f64 {
+    (value * 100.0).round() / 100.0
+}
+
+fn plural(n: usize, noun: &str) -> String {
+    match (n, noun) {
+        (1, _) => format!("1 {noun}"),
+        (_, "diagnosis") => format!("{n} diagnoses"),
+        (_, "idle stretch") => format!("{n} idle stretches"),
+        _ => format!("{n} {noun}s"),
+    }
+}
+
+/// The picture's style sheet: fonts and the classes' looks.
+fn stylesheet() -> String {
+    format!(
+        "text {{ font-family: 'DejaVu Sans Mono', Menlo, Consolas, monospace; font-size: {font}px; fill: #222222; }}
+.title {{ font-size: {title}px; font-weight: bold; }}
+.subtitle, .legend, .note {{ fill: #555555; }}
+.row-name {{ fill: #555555; font-weight: bold; }}
+.lane-name {{ fill: #222222; }}
+.lane-name.faulty {{ fill: {fault}; font-weight: bold; }}
+.mode, .tick, .break-label {{ font-size: {small}px; }}
+.mode {{ fill: #333333; }}
+.mode.fault {{ fill: #ffffff; font-weight: bold; }}
+.tick {{ fill: #555555; }}
+.tick.major {{ fill: #222222; font-weight: bold; }}
+.none {{ fill: #999999; font-style: italic; }}
+.label {{ paint-order: stroke; stroke: #ffffff; stroke-width: 3px; stroke-linejoin: round; }}
+.goal-bar {{ fill: {goal}; fill-opacity: 0.12; stroke: {goal}; stroke-opacity: 0.45; }}
+.baseline {{ stroke: #cccccc; }}
+.leaders line {{ stroke: #aaaaaa; stroke-width: 0.6; }}
+.guide {{ stroke-opacity: 0.18; stroke-dasharray: 2,3; }}
+.grid line {{ stroke: #000000; stroke-opacity: 0.07; }}
+.axis-line {{ stroke: #777777; }}
+.break-band {{ fill: #ffffff; fill-opacity: 0.88; }}
+.zigzag {{ fill: none; stroke: #888888; stroke-width: 1.2; }}
+.break-label {{ fill: #666666; font-style: italic; }}",
+        font = px::FONT,
+        small = px::SMALL,
+        title = px::TITLE,
+        fault = fill::FAULT,
+        goal = colour::GOAL,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tick(x: f64, major: bool) -> Tick {
+        Tick {
+            time: x,
+            x,
+            major,
+            step: 1.0,
+        }
+    }
+
+    #[test]
+    fn tick_labels_clear_the_edges_and_never_drop_a_segment_start() {
+        let clock = Clock { hours: false };
+        // "0:00" is 24.8 px wide at 10 px: centred on 100 it would start at 87.6.
+        let labels = readable_ticks(&[tick(100.0, true)], &clock, (95.0, 1000.0));
+        assert_eq!(labels[0].left, 95.0);
+        let labels = readable_ticks(&[tick(990.0, false)], &clock, (0.0, 1000.0));
+        assert!((labels[0].left + text_width(&labels[0].text, px::SMALL) - 1000.0).abs() < 1e-9);
+
+        // Two segment starts too close for one line: the second goes on the next line.
+        let labels = readable_ticks(&[tick(100.0, true), tick(110.0, true)], &clock, (0.0, 1e3));
+        let lines: Vec<usize> = labels.iter().map(|l| l.line).collect();
+        assert_eq!(lines, [0, 1]);
+
+        // With both lines taken, an ordinary tick gives way to a segment start.
+        let ticks = [
+            tick(100.0, true),
+            tick(105.0, true),
+            tick(135.0, false),
+            tick(137.0, true),
+        ];
+        let labels = readable_ticks(&ticks, &clock, (0.0, 1e3));
+        let kept: Vec<(f64, usize)> = labels.iter().map(|l| (l.tick.x, l.line)).collect();
+        assert_eq!(kept, [(100.0, 0), (105.0, 1), (137.0, 0)]);
+    }
+}
