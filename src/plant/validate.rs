@@ -5,10 +5,10 @@
 //! loading ([`super::file`]).
 
 use super::file::{TOLERANCE, mode_path, transition_path};
-use crate::diagnostic::locate::Locator;
-use crate::diagnostic::locate::Step;
 use super::{Component, Plant, TransitionSource};
 use crate::diagnostic::Diagnostic;
+use crate::diagnostic::locate::Locator;
+use crate::diagnostic::locate::Step;
 use crate::logic::{Formula, ValueId};
 use crate::opsat::{Consistency, Literal, Theory};
 

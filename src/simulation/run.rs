@@ -1,0 +1,171 @@
+//! Running a scenario: the executive against the scripted plant, cycle by cycle, with the
+//! expectations checked as it goes.
+
+use std::time::{Duration, Instant};
+
+use super::Scenario;
+use super::expect::{Checker, Names, Verdict};
+use super::script::{PlantEvent, ScriptedPlant, TIME_EPSILON};
+use crate::executive::adapters::{Clock, ControlAdapter, MonitorAdapter, SimulatedClock};
+use crate::executive::{BuildError, EventKind, Executive, NamedValue, Retention, Step, StepError};
+
+/// What one cycle of a run showed: for the mission log, the trace and benchmarks.
+#[derive(Debug)]
+pub struct CycleRecord<'a> {
+    /// The executive's cycle.
+    pub step: &'a Step,
+    /// The observation the plant reported for it.
+    pub observation: &'a [NamedValue],
+    /// What the scripted plant did in the cycle (rules fired, effects applied).
+    pub plant_events: &'a [PlantEvent],
+}
+
+/// Why a run stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopReason {
+    /// The end time was reached.
+    EndTime,
+    /// The program completed, the plant is in its intended configuration, the script has
+    /// nothing pending and every eventual expectation has been shown: nothing more can happen.
+    Settled,
+}
+
+/// How a run went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutcome {
+    /// Each expectation's verdict, in the scenario's order.
+    pub verdicts: Vec<Verdict>,
+    /// Cycles run.
+    pub cycles: u64,
+    /// The time of the last cycle.
+    pub last_time: f64,
+    /// Why it stopped.
+    pub stop: StopReason,
+    /// True once the program had completed.
+    pub completed: bool,
+    /// Wall time of the whole run.
+    pub wall: Duration,
+    /// Cycles that overran the scenario's deadline.
+    pub overruns: u64,
+    /// The longest cycle.
+    pub slowest_cycle: Duration,
+}
+
+impl RunOutcome {
+    /// True when every expectation holds.
+    pub fn passed(&self) -> bool {
+        self.verdicts.iter().all(Verdict::holds)
+    }
+}
+
+/// Why a run could not go on.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RunError {
+    /// The executive could not be built.
+    #[error("the executive cannot be built: {0}")]
+    Build(#[from] BuildError),
+    /// The executive refused a cycle.
+    #[error("the executive stopped: {0}")]
+    Step(#[from] StepError),
+    /// The scripted plant refused a command.
+    #[error("the plant refused the command of the cycle at {time} s: {message}")]
+    Control {
+        /// The cycle's time.
+        time: f64,
+        /// Why.
+        message: String,
+    },
+}
+
+/// Options of a run beyond the scenario's.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RunOptions {
+    /// How much history the executive's timelines keep (default: the executive's).
+    pub retention: Option<Retention>,
+}
+
+/// Runs `scenario` from time 0 to its end (or until nothing more can happen), calling `observe`
+/// after every cycle.
+pub fn run(
+    scenario: &Scenario,
+    options: RunOptions,
+    observe: &mut dyn FnMut(&CycleRecord<'_>),
+) -> Result<RunOutcome, RunError> {
+    let started = Instant::now();
+    let mut executive = build(scenario, options)?;
+    let mut plant = ScriptedPlant::new(&scenario.script);
+    let mut checker = Checker::new(
+        &scenario.expectations,
+        Names {
+            plant: &scenario.plant,
+            world: &scenario.script.world,
+            controls: &scenario.script.controls,
+        },
+    );
+    let mut clock = SimulatedClock::new(0.0, scenario.cycle);
+    let mut time = clock.start();
+    let (mut cycles, mut overruns, mut slowest) = (0, 0, Duration::ZERO);
+    let mut completed = false;
+    let mut last_time;
+    let stop = loop {
+        let observation = plant.observe(time);
+        let step = executive.step(time, &observation)?;
+        let command: Vec<NamedValue> = step
+            .command
+            .iter()
+            .map(|&(x, v)| NamedValue::of(executive.plant(), x, v))
+            .collect();
+        plant
+            .send(time, &command)
+            .map_err(|message| RunError::Control { time, message })?;
+        plant.estimated(&step.most_likely);
+        let plant_events = plant.take_events();
+        checker.observe(&step, &plant);
+        observe(&CycleRecord {
+            step: &step,
+            observation: &observation,
+            plant_events: &plant_events,
+        });
+        cycles += 1;
+        last_time = step.time;
+        completed |= step.completed;
+        slowest = slowest.max(step.times.total);
+        overruns += step
+            .events
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::DeadlineOverrun { .. }))
+            .count() as u64;
+        if time >= scenario.end - TIME_EPSILON {
+            break StopReason::EndTime;
+        }
+        if step.is_settled() && plant.is_quiet(scenario.end) && !checker.awaits_something() {
+            break StopReason::Settled;
+        }
+        time = clock.next_cycle();
+        if time > scenario.end + TIME_EPSILON {
+            break StopReason::EndTime;
+        }
+    };
+    Ok(RunOutcome {
+        verdicts: checker.finish(&plant),
+        cycles,
+        last_time,
+        stop,
+        completed,
+        wall: started.elapsed(),
+        overruns,
+        slowest_cycle: slowest,
+    })
+}
+
+fn build(scenario: &Scenario, options: RunOptions) -> Result<Executive, BuildError> {
+    let mut builder =
+        Executive::builder(scenario.plant.clone(), scenario.program.clone()).kappa(scenario.kappa);
+    if let Some(deadline) = scenario.deadline {
+        builder = builder.cycle_deadline(deadline);
+    }
+    if let Some(retention) = options.retention {
+        builder = builder.retention(retention);
+    }
+    builder.build()
+}
