@@ -2,3 +2,5 @@
 //! trace and the SVG timeline join it with the executive (DESIGN.md §2, §12).
 
 pub mod dot;
+pub mod log;
+pub mod trace;

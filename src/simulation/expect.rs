@@ -365,7 +365,7 @@ impl<'a> Checker<'a> {
                     return Progress::Failed(format!(
                         "reported at {} ({:?})",
                         seconds(t),
-                        event_name(&e.kind)
+                        EventName::of(&e.kind)
                     ));
                 }
                 return Progress::Open;
@@ -541,31 +541,7 @@ pub(crate) fn is(name: EventName, event: &Event) -> bool {
     use EventKind as E;
     match (name, &event.kind) {
         (EventName::Repair, E::CommandIssued { repair, .. }) => *repair,
-        (name, kind) => name == event_name(kind),
-    }
-}
-
-/// The name of an event's kind.
-pub(crate) fn event_name(kind: &EventKind) -> EventName {
-    use EventKind as E;
-    match kind {
-        E::GoalAsserted { .. } => EventName::GoalAsserted,
-        E::GoalAchieved { .. } => EventName::GoalAchieved,
-        E::GoalFailed { .. } => EventName::GoalFailed,
-        E::GoalConflict { .. } => EventName::GoalConflict,
-        E::Preempted { .. } => EventName::Preempted,
-        E::ClockStarted { .. } => EventName::ClockStarted,
-        E::ModeChanged { .. } => EventName::ModeChanged,
-        E::Diagnosis { .. } => EventName::Diagnosis,
-        E::CommandIssued { .. } => EventName::CommandIssued,
-        E::Waiting { .. } => EventName::Waiting,
-        E::PlanFailed { .. } => EventName::PlanFailed,
-        E::EstimatorInconsistency { .. } => EventName::EstimatorInconsistency,
-        E::SearchCut(_) => EventName::SearchCut,
-        E::ObservationRejected { .. } => EventName::ObservationRejected,
-        E::ObservationsMissing { .. } => EventName::ObservationsMissing,
-        E::DeadlineOverrun { .. } => EventName::DeadlineOverrun,
-        E::ProgramCompleted => EventName::ProgramCompleted,
+        (name, kind) => name == EventName::of(kind),
     }
 }
 

@@ -5,6 +5,7 @@
 use serde::Deserialize;
 
 use crate::diagnostic::locate::Entries;
+use crate::executive::EventKind;
 
 /// `Scenario(...)`: a whole run.
 #[derive(Deserialize)]
@@ -217,6 +218,33 @@ pub enum EventName {
     DeadlineOverrun,
     /// The program completed.
     ProgramCompleted,
+}
+
+impl EventName {
+    /// The name of an event's kind (`Repair` is a `CommandIssued` that repairs; this says
+    /// `CommandIssued`).
+    pub fn of(kind: &EventKind) -> EventName {
+        use EventKind as E;
+        match kind {
+            E::GoalAsserted { .. } => EventName::GoalAsserted,
+            E::GoalAchieved { .. } => EventName::GoalAchieved,
+            E::GoalFailed { .. } => EventName::GoalFailed,
+            E::GoalConflict { .. } => EventName::GoalConflict,
+            E::Preempted { .. } => EventName::Preempted,
+            E::ClockStarted { .. } => EventName::ClockStarted,
+            E::ModeChanged { .. } => EventName::ModeChanged,
+            E::Diagnosis { .. } => EventName::Diagnosis,
+            E::CommandIssued { .. } => EventName::CommandIssued,
+            E::Waiting { .. } => EventName::Waiting,
+            E::PlanFailed { .. } => EventName::PlanFailed,
+            E::EstimatorInconsistency { .. } => EventName::EstimatorInconsistency,
+            E::SearchCut(_) => EventName::SearchCut,
+            E::ObservationRejected { .. } => EventName::ObservationRejected,
+            E::ObservationsMissing { .. } => EventName::ObservationsMissing,
+            E::DeadlineOverrun { .. } => EventName::DeadlineOverrun,
+            E::ProgramCompleted => EventName::ProgramCompleted,
+        }
+    }
 }
 
 /// The script parts of a scenario or script file.

@@ -133,7 +133,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
         description: file.description.clone(),
         source: source.clone(),
         plant_path: paths.0,
-        program_path: paths.1,
+        program_source: paths.1,
         entry: file.entry.clone(),
         plant,
         program,
@@ -242,7 +242,7 @@ fn read_named(ctx: &mut FileCtx, path: &[Step], dir: &Path, name: &str) -> Optio
     }
 }
 
-type Loaded = (Plant, Thca, (String, String));
+type Loaded = (Plant, Thca, (String, Source));
 
 /// Loads the plant model and links the program against it.
 fn model_and_program(
@@ -268,7 +268,7 @@ fn model_and_program(
     match rmpl::load(&program_source, &options) {
         Ok(program) => {
             let plant_path = resolve_path(dir, &file.plant).display().to_string();
-            let paths = (plant_path, program_source.name.clone());
+            let paths = (plant_path, program_source);
             Some((plant, program, paths))
         }
         Err(errors) => {

@@ -392,6 +392,7 @@ fn eventual(after: Option<f64>, by: Option<f64>) -> String {
         (None, None) => String::new(),
         (Some(a), None) => format!(" after {a} s"),
         (None, Some(b)) => format!(" by {b} s"),
+        (Some(a), Some(b)) if a == b => format!(" at {a} s"),
         (Some(a), Some(b)) => format!(" between {a} s and {b} s"),
     }
 }

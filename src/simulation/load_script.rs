@@ -29,6 +29,11 @@ pub(super) fn script(
         world: &script.world,
         classes: &classes,
         end,
+        garbled: parts
+            .iter()
+            .flat_map(|(_, part)| part.rules.iter())
+            .flat_map(|rule| rule.garble.0.iter().map(|(name, _)| name.clone()))
+            .collect(),
         names: Vec::new(),
     };
     let mut rules = Vec::new();
@@ -142,6 +147,8 @@ struct RuleLoader<'a> {
     world: &'a VarTable,
     classes: &'a VarClasses,
     end: f64,
+    /// The names some rule garbles (a `drop` may name them).
+    garbled: Vec<String>,
     /// Names declared so far, across files.
     names: Vec<String>,
 }
@@ -266,10 +273,13 @@ impl RuleLoader<'_> {
                 .filter(|&v| self.classes.is_observable(v))
             {
                 Some(var) => effect.drop.push(var),
+                None if self.garbled.contains(name) => effect.ungarble.push(name.clone()),
                 None => ctx.error(
                     &path,
-                    format!("`{name}` is not an observable of the plant model"),
-                    "an observable the plant stops reporting",
+                    format!(
+                        "`{name}` is not an observable of the plant model, nor garbled by a rule"
+                    ),
+                    "an observable the plant stops reporting, or a name a rule's `garble` reports",
                 ),
             }
         }
@@ -291,7 +301,11 @@ impl RuleLoader<'_> {
                 .garble
                 .push(NamedValue::new(name.as_str(), value.as_str()));
         }
-        if effect.set.is_empty() && effect.drop.is_empty() && effect.garble.is_empty() {
+        if effect.set.is_empty()
+            && effect.drop.is_empty()
+            && effect.ungarble.is_empty()
+            && effect.garble.is_empty()
+        {
             if ctx.errors.len() == before {
                 ctx.error(
                     &at(&[]),

@@ -53,7 +53,8 @@
 //!                                               // hidden variables, the constraint language
 //!     after: Cycles(1),                         // optional delay: Cycles(n) or Seconds(s)
 //!     set: { "engine.power": "nominal" },       // values from then on
-//!     drop: ["engine.temp"],                    // observables no longer reported (drop-out)
+//!     drop: ["engine.temp"],                    // observables no longer reported (drop-out),
+//!                                               // or garbled names no longer reported
 //!     garble: { "engine.temp": "scorching" },   // reported verbatim though the model does not
 //!                                               // know it (in place of that observable)
 //!     once: false,                              // optional: fire at most once
@@ -162,8 +163,8 @@ pub struct Scenario {
     pub source: Source,
     /// The plant model's path.
     pub plant_path: String,
-    /// The program's path.
-    pub program_path: String,
+    /// The program file (its path is its name); events' spans point into it.
+    pub program_source: Source,
     /// The entry program, when the scenario names one.
     pub entry: Option<String>,
     /// The plant model.

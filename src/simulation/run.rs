@@ -7,7 +7,9 @@ use super::Scenario;
 use super::expect::{Checker, Names, Verdict};
 use super::script::{PlantEvent, ScriptedPlant, TIME_EPSILON};
 use crate::executive::adapters::{Clock, ControlAdapter, MonitorAdapter, SimulatedClock};
-use crate::executive::{BuildError, EventKind, Executive, NamedValue, Retention, Step, StepError};
+use crate::executive::{
+    BuildError, Event, EventKind, Executive, NamedValue, Retention, Step, StepError, Timelines,
+};
 
 /// What one cycle of a run showed: for the mission log, the trace and benchmarks.
 #[derive(Debug)]
@@ -30,9 +32,12 @@ pub enum StopReason {
     Settled,
 }
 
-/// How a run went.
+/// How a run went. With the [`Scenario`] (plant, program, its source) it holds everything a
+/// picture of the run needs: the start and end times, every event and the state timelines.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunOutcome {
+    /// The time of the first cycle.
+    pub start: f64,
     /// Each expectation's verdict, in the scenario's order.
     pub verdicts: Vec<Verdict>,
     /// Cycles run.
@@ -49,6 +54,11 @@ pub struct RunOutcome {
     pub overruns: u64,
     /// The longest cycle.
     pub slowest_cycle: Duration,
+    /// Every event the executive reported, oldest first.
+    pub events: Vec<Event>,
+    /// The executive's state timelines and command and observation histories at the end
+    /// (bounded by the retention).
+    pub timelines: Timelines,
 }
 
 impl RunOutcome {
@@ -103,7 +113,9 @@ pub fn run(
         },
     );
     let mut clock = SimulatedClock::new(0.0, scenario.cycle);
-    let mut time = clock.start();
+    let start = clock.start();
+    let mut time = start;
+    let mut events = Vec::new();
     let (mut cycles, mut overruns, mut slowest) = (0, 0, Duration::ZERO);
     let mut completed = false;
     let mut last_time;
@@ -135,6 +147,7 @@ pub fn run(
             .iter()
             .filter(|e| matches!(e.kind, EventKind::DeadlineOverrun { .. }))
             .count() as u64;
+        events.extend_from_slice(&step.events);
         if time >= scenario.end - TIME_EPSILON {
             break StopReason::EndTime;
         }
@@ -147,6 +160,7 @@ pub fn run(
         }
     };
     Ok(RunOutcome {
+        start,
         verdicts: checker.finish(&plant),
         cycles,
         last_time,
@@ -155,6 +169,8 @@ pub fn run(
         wall: started.elapsed(),
         overruns,
         slowest_cycle: slowest,
+        events,
+        timelines: executive.timelines().clone(),
     })
 }
 

@@ -130,6 +130,8 @@ pub struct Effect {
     pub set: Vec<(VarId, ValueId)>,
     /// Observables to stop reporting (a sensor drop-out).
     pub drop: Vec<VarId>,
+    /// Garbled names (not observables) to stop reporting: the end of a garbled telemetry word.
+    pub ungarble: Vec<String>,
     /// Name/value pairs to report verbatim although they do not fit the model, in place of the
     /// observable of that name if there is one (a garbled telemetry word).
     pub garble: Vec<NamedValue>,
@@ -147,6 +149,11 @@ impl Effect {
             self.drop
                 .iter()
                 .map(|&x| format!("{} no longer reported", world.variable(x).name())),
+        );
+        parts.extend(
+            self.ungarble
+                .iter()
+                .map(|name| format!("{name} no longer reported")),
         );
         parts.extend(
             self.garble
@@ -352,6 +359,9 @@ impl<'s> ScriptedPlant<'s> {
             self.values[var.index()] = None;
             let name = script.world.variable(var).name();
             self.garbled.retain(|g| g.variable != name);
+        }
+        for name in &effect.ungarble {
+            self.garbled.retain(|g| &g.variable != name);
         }
         for garbled in &effect.garble {
             self.garbled.retain(|g| g.variable != garbled.variable);
