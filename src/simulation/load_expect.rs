@@ -4,8 +4,8 @@ use super::expect::{Expectation, ExpectationKind, Window};
 use super::format::{DelayFile, ExpectFile};
 use super::load::{FileCtx, VarClasses, Vars, formula};
 use super::script::{Delay, Script};
-use crate::diagnostic::Diagnostic;
 use crate::diagnostic::locate::Step;
+use crate::diagnostic::{Diagnostic, did_you_mean};
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, ModeKind, Plant};
 use crate::sequencer::Thca;
@@ -341,14 +341,16 @@ impl ExpectLoader<'_> {
                 let Some(index) = self.script.rule_named(rule) else {
                     let names: Vec<&str> =
                         self.script.rules.iter().map(|r| r.name.as_str()).collect();
-                    ctx.push(
-                        Diagnostic::new(
-                            format!("no rule named `{rule}`"),
-                            ctx.span(&field(i, "of")),
-                        )
-                        .expected("the name of a rule of the scenario or its includes")
-                        .note(format!("rules: {}", names.join(", "))),
-                    );
+                    let mut diagnostic = Diagnostic::new(
+                        format!("no rule named `{rule}`"),
+                        ctx.span(&field(i, "of")),
+                    )
+                    .expected("the name of a rule of the scenario or its includes")
+                    .note(format!("rules: {}", names.join(", ")));
+                    if let Some(close) = did_you_mean(rule, names.iter().copied()) {
+                        diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+                    }
+                    ctx.push(diagnostic);
                     return None;
                 };
                 let delay = match within {

@@ -1,0 +1,212 @@
+//! Every scenario under `scenarios/` run through `kairos run` (issue 6 items 7 and 8; DESIGN.md
+//! §11, §12): exit codes, the key lines of the mission log, and the trace.
+
+#[path = "support/cli.rs"]
+mod cli;
+
+use cli::kairos;
+
+/// The scenarios shipped, each self-checking: `kairos run` exits 0 when its expectations hold.
+const SCENARIOS: &[&str] = &[
+    "scenarios/driver_valve/nominal.ron",
+    "scenarios/driver_valve/valve_stuck.ron",
+    "scenarios/driver_valve/odd_observations.ron",
+    "scenarios/engine_camera/nominal.ron",
+    "scenarios/engine_camera/flameout.ron",
+    "scenarios/propulsion/nominal.ron",
+    "scenarios/propulsion/pde_resettable.ron",
+];
+
+/// Runs a scenario; asserts it passes and returns its log.
+fn passes(scenario: &str) -> String {
+    let (code, stdout, stderr) = kairos(&["run", scenario]);
+    assert_eq!(code, 0, "{scenario}:\n{stdout}\n{stderr}");
+    assert!(stdout.contains("\nPASS: "), "{stdout}");
+    stdout
+}
+
+#[test]
+fn every_scenario_directory_file_is_listed_and_passes() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let mut found: Vec<String> = std::fs::read_dir(format!("{root}/scenarios"))
+        .expect("scenarios/ exists")
+        .flat_map(|dir| std::fs::read_dir(dir.expect("an entry").path()).expect("a directory"))
+        .map(|f| f.expect("an entry").path())
+        .filter(|p| p.file_name().is_some_and(|n| n != "plant.ron"))
+        .map(|p| {
+            p.strip_prefix(root)
+                .expect("under the root")
+                .display()
+                .to_string()
+        })
+        .collect();
+    found.sort();
+    let mut listed: Vec<String> = SCENARIOS.iter().map(|s| s.to_string()).collect();
+    listed.sort();
+    assert_eq!(found, listed, "every scenario is run by these tests");
+    for scenario in SCENARIOS {
+        let (code, stdout, stderr) = kairos(&["run", "--quiet", scenario]);
+        assert_eq!(code, 0, "{scenario}:\n{stdout}\n{stderr}");
+        assert!(!stdout.contains("[ "), "--quiet prints no cycles: {stdout}");
+    }
+}
+
+/// Thesis §6.3.3: PDE on, engine standby, wait for heating, both valves, fire; the PDE is
+/// switched off once the goal is achieved.
+#[test]
+fn propulsion_reaches_firing_with_the_section_6_3_3_sequence() {
+    let log = passes("scenarios/propulsion/nominal.ron");
+    let commands: Vec<&str> = log
+        .lines()
+        .filter_map(|l| l.trim_start().strip_prefix("command      "))
+        .collect();
+    assert_eq!(
+        commands,
+        [
+            "PDE.cmd = on (PDE: off -> on)",
+            "PDE.cmd = engine-standby (engine: off -> heating)",
+            "PDE.cmd = open1 (valve1: closed -> open)",
+            "PDE.cmd = open2 (valve2: closed -> open)",
+            "PDE.cmd = engine-fire (engine: standby -> firing)",
+            "PDE.cmd = off (PDE: on -> off)",
+        ],
+        "{log}"
+    );
+    assert!(
+        log.contains("believed     engine: standby -> firing"),
+        "{log}"
+    );
+    // Idle cycles are not logged: 46 cycles run, a handful of blocks printed.
+    assert!(
+        log.lines().filter(|l| l.starts_with('[')).count() < 12,
+        "{log}"
+    );
+}
+
+/// Thesis §6.3, §7.2.4: a resettable PDE injected mid-sequence is diagnosed and reset, and the
+/// engine still fires; the trace shows the diagnosis event.
+#[test]
+fn propulsion_repairs_a_resettable_pde_and_the_trace_shows_the_diagnosis() {
+    let trace = std::env::temp_dir().join(format!("kairos-trace-{}.jsonl", std::process::id()));
+    let trace_arg = trace.display().to_string();
+    let (code, log, stderr) = kairos(&[
+        "run",
+        "scenarios/propulsion/pde_resettable.ron",
+        "--trace",
+        &trace_arg,
+    ]);
+    assert_eq!(code, 0, "{log}\n{stderr}");
+    assert!(log.contains("DIAGNOSIS    PDE = resettable"), "{log}");
+    assert!(log.contains("REPAIR       PDE.cmd = reset"), "{log}");
+    assert!(
+        log.contains("(FAULT)"),
+        "the injected fault is highlighted: {log}"
+    );
+    assert!(log.contains("achieved engine = firing"), "{log}");
+
+    let text = std::fs::read_to_string(&trace).expect("the trace is written");
+    let _ = std::fs::remove_file(&trace);
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("each line is JSON"))
+        .collect();
+    let cycles = log
+        .lines()
+        .find_map(|l| l.strip_prefix("run ended at "))
+        .and_then(|l| l.split(" after ").nth(1))
+        .and_then(|l| l.split(' ').next())
+        .and_then(|n| n.parse::<usize>().ok())
+        .expect("the summary gives the cycles");
+    assert_eq!(lines.len(), cycles, "one line per cycle");
+    let diagnosis = lines
+        .iter()
+        .find(|l| {
+            l["events"]
+                .as_array()
+                .is_some_and(|es| es.iter().any(|e| e["kind"] == "Diagnosis"))
+        })
+        .expect("a cycle with the diagnosis");
+    assert_eq!(diagnosis["estimate"]["PDE"], "resettable");
+    assert_eq!(diagnosis["command"][0], "PDE.cmd = reset");
+    assert_eq!(
+        lines.last().expect("cycles")["estimate"]["engine"],
+        "firing"
+    );
+}
+
+/// Issue 6 acceptance: unknown names and values, a missing observable and a contradictory
+/// observation are events, and the run continues to completion.
+#[test]
+fn odd_observations_are_events_and_the_run_completes() {
+    let log = passes("scenarios/driver_valve/odd_observations.ron");
+    for line in [
+        "rejected     valve.flow_in = \"gushing\": not a value of valve.flow_in",
+        "rejected     valve.temperature = \"hot\": no such variable in the plant model",
+        "missing      not reported: valve.flow_out",
+        "INCONSISTENT no tracked state explains the observation",
+        "completed    the program has completed",
+    ] {
+        assert!(log.contains(line), "missing `{line}` in:\n{log}");
+    }
+}
+
+/// The fault scenarios show their diagnosis within the tolerance they state.
+#[test]
+fn fault_scenarios_diagnose_their_fault() {
+    let log = passes("scenarios/driver_valve/valve_stuck.ron");
+    assert!(log.contains("DIAGNOSIS    valve = stuck-closed"), "{log}");
+    assert!(log.contains("GOAL FAILED  valve = open"), "{log}");
+    let log = passes("scenarios/engine_camera/flameout.ron");
+    assert!(log.contains("DIAGNOSIS    engine = failed"), "{log}");
+}
+
+/// DESIGN.md §11: "`kairos run SCENARIO` exits non-zero when one fails" — 1, naming each.
+#[test]
+fn a_failing_expectation_exits_1_and_is_named() {
+    let (code, stdout, stderr) = kairos(&["run", "tests/scenarios/failing_expectation.ron"]);
+    assert_eq!(code, 1, "{stdout}\n{stderr}");
+    assert!(
+        stdout.contains("  ok     program completed by 100 s"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("  FAILED never estimated engine = firing: at "),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("  FAILED commanded PDE.cmd = reset: not shown by the end"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("FAIL: 2 of 3 expectations do not hold"),
+        "{stdout}"
+    );
+    assert!(
+        stderr.contains(
+            "2 expectations failed: never estimated engine = firing; commanded PDE.cmd = reset"
+        ),
+        "{stderr}"
+    );
+}
+
+/// DESIGN.md §12: 2 on bad input, with the located message on standard error.
+#[test]
+fn bad_input_exits_2() {
+    let (code, stdout, stderr) = kairos(&["run", "tests/bad_scenarios/unknown_value.ron"]);
+    assert_eq!(code, 2);
+    assert!(stdout.is_empty(), "{stdout}");
+    assert!(stderr.contains("unknown_value.ron:8:74"), "{stderr}");
+    let (code, _, stderr) = kairos(&["run", "no/such/scenario.ron"]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("cannot read no/such/scenario.ron"),
+        "{stderr}"
+    );
+    let (code, _, stderr) = kairos(&[
+        "run",
+        "scenarios/propulsion/nominal.ron",
+        "--trace",
+        "no/such/dir/trace.jsonl",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+}
