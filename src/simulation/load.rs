@@ -443,3 +443,64 @@ pub(super) fn empty_script(plant: &Plant) -> Script {
         rules: Vec::new(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::logic::ValueId;
+    use crate::simulation::testing::engine_camera;
+
+    #[test]
+    fn paths_read_as_a_person_writes_them() {
+        let dir = Path::new("scenarios/propulsion");
+        assert_eq!(
+            resolve_path(dir, "../../models/propulsion.ron"),
+            Path::new("models/propulsion.ron")
+        );
+        assert_eq!(
+            resolve_path(dir, "./plant.ron"),
+            Path::new("scenarios/propulsion/plant.ron")
+        );
+        assert_eq!(
+            resolve_path(Path::new(""), "../x.ron"),
+            Path::new("../x.ron")
+        );
+    }
+
+    /// A scenario without `name` is named after its file; κ defaults; hidden variables start
+    /// at their first value.
+    #[test]
+    fn defaults() {
+        let scenario = engine_camera(r#"hidden: { "weather": ["calm", "storm"] }"#);
+        assert_eq!(scenario.name, "test");
+        assert_eq!(scenario.kappa, DEFAULT_KAPPA);
+        assert_eq!(scenario.deadline, None);
+        let weather = scenario.script.hidden()[0];
+        assert_eq!(scenario.script.initial(), [(weather, ValueId(0))]);
+    }
+
+    /// Numbers out of range are located errors, all of them reported together.
+    #[test]
+    fn bad_numbers_are_reported_together() {
+        let text = "Scenario(program: \"programs/engine_burn.rmpl\", \
+                    plant: \"models/engine_camera.ron\", cycle: 0.0, end: -1.0, kappa: 0, \
+                    deadline: -0.5)";
+        let errors = load_source(
+            &Source::new("bad.ron", text),
+            Path::new(env!("CARGO_MANIFEST_DIR")),
+        )
+        .expect_err("invalid")
+        .to_string();
+        for expected in [
+            "cycle period 0 is not a positive number of seconds",
+            "end time -1 is not a time",
+            "κ = 0 tracks no state",
+            "cycle deadline -0.5 is not a positive number of seconds",
+        ] {
+            assert!(
+                errors.contains(expected),
+                "missing `{expected}` in {errors}"
+            );
+        }
+    }
+}

@@ -212,3 +212,27 @@ impl fmt::Display for ScenarioErrors {
 }
 
 impl std::error::Error for ScenarioErrors {}
+
+#[cfg(test)]
+pub(crate) mod testing {
+    //! Scenarios written inline for unit tests, against the shipped models and programs.
+
+    use std::path::Path;
+
+    use super::{Scenario, load_source};
+    use crate::diagnostic::Source;
+
+    /// A scenario on the engine/camera model running `programs/engine_burn.rmpl` at a 0.05 s
+    /// cycle (the camera's picture lasts 0.1 to 0.2 s), with `rest` (fields after `end`) added.
+    pub(crate) fn engine_camera(rest: &str) -> Scenario {
+        let text = format!(
+            "Scenario(program: \"programs/engine_burn.rmpl\", plant: \"models/engine_camera.ron\", \
+             cycle: 0.05, end: 100.0, {rest})"
+        );
+        load_source(
+            &Source::new("test.ron", text),
+            Path::new(env!("CARGO_MANIFEST_DIR")),
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    }
+}

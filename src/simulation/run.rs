@@ -185,3 +185,112 @@ fn build(scenario: &Scenario, options: RunOptions) -> Result<Executive, BuildErr
     }
     builder.build()
 }
+
+#[cfg(test)]
+mod tests {
+    //! Runs of the engine/camera scenario with expectations that hold and that do not.
+
+    use super::*;
+    use crate::simulation::Outcome;
+    use crate::simulation::testing::engine_camera;
+
+    fn outcome(rest: &str) -> RunOutcome {
+        let scenario = engine_camera(&format!(
+            r#"include: ["scenarios/engine_camera/plant.ron"], {rest}"#
+        ));
+        run(&scenario, RunOptions::default(), &mut |_| {}).expect("the run goes")
+    }
+
+    fn reason(verdict: &Verdict) -> &str {
+        match &verdict.outcome {
+            Outcome::Failed { reason } => reason,
+            Outcome::Met { .. } => panic!("{} holds", verdict.label),
+        }
+    }
+
+    /// DESIGN.md §11: the run stops once nothing more can happen, and its expectations are
+    /// judged; eventual ones with the time that showed them.
+    #[test]
+    fn a_nominal_run_settles_and_its_expectations_hold() {
+        let outcome = outcome(
+            r#"expect: [Completed(by: 100.0), EstimatedAt(state: "engine = heating", time: 10.0),
+                        NeverCommanded(command: "engine.cmd = off")]"#,
+        );
+        assert!(outcome.passed(), "{:?}", outcome.verdicts);
+        assert_eq!(outcome.stop, StopReason::Settled);
+        assert!(outcome.completed);
+        assert!(
+            matches!(outcome.verdicts[1].outcome, Outcome::Met { at: Some(t) } if (t - 10.0).abs() < 1e-6)
+        );
+        assert_eq!(
+            outcome.cycles,
+            (outcome.last_time / 0.05).round() as u64 + 1
+        );
+        assert!(
+            outcome
+                .events
+                .iter()
+                .any(|e| matches!(e.kind, EventKind::ProgramCompleted))
+        );
+        assert_eq!(
+            outcome.timelines.commands().len(),
+            5,
+            "the commands are kept"
+        );
+    }
+
+    /// Failed expectations say why, with times and the estimate.
+    #[test]
+    fn failed_expectations_say_why() {
+        let outcome = outcome(
+            r#"expect: [
+                EstimatedAt(state: "engine = firing", time: 10.0),
+                CommandsInOrder(commands: ["camera.cmd = on", "engine.cmd = standby"]),
+                Estimated(state: "camera = failed"),
+                NeverEstimated(state: "engine = heating", from: 5.0),
+            ]"#,
+        );
+        assert!(!outcome.passed());
+        let reasons: Vec<&str> = outcome.verdicts.iter().map(reason).collect();
+        assert_eq!(reasons[0], "at 10.000 s ŝ had engine = heating");
+        assert_eq!(
+            reasons[1],
+            "command 1 of the sequence, at 0.000 s, was engine.cmd = standby"
+        );
+        assert!(
+            reasons[2].starts_with("not shown; at the end"),
+            "{}",
+            reasons[2]
+        );
+        assert_eq!(reasons[3], "at 5.000 s ŝ had engine = heating");
+    }
+
+    /// The run ends at the end time when the program has not completed.
+    #[test]
+    fn a_run_stops_at_its_end_time() {
+        let scenario = engine_camera(r#"include: ["scenarios/engine_camera/plant.ron"]"#);
+        let short = Scenario {
+            end: 20.5,
+            ..scenario
+        };
+        let mut seen = 0;
+        let outcome = run(&short, RunOptions::default(), &mut |_| seen += 1).expect("runs");
+        assert_eq!(outcome.stop, StopReason::EndTime);
+        assert_eq!((outcome.cycles, seen), (411, 411));
+        assert!((outcome.last_time - 20.5).abs() < 1e-6);
+        assert!(!outcome.completed);
+    }
+
+    /// A deadline no cycle can meet is reported, every cycle, and the run goes on.
+    #[test]
+    fn deadline_overruns_are_counted() {
+        let scenario = engine_camera(r#"include: ["scenarios/engine_camera/plant.ron"]"#);
+        let strict = Scenario {
+            deadline: Some(Duration::from_nanos(1)),
+            end: 5.0,
+            ..scenario
+        };
+        let outcome = run(&strict, RunOptions::default(), &mut |_| {}).expect("runs");
+        assert_eq!(outcome.overruns, outcome.cycles);
+    }
+}

@@ -483,3 +483,133 @@ impl ControlAdapter for ScriptedPlant<'_> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! The rule semantics of DESIGN.md §11 and thesis §7.2.1, on the engine/camera model.
+
+    use super::*;
+    use crate::simulation::testing::engine_camera;
+
+    const INITIAL: &str = r#"initial: { "engine.temp": "low", "engine.thrust": "zero", "camera.shutter": "closed" },"#;
+
+    fn observed<'a>(report: &'a [NamedValue], name: &str) -> Option<&'a str> {
+        report
+            .iter()
+            .find(|o| o.variable == name)
+            .map(|o| o.value.as_str())
+    }
+
+    fn fire(plant: &mut ScriptedPlant<'_>) {
+        plant
+            .send(0.0, &[NamedValue::new("engine.cmd", "fire")])
+            .expect("a control");
+    }
+
+    /// §3: an observation at t(i+1) reflects the commands of t(i); a command rule's effect
+    /// shows at the next cycle at the earliest.
+    #[test]
+    fn a_command_rule_shows_at_the_next_cycle() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} rules: [Rule(name: "fires", on: Command("engine.cmd = fire"),
+                set: {{ "engine.thrust": "nominal" }})]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        assert_eq!(observed(&plant.observe(0.0), "engine.thrust"), Some("zero"));
+        fire(&mut plant);
+        assert_eq!(plant.first_fired(0), Some((0, 0.0)));
+        assert_eq!(
+            observed(&plant.observe(1.0), "engine.thrust"),
+            Some("nominal")
+        );
+        let kinds: Vec<PlantEventKind> = plant.take_events().iter().map(|e| e.kind).collect();
+        assert_eq!(kinds, [PlantEventKind::Fired, PlantEventKind::Applied]);
+    }
+
+    /// `Seconds(s)`: the first cycle at least s after the firing; `once`: one firing only.
+    #[test]
+    fn a_delay_in_seconds_and_a_once_rule() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} rules: [Rule(name: "fires late", on: Command("engine.cmd = fire"),
+                after: Seconds(2.5), set: {{ "engine.thrust": "nominal" }}, once: true)]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        let mut seen = Vec::new();
+        for i in 0..5 {
+            let report = plant.observe(f64::from(i));
+            seen.push(observed(&report, "engine.thrust").map(str::to_string));
+            fire(&mut plant);
+        }
+        let nominal = Some("nominal".to_string());
+        assert_eq!(seen[2], Some("zero".to_string()));
+        assert_eq!(seen[3], nominal, "due at 2.5 s: shown at 3 s");
+        assert_eq!(plant.times_fired(0), 1, "a once rule fires once");
+    }
+
+    /// Estimate rules fire when ŝ comes to satisfy the formula, not on every cycle it does.
+    #[test]
+    fn an_estimate_rule_fires_on_the_rising_edge() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} rules: [Rule(name: "hot", on: Estimate("engine = heating"),
+                set: {{ "engine.temp": "nominal" }})]"#
+        ));
+        let plant_model = &scenario.plant;
+        let mode = |component: &str, name: &str| {
+            let c = plant_model.component_named(component).expect("a component");
+            plant_model.component(c).mode_named(name).expect("a mode")
+        };
+        let heating = [mode("engine", "heating"), mode("camera", "off")];
+        let off = [mode("engine", "off"), mode("camera", "off")];
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        for modes in [&off, &heating, &heating, &off, &heating] {
+            plant.observe(plant.time + 1.0);
+            plant.estimated(modes);
+        }
+        assert_eq!(plant.times_fired(0), 2);
+    }
+
+    /// Time rules wait for their condition; garbled words replace an observable's value until
+    /// it is set again, and extra garbled names last until dropped.
+    #[test]
+    fn time_rules_conditions_and_garbled_words() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} hidden: {{ "weather": ["calm", "storm"] }},
+            rules: [
+                Rule(name: "storm", on: Cycle(3), set: {{ "weather": "storm" }}),
+                Rule(name: "noise", on: Time(1.0), when: "weather = storm",
+                     garble: {{ "engine.temp": "sizzling", "engine.colour": "blue" }}),
+                Rule(name: "calm", on: Cycle(5), set: {{ "engine.temp": "low" }},
+                     drop: ["engine.colour"]),
+            ]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        let reports: Vec<Vec<NamedValue>> = (0..6).map(|i| plant.observe(f64::from(i))).collect();
+        assert_eq!(observed(&reports[2], "engine.temp"), Some("low"));
+        assert_eq!(
+            observed(&reports[3], "engine.temp"),
+            Some("sizzling"),
+            "the condition comes to hold at cycle 3 (rules fire in order)"
+        );
+        assert_eq!(observed(&reports[4], "engine.colour"), Some("blue"));
+        assert_eq!(observed(&reports[5], "engine.temp"), Some("low"));
+        assert_eq!(observed(&reports[5], "engine.colour"), None);
+        assert!(plant.is_quiet(100.0));
+    }
+
+    #[test]
+    fn a_command_for_no_control_is_refused() {
+        let scenario = engine_camera(INITIAL);
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        plant.observe(0.0);
+        assert!(
+            plant
+                .send(0.0, &[NamedValue::new("engine.temp", "low")])
+                .is_err()
+        );
+        assert!(
+            plant
+                .send(0.0, &[NamedValue::new("engine.cmd", "warp")])
+                .is_err()
+        );
+    }
+}
