@@ -1,5 +1,5 @@
-//! Output for people and tools: Graphviz DOT today; the console mission log, the JSON-lines
-//! trace and the SVG timeline join it with the executive (DESIGN.md §2, §12).
+//! Output for people and tools (DESIGN.md §2, §12): Graphviz DOT drawings, the mission log and
+//! the JSON-lines trace of `kairos run`.
 
 pub mod dot;
 pub mod log;
