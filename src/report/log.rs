@@ -171,13 +171,13 @@ impl<'a> MissionLog<'a> {
         let s = self.scenario;
         let step = record.step;
         let mut out = format!("[{:>10.3} s] #{}\n", step.time, step.cycle);
-        for event in record.plant_events {
-            // A rule that fires and takes effect at once is shown once, by its effect.
+        for (k, event) in record.plant_events.iter().enumerate() {
+            // A rule that fires and takes effect at once (its `Applied` follows its `Fired`) is
+            // shown once, by its effect.
             let immediate = event.kind == PlantEventKind::Fired
-                && record
-                    .plant_events
-                    .iter()
-                    .any(|e| e.rule == event.rule && e.kind == PlantEventKind::Applied);
+                && record.plant_events.get(k + 1).is_some_and(|next| {
+                    next.rule == event.rule && next.kind == PlantEventKind::Applied
+                });
             if immediate {
                 continue;
             }

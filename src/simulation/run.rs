@@ -1,6 +1,7 @@
 //! Running a scenario: the executive against the scripted plant, cycle by cycle, with the
 //! expectations checked as it goes.
 
+use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use super::Scenario;
@@ -54,8 +55,11 @@ pub struct RunOutcome {
     pub overruns: u64,
     /// The longest cycle.
     pub slowest_cycle: Duration,
-    /// Every event the executive reported, oldest first.
+    /// The events the executive reported, oldest first: the last [`RunOptions::events`] of
+    /// them.
     pub events: Vec<Event>,
+    /// How many older events were not kept.
+    pub events_dropped: usize,
     /// The executive's state timelines and command and observation histories at the end
     /// (bounded by the retention).
     pub timelines: Timelines,
@@ -88,10 +92,22 @@ pub enum RunError {
 }
 
 /// Options of a run beyond the scenario's.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunOptions {
     /// How much history the executive's timelines keep (default: the executive's).
     pub retention: Option<Retention>,
+    /// How many of the latest events the outcome keeps, so that a run of any length uses
+    /// bounded memory (the log and the trace see every event as it happens).
+    pub events: usize,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions {
+            retention: None,
+            events: 16384,
+        }
+    }
 }
 
 /// Runs `scenario` from time 0 to its end (or until nothing more can happen), calling `observe`
@@ -115,7 +131,8 @@ pub fn run(
     let mut clock = SimulatedClock::new(0.0, scenario.cycle);
     let start = clock.start();
     let mut time = start;
-    let mut events = Vec::new();
+    let mut events: VecDeque<Event> = VecDeque::new();
+    let mut events_dropped = 0;
     let (mut cycles, mut overruns, mut slowest) = (0, 0, Duration::ZERO);
     let mut completed = false;
     let mut last_time;
@@ -147,7 +164,11 @@ pub fn run(
             .iter()
             .filter(|e| matches!(e.kind, EventKind::DeadlineOverrun { .. }))
             .count() as u64;
-        events.extend_from_slice(&step.events);
+        events.extend(step.events.iter().cloned());
+        while events.len() > options.events {
+            events.pop_front();
+            events_dropped += 1;
+        }
         if time >= scenario.end - TIME_EPSILON {
             break StopReason::EndTime;
         }
@@ -169,7 +190,8 @@ pub fn run(
         wall: started.elapsed(),
         overruns,
         slowest_cycle: slowest,
-        events,
+        events: events.into(),
+        events_dropped,
         timelines: executive.timelines().clone(),
     })
 }
@@ -279,6 +301,23 @@ mod tests {
         assert_eq!((outcome.cycles, seen), (411, 411));
         assert!((outcome.last_time - 20.5).abs() < 1e-6);
         assert!(!outcome.completed);
+    }
+
+    /// Issue 6: a run of any length keeps bounded memory — the outcome keeps the latest events.
+    #[test]
+    fn the_outcome_keeps_the_latest_events() {
+        let scenario = engine_camera(r#"include: ["scenarios/engine_camera/plant.ron"]"#);
+        let options = RunOptions {
+            events: 3,
+            ..RunOptions::default()
+        };
+        let outcome = run(&scenario, options, &mut |_| {}).expect("runs");
+        assert_eq!(outcome.events.len(), 3);
+        assert!(outcome.events_dropped > 0);
+        assert!(matches!(
+            outcome.events.last().map(|e| &e.kind),
+            Some(EventKind::ProgramCompleted)
+        ));
     }
 
     /// A deadline no cycle can meet is reported, every cycle, and the run goes on.
