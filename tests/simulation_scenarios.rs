@@ -17,6 +17,9 @@ const SCENARIOS: &[&str] = &[
     "scenarios/propulsion/pde_resettable.ron",
 ];
 
+/// The Mars EDL scenarios: ≈ 171,600 cycles each, run by their own tests.
+const EDL_SCENARIOS: &[&str] = &["scenarios/mars_edl/nominal.ron"];
+
 /// Runs a scenario; asserts it passes and returns its log.
 fn passes(scenario: &str) -> String {
     let (code, stdout, stderr) = kairos(&["run", scenario]);
@@ -32,6 +35,7 @@ fn every_scenario_directory_file_is_listed_and_passes() {
         .expect("scenarios/ exists")
         .flat_map(|dir| std::fs::read_dir(dir.expect("an entry").path()).expect("a directory"))
         .map(|f| f.expect("an entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
         .filter(|p| p.file_name().is_some_and(|n| n != "plant.ron"))
         .map(|p| {
             p.strip_prefix(root)
@@ -41,7 +45,11 @@ fn every_scenario_directory_file_is_listed_and_passes() {
         })
         .collect();
     found.sort();
-    let mut listed: Vec<String> = SCENARIOS.iter().map(|s| s.to_string()).collect();
+    let mut listed: Vec<String> = SCENARIOS
+        .iter()
+        .chain(EDL_SCENARIOS)
+        .map(|s| s.to_string())
+        .collect();
     listed.sort();
     assert_eq!(found, listed, "every scenario is run by these tests");
     for scenario in SCENARIOS {
@@ -158,6 +166,27 @@ fn fault_scenarios_diagnose_their_fault() {
     assert!(log.contains("GOAL FAILED  valve = open"), "{log}");
     let log = passes("scenarios/engine_camera/flameout.ron");
     assert!(log.contains("DIAGNOSIS    engine = failed"), "{log}");
+}
+
+/// Thesis §7.2.2 (issue 7 item 3): the nominal EDL at a 0.1 s cycle, from engine standby to
+/// landing = success, with §6.3.3's PDE/valve sequence for the powered descent. The log stays a
+/// few hundred lines over ≈ 171,600 cycles: idle cycles and `always` goals achieved again are
+/// not news.
+#[test]
+fn the_nominal_mars_edl_lands() {
+    let log = passes("scenarios/mars_edl/nominal.ron");
+    for line in [
+        "command      PDE.cmd = engine-standby (engine: off -> heating)",
+        "command      nav.cmd = inertial (nav: earth-relative -> inertial)",
+        "command      lander.cmd = fire-primary (lander: connected -> separated)",
+        "command      chute.cmd = fire (chute: stowed -> deployed)",
+        "command      PDE.cmd = engine-fire (engine: standby -> firing)",
+        "command      landing.cmd = set-success (landing: in-progress -> success)",
+        "completed    the program has completed",
+    ] {
+        assert!(log.contains(line), "missing `{line}` in:\n{log}");
+    }
+    assert!(log.lines().count() < 400, "{log}");
 }
 
 /// DESIGN.md §11: "`kairos run SCENARIO` exits non-zero when one fails" — 1, naming each.

@@ -55,7 +55,7 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
         })?)),
         None => None,
     };
-    let log = MissionLog::new(scenario);
+    let mut log = MissionLog::new(scenario);
     let mut printing = !args.quiet && emit(&log.header())?;
     // The callback cannot return an error; the first one is kept and reported after the run.
     let mut problem: Option<Failure> = None;

@@ -17,6 +17,7 @@ use crate::diagnostic::Source;
 use crate::estimation::Fallback;
 use crate::executive::{Event, EventKind};
 use crate::plant::Plant;
+use crate::sequencer::LocationId;
 use crate::simulation::{CycleRecord, Outcome, PlantEventKind, RunOutcome, Scenario, StopReason};
 
 /// One event as a (tag, text) pair: `("command", "PDE.cmd = on: PDE: off -> on")`. The log
@@ -128,12 +129,18 @@ pub fn describe_event(
 /// Writes the mission log of one scenario run.
 pub struct MissionLog<'a> {
     scenario: &'a Scenario,
+    /// The locations whose goal was reported achieved in the last cycle: an `always` goal is
+    /// achieved again every cycle it holds, which is not news (the trace keeps every report).
+    achieved: Vec<LocationId>,
 }
 
 impl<'a> MissionLog<'a> {
     /// A log for `scenario`.
     pub fn new(scenario: &'a Scenario) -> Self {
-        MissionLog { scenario }
+        MissionLog {
+            scenario,
+            achieved: Vec::new(),
+        }
     }
 
     /// The heading: what runs, against what, how.
@@ -164,13 +171,10 @@ impl<'a> MissionLog<'a> {
     }
 
     /// The block of one cycle, or `None` when nothing notable happened in it.
-    pub fn cycle(&self, record: &CycleRecord<'_>) -> Option<String> {
-        if record.step.events.is_empty() && record.plant_events.is_empty() {
-            return None;
-        }
+    pub fn cycle(&mut self, record: &CycleRecord<'_>) -> Option<String> {
         let s = self.scenario;
         let step = record.step;
-        let mut out = format!("[{:>10.3} s] #{}\n", step.time, step.cycle);
+        let mut lines = String::new();
         for (k, event) in record.plant_events.iter().enumerate() {
             // A rule that fires and takes effect at once (its `Applied` follows its `Fired`) is
             // shown once, by its effect.
@@ -191,12 +195,20 @@ impl<'a> MissionLog<'a> {
                 ),
             };
             let fault = if rule.fault { "  (FAULT)" } else { "" };
-            let _ = writeln!(out, "  {:<12} {what}{fault}", "plant");
+            let _ = writeln!(lines, "  {:<12} {what}{fault}", "plant");
         }
+        let mut achieved = Vec::new();
         for event in &step.events {
-            let _ = writeln!(out, "  {}", self.event_line(event));
+            if let EventKind::GoalAchieved { location, .. } = event.kind {
+                achieved.push(location);
+                if self.achieved.contains(&location) {
+                    continue;
+                }
+            }
+            let _ = writeln!(lines, "  {}", self.event_line(event));
         }
-        Some(out)
+        self.achieved = achieved;
+        (!lines.is_empty()).then(|| format!("[{:>10.3} s] #{}\n{lines}", step.time, step.cycle))
     }
 
     fn event_line(&self, event: &Event) -> String {
