@@ -18,7 +18,10 @@ const SCENARIOS: &[&str] = &[
 ];
 
 /// The Mars EDL scenarios: ≈ 171,600 cycles each, run by their own tests.
-const EDL_SCENARIOS: &[&str] = &["scenarios/mars_edl/nominal.ron"];
+const EDL_SCENARIOS: &[&str] = &[
+    "scenarios/mars_edl/nominal.ron",
+    "scenarios/mars_edl/pyro_misfire.ron",
+];
 
 /// Runs a scenario; asserts it passes and returns its log.
 fn passes(scenario: &str) -> String {
@@ -187,6 +190,20 @@ fn the_nominal_mars_edl_lands() {
         assert!(log.contains(line), "missing `{line}` in:\n{log}");
     }
     assert!(log.lines().count() < 400, "{log}");
+}
+
+/// Thesis §3.3: the primary separation pyro misfires; the executive diagnoses the unsuccessful
+/// attempt and fires the backup, then lands.
+#[test]
+fn the_mars_edl_recovers_from_a_pyro_misfire() {
+    let log = passes("scenarios/mars_edl/pyro_misfire.ron");
+    for line in [
+        "DIAGNOSIS    lander = unsuccessful-attempt",
+        "REPAIR       lander.cmd = fire-backup",
+        "achieved landing = success",
+    ] {
+        assert!(log.contains(line), "missing `{line}` in:\n{log}");
+    }
 }
 
 /// DESIGN.md §11: "`kairos run SCENARIO` exits non-zero when one fails" — 1, naming each.
