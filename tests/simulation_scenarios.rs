@@ -21,6 +21,7 @@ const SCENARIOS: &[&str] = &[
 const EDL_SCENARIOS: &[&str] = &[
     "scenarios/mars_edl/nominal.ron",
     "scenarios/mars_edl/pyro_misfire.ron",
+    "scenarios/mars_edl/mars_polar_lander.ron",
 ];
 
 /// Runs a scenario; asserts it passes and returns its log.
@@ -204,6 +205,24 @@ fn the_mars_edl_recovers_from_a_pyro_misfire() {
     ] {
         assert!(log.contains(line), "missing `{line}` in:\n{log}");
     }
+}
+
+/// Thesis §1.1 (DESIGN.md §11): a touchdown-sensor spike latched at leg deployment must not shut
+/// the engine down before the 12 m trigger; the program resets the flag and lands.
+#[test]
+fn the_mars_polar_lander_spike_does_not_stop_the_engine() {
+    let log = passes("scenarios/mars_edl/mars_polar_lander.ron");
+    assert!(
+        log.contains("command      touchdown_sensor.cmd = reset"),
+        "{log}"
+    );
+    let engine_off = log
+        .find("PDE.cmd = engine-off")
+        .expect("the engine is shut down at touchdown");
+    let twelve_metres = log
+        .find("rule `12 m` takes effect")
+        .expect("the 12 m trigger");
+    assert!(twelve_metres < engine_off, "{log}");
 }
 
 /// DESIGN.md §11: "`kairos run SCENARIO` exits non-zero when one fails" — 1, naming each.
