@@ -77,3 +77,8 @@ bad_scenario!(
     "window_backwards.ron:8:67",
     "window_backwards.ron:8:88"
 );
+bad_scenario!(
+    time_after_end,
+    "time_after_end.ron:8:41",
+    "after the run ends at 100 s"
+);

@@ -15,9 +15,12 @@ const SCENARIOS: &[&str] = &[
     "scenarios/engine_camera/flameout.ron",
     "scenarios/propulsion/nominal.ron",
     "scenarios/propulsion/pde_resettable.ron",
+    "scenarios/mars_edl/pde_resettable.ron",
+    "scenarios/mars_edl/engine_stuck_heating.ron",
+    "scenarios/mars_edl/engine_power_loss.ron",
 ];
 
-/// The Mars EDL scenarios: ≈ 171,600 cycles each, run by their own tests.
+/// The whole Mars EDL scenarios: ≈ 171,600 cycles each, run by their own tests.
 const EDL_SCENARIOS: &[&str] = &[
     "scenarios/mars_edl/nominal.ron",
     "scenarios/mars_edl/pyro_misfire.ron",
@@ -169,6 +172,17 @@ fn fault_scenarios_diagnose_their_fault() {
     assert!(log.contains("DIAGNOSIS    valve = stuck-closed"), "{log}");
     assert!(log.contains("GOAL FAILED  valve = open"), "{log}");
     let log = passes("scenarios/engine_camera/flameout.ron");
+    assert!(log.contains("DIAGNOSIS    engine = failed"), "{log}");
+    // Thesis §7.2.1's fault requirements on the first minutes of the EDL.
+    let log = passes("scenarios/mars_edl/pde_resettable.ron");
+    assert!(log.contains("REPAIR       PDE.cmd = reset"), "{log}");
+    let log = passes("scenarios/mars_edl/engine_stuck_heating.ron");
+    assert!(
+        log.contains("[    60.200 s]"),
+        "diagnosed past 60 s of heating: {log}"
+    );
+    assert!(log.contains("DIAGNOSIS    engine = failed"), "{log}");
+    let log = passes("scenarios/mars_edl/engine_power_loss.ron");
     assert!(log.contains("DIAGNOSIS    engine = failed"), "{log}");
 }
 

@@ -29,6 +29,7 @@ pub(super) fn script(
         world: &script.world,
         classes: &classes,
         end,
+        own: false,
         garbled: parts
             .iter()
             .flat_map(|(_, part)| part.rules.iter())
@@ -37,7 +38,9 @@ pub(super) fn script(
         names: Vec::new(),
     };
     let mut rules = Vec::new();
-    for (ctx, part) in parts.iter_mut() {
+    let own = parts.len().saturating_sub(1);
+    for (k, (ctx, part)) in parts.iter_mut().enumerate() {
+        loader.own = k == own;
         for (i, rule) in part.rules.iter().enumerate() {
             if let Some(rule) = loader.rule(ctx, i, rule) {
                 rules.push(rule);
@@ -147,6 +150,9 @@ struct RuleLoader<'a> {
     world: &'a VarTable,
     classes: &'a VarClasses,
     end: f64,
+    /// True while reading the scenario's own rules: a time rule after the end is a mistake
+    /// there, while an included script may go on past a short scenario's end.
+    own: bool,
     /// The names some rule garbles (a `drop` may name them).
     garbled: Vec<String>,
     /// Names declared so far, across files.
@@ -215,7 +221,7 @@ impl RuleLoader<'_> {
                     );
                     return None;
                 }
-                if at > self.end {
+                if at > self.end && self.own {
                     ctx.error(
                         &inner,
                         format!(

@@ -70,7 +70,8 @@
 //!   executive's most likely mode of each component: fires when it (and the condition) comes to
 //!   hold.
 //! - `Time(16800.0)` — fires at the first cycle at or after that time at which the condition
-//!   holds; once.
+//!   holds; once. In the scenario itself a time after `end` is an error; an included script's
+//!   may lie beyond a short scenario's end, and never fire.
 //! - `Cycle(30)` — likewise at or after that cycle (numbered from 0).
 //!
 //! The effect shows after the delay, counted from the cycle the rule fired: `Cycles(n)`, or
