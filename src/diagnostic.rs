@@ -6,6 +6,8 @@
 //! `codespan-reporting` with ASCII characters and no colour, so the output is stable enough for
 //! snapshot tests and readable in any terminal or log.
 
+pub(crate) mod locate;
+
 use std::fmt;
 use std::ops::Range;
 

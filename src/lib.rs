@@ -18,3 +18,4 @@ pub mod reconfiguration;
 pub mod report;
 pub mod rmpl;
 pub mod sequencer;
+pub mod simulation;

@@ -90,6 +90,19 @@ enum Command {
     /// the reactive planner produces when every command succeeds nominally; or, with
     /// `--policies`, the causal graph and every component's concurrent policy.
     Plan(cli::plan::PlanArgs),
+    /// Run a scenario (RON; the format is documented in `src/simulation/mod.rs`): the program
+    /// against a scripted plant, printing the mission log; exit 0 when every expectation holds,
+    /// 1 when one fails, 2 on bad input.
+    Run {
+        /// The scenario file.
+        scenario: PathBuf,
+        /// Write every cycle as a line of JSON to this file (format: `src/report/trace.rs`).
+        #[arg(long)]
+        trace: Option<PathBuf>,
+        /// Print only the summary and the expectations' verdicts.
+        #[arg(long)]
+        quiet: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -119,6 +132,15 @@ fn main() -> ExitCode {
             json,
         }),
         Command::Plan(args) => cli::plan::run(&args),
+        Command::Run {
+            scenario,
+            trace,
+            quiet,
+        } => cli::run::run(&cli::run::RunArgs {
+            scenario: &scenario,
+            trace: trace.as_deref(),
+            quiet,
+        }),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -6,6 +6,7 @@ pub mod estimate;
 pub mod graph;
 pub mod output;
 pub mod plan;
+pub mod run;
 pub mod solve;
 
 use std::path::Path;

@@ -46,52 +46,18 @@
 //! Every error names the file, line and column, shows the text, says what was expected and which
 //! component and mode it concerns. Formulas are the constraint language of DESIGN.md §4.
 
-use std::fmt;
-use std::marker::PhantomData;
-
 use serde::Deserialize;
-use serde::de::{Deserializer, MapAccess, Visitor};
 
-use super::locate::{Node, Step, outline};
 use super::{
     Component, ComponentId, Control, Mode, ModeKind, Plant, Timing, Transition, TransitionLaw,
     TransitionSource, validate,
 };
-use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean, ron_error};
+use crate::diagnostic::locate::{Entries, Locator, Step};
+use crate::diagnostic::{Diagnostic, Source, SourceErrors, did_you_mean, ron_error};
 use crate::logic::{self, DeclarationError, Formula, ValueId, VarId, VarTable, is_value_name};
 
 /// Initial probabilities and outgoing sums are compared with this tolerance.
 pub(crate) const TOLERANCE: f64 = 1e-9;
-
-/// A RON map read in file order, keeping repeated keys (so duplicates can be reported).
-#[derive(Debug, Clone)]
-struct Entries<V>(Vec<(String, V)>);
-
-impl<V> Default for Entries<V> {
-    fn default() -> Self {
-        Entries(Vec::new())
-    }
-}
-
-impl<'de, V: Deserialize<'de>> Deserialize<'de> for Entries<V> {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct EntriesVisitor<V>(PhantomData<V>);
-        impl<'de, V: Deserialize<'de>> Visitor<'de> for EntriesVisitor<V> {
-            type Value = Entries<V>;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a map from names, `{ \"name\": ... }`")
-            }
-            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Entries<V>, A::Error> {
-                let mut entries = Vec::new();
-                while let Some(entry) = map.next_entry()? {
-                    entries.push(entry);
-                }
-                Ok(Entries(entries))
-            }
-        }
-        deserializer.deserialize_map(EntriesVisitor(PhantomData))
-    }
-}
 
 #[derive(Deserialize)]
 #[serde(rename = "Plant", deny_unknown_fields)]
@@ -159,32 +125,6 @@ enum TimingFile {
     Gaussian(f64, f64),
     Exponential(f64),
     Fixed(f64),
-}
-
-/// Turns paths into the file's text into spans, falling back to the nearest enclosing value the
-/// outline knows.
-pub(crate) struct Locator {
-    outline: Option<Node>,
-}
-
-impl Locator {
-    fn new(text: &str) -> Self {
-        Locator {
-            outline: outline(text),
-        }
-    }
-
-    /// The span of the value at `path` (for strings, their content), or of the closest enclosing
-    /// value found.
-    pub(crate) fn at(&self, path: &[Step]) -> Span {
-        let Some(root) = &self.outline else {
-            return 0..0;
-        };
-        (0..=path.len())
-            .rev()
-            .find_map(|n| root.find(&path[..n]).map(Node::span))
-            .unwrap_or(0..0)
-    }
 }
 
 /// Path to component `c`, then `rest`.

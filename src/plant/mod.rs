@@ -19,7 +19,6 @@
 //!   shared with mode estimation.
 
 pub mod file;
-mod locate;
 mod step;
 mod timing;
 mod validate;

@@ -4,10 +4,11 @@
 //! guards and clock values. Name, probability, window and distribution checks happen while
 //! loading ([`super::file`]).
 
-use super::file::{Locator, TOLERANCE, mode_path, transition_path};
-use super::locate::Step;
+use super::file::{TOLERANCE, mode_path, transition_path};
 use super::{Component, Plant, TransitionSource};
 use crate::diagnostic::Diagnostic;
+use crate::diagnostic::locate::Locator;
+use crate::diagnostic::locate::Step;
 use crate::logic::{Formula, ValueId};
 use crate::opsat::{Consistency, Literal, Theory};
 

@@ -1,5 +1,7 @@
-//! Output for people and tools: Graphviz DOT and the SVG timeline of a run today; the console
-//! mission log and the JSON-lines trace join them with the executive (DESIGN.md §2, §12).
+//! Output for people and tools (DESIGN.md §2, §12): Graphviz DOT drawings, the mission log and
+//! the JSON-lines trace of `kairos run`, and the SVG timeline of a run.
 
 pub mod dot;
+pub mod log;
 pub mod timeline;
+pub mod trace;

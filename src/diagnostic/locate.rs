@@ -1,13 +1,23 @@
-//! Where things are in a RON file that serde has already read.
+//! Where things are in a RON file that serde has already read, and reading RON maps in order.
 //!
-//! serde keeps no positions, and `ron` 0.12 offers no spanned values, so the loader reads the
-//! file twice: once with serde for the values, once here for an *outline* — the nesting of
-//! structs, lists, maps and scalars with their byte spans. An error about the fourth transition
-//! of the second component then points at that transition's text (a probability, a window bound,
-//! a guard) rather than at the first string that happens to look the same.
+//! serde keeps no positions, and `ron` 0.12 offers no spanned values, so loaders (plant models,
+//! scenarios) read a file twice: once with serde for the values, once here for an *outline* —
+//! the nesting of structs, lists, maps and scalars with their byte spans. An error about the
+//! fourth transition of the second component then points at that transition's text (a
+//! probability, a window bound, a guard) rather than at the first string that happens to look
+//! the same. [`Locator`] turns a path (`components[2].transitions[4].after[1]`) into a span.
 //!
 //! The outline is only built from text serde accepted, so it is a best-effort reader: anything it
 //! does not understand ends the outline early and lookups fall back to a coarser location.
+//!
+//! [`Entries`] reads a RON map in file order and keeps repeated keys, so that loaders can report
+//! a duplicate where it is written.
+
+use std::fmt;
+use std::marker::PhantomData;
+
+use serde::Deserialize;
+use serde::de::{Deserializer, MapAccess, Visitor};
 
 use crate::diagnostic::Span;
 
@@ -87,6 +97,63 @@ impl Node {
             _ => None,
         }?;
         next.find(rest)
+    }
+}
+
+/// Turns paths into the file's text into spans, falling back to the nearest enclosing value the
+/// outline knows.
+pub(crate) struct Locator {
+    outline: Option<Node>,
+}
+
+impl Locator {
+    /// Reads the outline of `text`.
+    pub(crate) fn new(text: &str) -> Self {
+        Locator {
+            outline: outline(text),
+        }
+    }
+
+    /// The span of the value at `path` (for strings, their content), or of the closest enclosing
+    /// value found.
+    pub(crate) fn at(&self, path: &[Step]) -> Span {
+        let Some(root) = &self.outline else {
+            return 0..0;
+        };
+        (0..=path.len())
+            .rev()
+            .find_map(|n| root.find(&path[..n]).map(Node::span))
+            .unwrap_or(0..0)
+    }
+}
+
+/// A RON map read in file order, keeping repeated keys (so duplicates can be reported).
+#[derive(Debug, Clone)]
+pub(crate) struct Entries<V>(pub(crate) Vec<(String, V)>);
+
+impl<V> Default for Entries<V> {
+    fn default() -> Self {
+        Entries(Vec::new())
+    }
+}
+
+impl<'de, V: Deserialize<'de>> Deserialize<'de> for Entries<V> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct EntriesVisitor<V>(PhantomData<V>);
+        impl<'de, V: Deserialize<'de>> Visitor<'de> for EntriesVisitor<V> {
+            type Value = Entries<V>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a map from names, `{ \"name\": ... }`")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Entries<V>, A::Error> {
+                let mut entries = Vec::new();
+                while let Some(entry) = map.next_entry()? {
+                    entries.push(entry);
+                }
+                Ok(Entries(entries))
+            }
+        }
+        deserializer.deserialize_map(EntriesVisitor(PhantomData))
     }
 }
 

@@ -1,0 +1,97 @@
+//! `kairos run SCENARIO [--trace FILE] [--quiet]`: run a scenario (DESIGN.md §11, §12) and print
+//! its mission log (`kairos::report::log`); exit 0 when every expectation holds, 1 when one does
+//! not (the failed ones are listed on standard error), 2 when the scenario or a file it names is
+//! bad input.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use kairos::report::log::MissionLog;
+use kairos::report::trace;
+use kairos::simulation::{self, RunError, RunOptions, RunOutcome, Scenario};
+
+use super::Failure;
+use super::output::emit;
+
+/// What to run and how to show it.
+pub struct RunArgs<'a> {
+    /// The scenario file.
+    pub scenario: &'a Path,
+    /// Where to write the JSON-lines trace.
+    pub trace: Option<&'a Path>,
+    /// Print only the summary and the verdicts, not the log of cycles.
+    pub quiet: bool,
+}
+
+/// Loads and runs the scenario; the outcome is the exit code.
+pub fn run(args: &RunArgs) -> Result<(), Failure> {
+    let scenario = simulation::load(args.scenario).map_err(Failure::bad_input)?;
+    let outcome = execute(&scenario, args)?;
+    if outcome.passed() {
+        return Ok(());
+    }
+    let failed: Vec<&str> = outcome
+        .verdicts
+        .iter()
+        .filter(|v| !v.holds())
+        .map(|v| v.label.as_str())
+        .collect();
+    Err(Failure::failed(format!(
+        "error: scenario `{}`: {} expectation{} failed: {}",
+        scenario.name,
+        failed.len(),
+        if failed.len() == 1 { "" } else { "s" },
+        failed.join("; ")
+    )))
+}
+
+/// Runs the scenario, writing the log and the trace as it goes. The returned outcome holds the
+/// timelines and events a drawing of the run needs (the seam for `--timeline`).
+fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
+    let mut trace = match args.trace {
+        Some(path) => Some(BufWriter::new(File::create(path).map_err(|e| {
+            Failure::bad_input(format!("error: cannot write {}: {e}", path.display()))
+        })?)),
+        None => None,
+    };
+    let mut log = MissionLog::new(scenario);
+    let mut printing = !args.quiet && emit(&log.header())?;
+    // The callback cannot return an error; the first one is kept and reported after the run.
+    let mut problem: Option<Failure> = None;
+    let outcome = simulation::run(scenario, RunOptions::default(), &mut |record| {
+        if printing && let Some(block) = log.cycle(record) {
+            match emit(&block) {
+                Ok(more) => printing = more,
+                Err(e) => {
+                    printing = false;
+                    problem.get_or_insert(e);
+                }
+            }
+        }
+        if let Some(writer) = trace.as_mut()
+            && let Err(e) = writeln!(writer, "{}", trace::line(scenario, record))
+        {
+            problem.get_or_insert(Failure::failed(format!(
+                "error: cannot write the trace: {e}"
+            )));
+            trace = None;
+        }
+    })
+    .map_err(|e| match e {
+        RunError::Build(_) => Failure::bad_input(format!("error: {e}")),
+        _ => Failure::failed(format!("error: {e}")),
+    })?;
+    if let Some(mut writer) = trace
+        && let Err(e) = writer.flush()
+    {
+        problem.get_or_insert(Failure::failed(format!(
+            "error: cannot write the trace: {e}"
+        )));
+    }
+    if let Some(problem) = problem {
+        return Err(problem);
+    }
+    emit(&log.summary(&outcome))?;
+    Ok(outcome)
+}

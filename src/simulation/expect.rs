@@ -1,0 +1,551 @@
+//! Expectations: what a scenario says must happen (or never happen) in its run, checked cycle by
+//! cycle as the run goes so that no history has to be kept (DESIGN.md §11: "so `kairos run
+//! SCENARIO` exits non-zero when one fails").
+//!
+//! *Eventual* expectations (`Estimated`, `Commanded`, `Diagnosed`, `Achieved`, `GoalFailed`,
+//! `Completed`, `Reported`, `EstimatedAt`) are met at the first cycle that shows them inside their
+//! window and fail if the run ends without one; *never* expectations (`NeverEstimated`,
+//! `NeverCommanded`, `NeverReported`) fail at the first cycle inside their window that shows
+//! what they exclude and hold otherwise.
+
+use super::format::EventName;
+use super::script::{Delay, ScriptedPlant, TIME_EPSILON};
+use crate::executive::{Event, EventKind, Step};
+use crate::logic::{Formula, ValueId, VarId, VarTable};
+use crate::plant::{ComponentId, Plant};
+use crate::sequencer::LocationId;
+
+/// A closed time window `[from, to]` in seconds; open ends are infinite.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Window {
+    /// Not before this time.
+    pub from: f64,
+    /// Not after this time.
+    pub to: f64,
+}
+
+impl Window {
+    /// The whole run.
+    pub const ALWAYS: Window = Window {
+        from: f64::NEG_INFINITY,
+        to: f64::INFINITY,
+    };
+
+    /// True when `time` is inside the window.
+    pub fn contains(&self, time: f64) -> bool {
+        time >= self.from - TIME_EPSILON && time <= self.to + TIME_EPSILON
+    }
+
+    /// True when `time` is past the window's end.
+    pub fn is_past(&self, time: f64) -> bool {
+        time > self.to + TIME_EPSILON
+    }
+}
+
+/// One expectation of a scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Expectation {
+    /// How the mission log names it: `engine = firing estimated by 300 s`.
+    pub label: String,
+    /// What is checked.
+    pub kind: ExpectationKind,
+}
+
+/// The kinds of [`Expectation`] (the format is documented in [`crate::simulation`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ExpectationKind {
+    /// ŝ satisfies the formula (over mode variables) at some cycle in the window.
+    Estimated {
+        /// The formula.
+        state: Formula,
+        /// When.
+        window: Window,
+    },
+    /// ŝ satisfies the formula at the first cycle at or after `time`.
+    EstimatedAt {
+        /// The formula.
+        state: Formula,
+        /// The time.
+        time: f64,
+    },
+    /// ŝ satisfies the formula at no cycle in the window.
+    NeverEstimated {
+        /// The formula.
+        state: Formula,
+        /// When.
+        window: Window,
+    },
+    /// Some cycle's command μ (idle values elsewhere) satisfies the formula over controls.
+    Commanded {
+        /// The formula.
+        command: Formula,
+        /// When.
+        window: Window,
+    },
+    /// The commands issued in the window (cycles whose μ is not all idle), in order, satisfy
+    /// these formulas one by one, and there are no more.
+    CommandsInOrder {
+        /// One formula per command.
+        commands: Vec<Formula>,
+        /// When.
+        window: Window,
+    },
+    /// No cycle's command in the window satisfies the formula.
+    NeverCommanded {
+        /// The formula.
+        command: Formula,
+        /// When.
+        window: Window,
+    },
+    /// The executive reports the diagnosis `component = mode` (the fault mode becomes most
+    /// likely) in the window and, with `within`, within that delay of the rule's first firing.
+    Diagnosed {
+        /// The component.
+        component: ComponentId,
+        /// Its fault mode.
+        mode: ValueId,
+        /// When.
+        window: Window,
+        /// At most this long after this rule (index into the script's rules) first fired.
+        within: Option<(Delay, usize)>,
+    },
+    /// A program location asserting exactly this goal (as the program writes it, shown in the
+    /// model's names) reports it achieved in the window.
+    Achieved {
+        /// The goal, displayed.
+        goal: String,
+        /// When.
+        window: Window,
+    },
+    /// Goal interpretation fails in the window, for a configuration goal containing this goal if
+    /// one is given.
+    GoalFailed {
+        /// A conjunct of the failed goal, displayed.
+        goal: Option<String>,
+        /// When.
+        window: Window,
+    },
+    /// The program completes in the window.
+    Completed {
+        /// When.
+        window: Window,
+    },
+    /// An event of this kind is reported in the window.
+    Reported {
+        /// The kind.
+        event: EventName,
+        /// When.
+        window: Window,
+    },
+    /// No event of this kind is reported in the window.
+    NeverReported {
+        /// The kind.
+        event: EventName,
+        /// When.
+        window: Window,
+    },
+}
+
+impl ExpectationKind {
+    /// True for the kinds that must be shown by some cycle (the run goes on while one is open).
+    pub fn is_eventual(&self) -> bool {
+        !matches!(
+            self,
+            ExpectationKind::NeverEstimated { .. }
+                | ExpectationKind::NeverCommanded { .. }
+                | ExpectationKind::NeverReported { .. }
+        )
+    }
+}
+
+/// How an expectation came out.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    /// It holds; for an eventual expectation, the time of the cycle that showed it.
+    Met {
+        /// When it was shown (`None` for a never-expectation that held throughout).
+        at: Option<f64>,
+    },
+    /// It does not hold.
+    Failed {
+        /// Why, with times and the estimate where that helps.
+        reason: String,
+    },
+}
+
+/// An expectation with its outcome.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Verdict {
+    /// The expectation's label.
+    pub label: String,
+    /// The outcome.
+    pub outcome: Outcome,
+}
+
+impl Verdict {
+    /// True when the expectation holds.
+    pub fn holds(&self) -> bool {
+        matches!(self.outcome, Outcome::Met { .. })
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Progress {
+    Open,
+    Met(f64),
+    Failed(String),
+}
+
+/// What the checker needs to know about the model.
+pub(crate) struct Names<'a> {
+    pub(crate) plant: &'a Plant,
+    pub(crate) world: &'a VarTable,
+    pub(crate) controls: &'a [(VarId, ValueId)],
+}
+
+/// Checks a scenario's expectations cycle by cycle.
+pub(crate) struct Checker<'a> {
+    expectations: &'a [Expectation],
+    names: Names<'a>,
+    progress: Vec<Progress>,
+    /// The goal each location asserted, as displayed in its `GoalAsserted` event.
+    goals: Vec<(LocationId, String)>,
+    /// ŝ at the last cycle seen (for failure reasons).
+    last_modes: Vec<ValueId>,
+    last_time: Option<f64>,
+    /// First diagnosis seen for each `Diagnosed` expectation outside its tolerance.
+    late: Vec<Option<f64>>,
+    /// Commands matched so far, for each `CommandsInOrder` expectation.
+    matched: Vec<usize>,
+}
+
+impl<'a> Checker<'a> {
+    pub(crate) fn new(expectations: &'a [Expectation], names: Names<'a>) -> Self {
+        Checker {
+            progress: vec![Progress::Open; expectations.len()],
+            late: vec![None; expectations.len()],
+            matched: vec![0; expectations.len()],
+            expectations,
+            names,
+            goals: Vec::new(),
+            last_modes: Vec::new(),
+            last_time: None,
+        }
+    }
+
+    /// True while an eventual expectation is still to be shown.
+    pub(crate) fn awaits_something(&self) -> bool {
+        self.expectations
+            .iter()
+            .zip(&self.progress)
+            .any(|(e, p)| e.kind.is_eventual() && *p == Progress::Open)
+    }
+
+    /// Checks one cycle.
+    pub(crate) fn observe(&mut self, step: &Step, plant: &ScriptedPlant<'_>) {
+        for event in &step.events {
+            if let EventKind::GoalAsserted { goal, location, .. } = &event.kind {
+                self.goals.retain(|(l, _)| l != location);
+                self.goals.push((*location, goal.clone()));
+            }
+        }
+        for i in 0..self.expectations.len() {
+            if let ExpectationKind::CommandsInOrder { commands, window } =
+                &self.expectations[i].kind
+            {
+                if !matches!(self.progress[i], Progress::Failed(_)) {
+                    self.progress[i] = self.check_sequence(i, commands, *window, step);
+                }
+            } else if self.progress[i] == Progress::Open {
+                self.progress[i] = self.check(i, step, plant);
+            }
+        }
+        self.last_modes.clone_from(&step.most_likely);
+        self.last_time = Some(step.time);
+    }
+
+    fn check(&mut self, i: usize, step: &Step, plant: &ScriptedPlant<'_>) -> Progress {
+        use ExpectationKind as K;
+        let t = step.time;
+        let expectation = &self.expectations[i];
+        let shown = match &expectation.kind {
+            K::Estimated { state, window } => window.contains(t) && self.estimated(state, step),
+            K::EstimatedAt { state, time } => {
+                if t < time - TIME_EPSILON {
+                    return Progress::Open;
+                }
+                if self.estimated(state, step) {
+                    return Progress::Met(t);
+                }
+                return Progress::Failed(format!(
+                    "at {} ŝ had {}",
+                    seconds(t),
+                    self.modes_of(state, &step.most_likely)
+                ));
+            }
+            K::NeverEstimated { state, window } => {
+                if window.contains(t) && self.estimated(state, step) {
+                    return Progress::Failed(format!(
+                        "at {} ŝ had {}",
+                        seconds(t),
+                        self.modes_of(state, &step.most_likely)
+                    ));
+                }
+                return Progress::Open;
+            }
+            K::Commanded { command, window } => window.contains(t) && self.commanded(command, step),
+            K::CommandsInOrder { .. } => return Progress::Open,
+            K::NeverCommanded { command, window } => {
+                if window.contains(t) && self.commanded(command, step) {
+                    return Progress::Failed(format!("commanded at {}", seconds(t)));
+                }
+                return Progress::Open;
+            }
+            K::Diagnosed {
+                component,
+                mode,
+                window,
+                within,
+            } => {
+                let diagnosed = step.events.iter().any(|e| {
+                    matches!(&e.kind, EventKind::Diagnosis { component: c, mode: m, .. }
+                        if c == component && self.names.plant.component(*c).mode_named(m) == Some(*mode))
+                });
+                if !(diagnosed && window.contains(t)) {
+                    return Progress::Open;
+                }
+                match within {
+                    None => true,
+                    Some((tolerance, rule)) => {
+                        let in_time = plant.first_fired(*rule).is_some_and(|(cycle, time)| {
+                            within_tolerance(*tolerance, cycle, time, step)
+                        });
+                        if !in_time {
+                            self.late[i].get_or_insert(t);
+                        }
+                        in_time
+                    }
+                }
+            }
+            K::Achieved { goal, window } => {
+                window.contains(t)
+                    && step.events.iter().any(|e| match &e.kind {
+                        EventKind::GoalAchieved { location, .. } => self
+                            .goals
+                            .iter()
+                            .any(|(l, text)| l == location && text == goal),
+                        _ => false,
+                    })
+            }
+            K::GoalFailed { goal, window } => {
+                window.contains(t)
+                    && step.events.iter().any(|e| match &e.kind {
+                        EventKind::GoalFailed { goal: failed, .. } => goal
+                            .as_ref()
+                            .is_none_or(|g| failed == g || failed.split(" and ").any(|c| c == g)),
+                        _ => false,
+                    })
+            }
+            K::Completed { window } => {
+                window.contains(t)
+                    && step
+                        .events
+                        .iter()
+                        .any(|e| matches!(e.kind, EventKind::ProgramCompleted))
+            }
+            K::Reported { event, window } => {
+                window.contains(t) && step.events.iter().any(|e| is(*event, e))
+            }
+            K::NeverReported { event, window } => {
+                if let Some(e) = step
+                    .events
+                    .iter()
+                    .find(|e| window.contains(t) && is(*event, e))
+                {
+                    return Progress::Failed(format!(
+                        "reported at {} ({:?})",
+                        seconds(t),
+                        EventName::of(&e.kind)
+                    ));
+                }
+                return Progress::Open;
+            }
+        };
+        if shown {
+            Progress::Met(t)
+        } else {
+            Progress::Open
+        }
+    }
+
+    /// The next command of a `CommandsInOrder` expectation.
+    fn check_sequence(
+        &mut self,
+        i: usize,
+        commands: &[Formula],
+        window: Window,
+        step: &Step,
+    ) -> Progress {
+        let so_far = std::mem::replace(&mut self.progress[i], Progress::Open);
+        if step.command.is_empty() || !window.contains(step.time) {
+            return so_far;
+        }
+        let issued = self.issued(step);
+        let Some(expected) = commands.get(self.matched[i]) else {
+            return Progress::Failed(format!(
+                "one more command at {}: {issued}",
+                seconds(step.time)
+            ));
+        };
+        if !self.commanded(expected, step) {
+            return Progress::Failed(format!(
+                "command {} of the sequence, at {}, was {issued}",
+                self.matched[i] + 1,
+                seconds(step.time)
+            ));
+        }
+        self.matched[i] += 1;
+        if self.matched[i] == commands.len() {
+            Progress::Met(step.time)
+        } else {
+            Progress::Open
+        }
+    }
+
+    /// `PDE.cmd = on, landing.cmd = set-success`: a cycle's command.
+    fn issued(&self, step: &Step) -> String {
+        let shown: Vec<String> = step
+            .command
+            .iter()
+            .map(|&(x, v)| self.names.world.assignment(x, v).to_string())
+            .collect();
+        shown.join(", ")
+    }
+
+    /// ŝ satisfies `state` (a formula over mode variables).
+    fn estimated(&self, state: &Formula, step: &Step) -> bool {
+        let plant = self.names.plant;
+        state.eval_assignment(self.names.world, &|var| {
+            mode_value(plant, var, &step.most_likely)
+        }) == Some(true)
+    }
+
+    /// μ satisfies `command` (a formula over controls; idle values for controls not commanded).
+    fn commanded(&self, command: &Formula, step: &Step) -> bool {
+        let value = |var: VarId| {
+            step.command
+                .iter()
+                .find(|(x, _)| *x == var)
+                .map(|&(_, v)| v)
+                .or_else(|| {
+                    self.names
+                        .controls
+                        .iter()
+                        .find(|(x, _)| *x == var)
+                        .map(|&(_, idle)| idle)
+                })
+        };
+        command.eval_assignment(self.names.world, &value) == Some(true)
+    }
+
+    /// `engine = heating, PDE = on`: the modes ŝ gives the components `formula` mentions.
+    fn modes_of(&self, formula: &Formula, modes: &[ValueId]) -> String {
+        let plant = self.names.plant;
+        let mut shown: Vec<String> = Vec::new();
+        for var in formula.variables() {
+            if let Some(value) = mode_value(plant, var, modes) {
+                shown.push(self.names.world.assignment(var, value).to_string());
+            }
+        }
+        shown.dedup();
+        shown.join(", ")
+    }
+
+    /// The verdicts once the run is over.
+    pub(crate) fn finish(&self, plant: &ScriptedPlant<'_>) -> Vec<Verdict> {
+        self.expectations
+            .iter()
+            .zip(&self.progress)
+            .enumerate()
+            .map(|(i, (expectation, progress))| Verdict {
+                label: expectation.label.clone(),
+                outcome: match progress {
+                    Progress::Met(t) => Outcome::Met { at: Some(*t) },
+                    Progress::Failed(reason) => Outcome::Failed {
+                        reason: reason.clone(),
+                    },
+                    Progress::Open if !expectation.kind.is_eventual() => Outcome::Met { at: None },
+                    Progress::Open => Outcome::Failed {
+                        reason: self.never_shown(i, expectation, plant),
+                    },
+                },
+            })
+            .collect()
+    }
+
+    fn never_shown(
+        &self,
+        i: usize,
+        expectation: &Expectation,
+        plant: &ScriptedPlant<'_>,
+    ) -> String {
+        use ExpectationKind as K;
+        let end = self
+            .last_time
+            .map_or_else(|| "before any cycle".to_string(), seconds);
+        match &expectation.kind {
+            K::Estimated { state, .. } => format!(
+                "not shown; at the end ({end}) ŝ had {}",
+                self.modes_of(state, &self.last_modes)
+            ),
+            K::EstimatedAt { .. } => format!("the run ended at {end}, before that time"),
+            K::CommandsInOrder { commands, .. } => format!(
+                "only {} of the {} commands were issued by the end ({end})",
+                self.matched[i],
+                commands.len()
+            ),
+            K::Diagnosed { within, .. } => match (within, self.late[i]) {
+                (Some((_, rule)), _) if plant.first_fired(*rule).is_none() => {
+                    format!("rule `{}` never fired", plant.script().rules()[*rule].name)
+                }
+                (Some(_), Some(late)) => {
+                    format!("diagnosed only at {}, later than allowed", seconds(late))
+                }
+                _ => format!("not diagnosed by the end ({end})"),
+            },
+            _ => format!("not shown by the end ({end})"),
+        }
+    }
+}
+
+/// The mode ŝ gives `var` if it is a component's mode variable.
+fn mode_value(plant: &Plant, var: VarId, modes: &[ValueId]) -> Option<ValueId> {
+    let component = plant.component_of(var)?;
+    if plant.component(component).mode_var() != var {
+        return None;
+    }
+    modes.get(component.index()).copied()
+}
+
+fn within_tolerance(tolerance: Delay, fired_cycle: u64, fired_time: f64, step: &Step) -> bool {
+    match tolerance {
+        Delay::Cycles(n) => step.cycle >= fired_cycle && step.cycle - fired_cycle <= n,
+        Delay::Seconds(s) => {
+            step.time >= fired_time - TIME_EPSILON && step.time - fired_time <= s + TIME_EPSILON
+        }
+    }
+}
+
+/// True when `event` is of the kind `name`.
+pub(crate) fn is(name: EventName, event: &Event) -> bool {
+    use EventKind as E;
+    match (name, &event.kind) {
+        (EventName::Repair, E::CommandIssued { repair, .. }) => *repair,
+        (name, kind) => name == EventName::of(kind),
+    }
+}
+
+/// `12.300 s`.
+pub(crate) fn seconds(time: f64) -> String {
+    format!("{time:.3} s")
+}

@@ -1,0 +1,275 @@
+//! The RON shapes of scenario and script files, as serde reads them (the format is documented in
+//! the module documentation of [`crate::simulation`]). Nothing here is validated; the loader
+//! turns these into a [`Scenario`](super::Scenario) and reports every problem with its location.
+
+use serde::Deserialize;
+
+use crate::diagnostic::locate::Entries;
+use crate::executive::EventKind;
+
+/// `Scenario(...)`: a whole run.
+#[derive(Deserialize)]
+#[serde(rename = "Scenario", deny_unknown_fields)]
+pub(super) struct ScenarioFile {
+    #[serde(default)]
+    pub(super) name: Option<String>,
+    #[serde(default)]
+    pub(super) description: String,
+    pub(super) program: String,
+    #[serde(default)]
+    pub(super) entry: Option<String>,
+    pub(super) plant: String,
+    pub(super) cycle: f64,
+    pub(super) end: f64,
+    #[serde(default)]
+    pub(super) kappa: Option<i64>,
+    #[serde(default)]
+    pub(super) deadline: Option<f64>,
+    #[serde(default)]
+    pub(super) include: Vec<String>,
+    #[serde(default)]
+    pub(super) hidden: Entries<Vec<String>>,
+    #[serde(default)]
+    pub(super) initial: Entries<String>,
+    #[serde(default)]
+    pub(super) rules: Vec<RuleFile>,
+    #[serde(default)]
+    pub(super) expect: Vec<ExpectFile>,
+}
+
+/// `Script(...)`: the scripted plant's hidden state, initial observations and rules, in a file
+/// of its own that scenarios include, or inline in a scenario.
+#[derive(Deserialize)]
+#[serde(rename = "Script", deny_unknown_fields)]
+pub(super) struct ScriptFile {
+    #[serde(default)]
+    pub(super) hidden: Entries<Vec<String>>,
+    #[serde(default)]
+    pub(super) initial: Entries<String>,
+    #[serde(default)]
+    pub(super) rules: Vec<RuleFile>,
+}
+
+/// `Rule(...)`.
+#[derive(Deserialize)]
+#[serde(rename = "Rule", deny_unknown_fields)]
+pub(super) struct RuleFile {
+    pub(super) name: String,
+    pub(super) on: TriggerFile,
+    #[serde(default)]
+    pub(super) when: Option<String>,
+    #[serde(default)]
+    pub(super) after: Option<DelayFile>,
+    #[serde(default)]
+    pub(super) set: Entries<String>,
+    #[serde(default)]
+    pub(super) drop: Vec<String>,
+    #[serde(default)]
+    pub(super) garble: Entries<String>,
+    #[serde(default)]
+    pub(super) once: bool,
+    #[serde(default)]
+    pub(super) fault: bool,
+}
+
+/// What makes a rule fire.
+#[derive(Deserialize)]
+pub(super) enum TriggerFile {
+    Command(String),
+    Estimate(String),
+    Time(f64),
+    Cycle(i64),
+}
+
+/// How long after firing a rule's effect shows.
+#[derive(Deserialize, Clone, Copy)]
+pub(super) enum DelayFile {
+    Cycles(i64),
+    Seconds(f64),
+}
+
+/// One expectation.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) enum ExpectFile {
+    Estimated {
+        state: String,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    EstimatedAt {
+        state: String,
+        time: f64,
+    },
+    NeverEstimated {
+        state: String,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+    Commanded {
+        command: String,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    CommandsInOrder {
+        commands: Vec<String>,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    NeverCommanded {
+        command: String,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+    Diagnosed {
+        fault: String,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+        #[serde(default)]
+        within: Option<DelayFile>,
+        #[serde(default)]
+        of: Option<String>,
+    },
+    Achieved {
+        goal: String,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    GoalFailed {
+        #[serde(default)]
+        goal: Option<String>,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    Completed {
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    Reported {
+        event: EventName,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    NeverReported {
+        event: EventName,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+}
+
+/// The kinds of executive event an expectation can name (`Reported(event: Diagnosis)`).
+#[derive(Deserialize, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventName {
+    /// A goal asserted by the program.
+    GoalAsserted,
+    /// A goal achieved.
+    GoalAchieved,
+    /// Goal interpretation failed.
+    GoalFailed,
+    /// Two goals contradicted each other.
+    GoalConflict,
+    /// A `do … watching` or `maintaining` construct was preempted.
+    Preempted,
+    /// A program clock started.
+    ClockStarted,
+    /// A component's most likely mode changed.
+    ModeChanged,
+    /// A fault mode became most likely.
+    Diagnosis,
+    /// A command was issued.
+    CommandIssued,
+    /// A command that repairs a fault was issued.
+    Repair,
+    /// The planner started waiting for a timed transition.
+    Waiting,
+    /// The reactive planner had no action.
+    PlanFailed,
+    /// No tracked state explained the observation.
+    EstimatorInconsistency,
+    /// A search budget cut estimation short.
+    SearchCut,
+    /// An observation was ignored (unknown name or value).
+    ObservationRejected,
+    /// The set of unreported observables changed.
+    ObservationsMissing,
+    /// A cycle overran its deadline.
+    DeadlineOverrun,
+    /// The program completed.
+    ProgramCompleted,
+}
+
+impl EventName {
+    /// The name of an event's kind (`Repair` is a `CommandIssued` that repairs; this says
+    /// `CommandIssued`).
+    pub fn of(kind: &EventKind) -> EventName {
+        use EventKind as E;
+        match kind {
+            E::GoalAsserted { .. } => EventName::GoalAsserted,
+            E::GoalAchieved { .. } => EventName::GoalAchieved,
+            E::GoalFailed { .. } => EventName::GoalFailed,
+            E::GoalConflict { .. } => EventName::GoalConflict,
+            E::Preempted { .. } => EventName::Preempted,
+            E::ClockStarted { .. } => EventName::ClockStarted,
+            E::ModeChanged { .. } => EventName::ModeChanged,
+            E::Diagnosis { .. } => EventName::Diagnosis,
+            E::CommandIssued { .. } => EventName::CommandIssued,
+            E::Waiting { .. } => EventName::Waiting,
+            E::PlanFailed { .. } => EventName::PlanFailed,
+            E::EstimatorInconsistency { .. } => EventName::EstimatorInconsistency,
+            E::SearchCut(_) => EventName::SearchCut,
+            E::ObservationRejected { .. } => EventName::ObservationRejected,
+            E::ObservationsMissing { .. } => EventName::ObservationsMissing,
+            E::DeadlineOverrun { .. } => EventName::DeadlineOverrun,
+            E::ProgramCompleted => EventName::ProgramCompleted,
+        }
+    }
+}
+
+/// The script parts of a scenario or script file.
+pub(super) struct ScriptParts<'a> {
+    pub(super) hidden: &'a Entries<Vec<String>>,
+    pub(super) initial: &'a Entries<String>,
+    pub(super) rules: &'a [RuleFile],
+}
+
+impl ScenarioFile {
+    pub(super) fn script(&self) -> ScriptParts<'_> {
+        ScriptParts {
+            hidden: &self.hidden,
+            initial: &self.initial,
+            rules: &self.rules,
+        }
+    }
+}
+
+impl ScriptFile {
+    pub(super) fn script(&self) -> ScriptParts<'_> {
+        ScriptParts {
+            hidden: &self.hidden,
+            initial: &self.initial,
+            rules: &self.rules,
+        }
+    }
+}

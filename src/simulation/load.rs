@@ -1,0 +1,506 @@
+//! Loading a scenario: the scenario file, the scripts it includes, the plant model and the
+//! program, each problem located in the file it is in (DESIGN.md §13).
+
+use std::path::{Component, Path, PathBuf};
+use std::time::Duration;
+
+use super::format::{ScenarioFile, ScriptFile, ScriptParts};
+use super::script::Script;
+use super::{Scenario, ScenarioErrors};
+use crate::diagnostic::locate::{Locator, Step};
+use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean, ron_error};
+use crate::logic::{self, Formula, VarId, VarTable};
+use crate::plant::Plant;
+use crate::rmpl::{self, LinkOptions};
+use crate::sequencer::Thca;
+
+/// κ when the scenario does not say.
+pub const DEFAULT_KAPPA: usize = 10;
+
+/// More cycles than this is certainly a mistake in `cycle` or `end`.
+const MAX_CYCLES: f64 = 1e9;
+
+/// One file being read: its text, its outline and the problems found in it.
+pub(super) struct FileCtx {
+    pub(super) source: Source,
+    pub(super) locate: Locator,
+    pub(super) errors: Vec<Diagnostic>,
+}
+
+impl FileCtx {
+    fn new(source: Source) -> Self {
+        FileCtx {
+            locate: Locator::new(&source.text),
+            source,
+            errors: Vec::new(),
+        }
+    }
+
+    /// Records a problem at the value at `path`.
+    pub(super) fn error(&mut self, path: &[Step], message: impl Into<String>, expected: &str) {
+        let span = self.locate.at(path);
+        self.errors
+            .push(Diagnostic::new(message, span).expected(expected));
+    }
+
+    /// Records a diagnostic built by the caller.
+    pub(super) fn push(&mut self, diagnostic: Diagnostic) {
+        self.errors.push(diagnostic);
+    }
+
+    /// The span of the value at `path`.
+    pub(super) fn span(&self, path: &[Step]) -> Span {
+        self.locate.at(path)
+    }
+
+    fn finish(self, all: &mut Vec<SourceErrors>) {
+        if !self.errors.is_empty() {
+            all.push(SourceErrors::new(self.source, self.errors));
+        }
+    }
+}
+
+/// Which variables a formula may mention.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Vars {
+    /// The plant's controls (command triggers and expectations).
+    Controls,
+    /// Component mode variables (estimate triggers and expectations: ŝ assigns modes only).
+    Modes,
+    /// Observables and hidden variables (rule conditions: what the scripted plant holds).
+    Held,
+    /// Any plant variable (goals).
+    Plant,
+}
+
+/// Reads the scenario at `path`.
+pub fn load(path: &Path) -> Result<Scenario, ScenarioErrors> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        ScenarioErrors::Unreadable(format!("error: cannot read {}: {e}", path.display()))
+    })?;
+    let source = Source::new(path.display().to_string(), text);
+    let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    load_source(&source, &dir)
+}
+
+/// Reads a scenario from its text; relative paths in it are relative to `dir`.
+pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErrors> {
+    let options =
+        ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let file: ScenarioFile = options.from_str(&source.text).map_err(|e| {
+        ScenarioErrors::Invalid(vec![SourceErrors::new(
+            source.clone(),
+            vec![ron_error(source, &e)],
+        )])
+    })?;
+    let mut all = Vec::new();
+    let mut ctx = FileCtx::new(source.clone());
+    let settings = settings(&mut ctx, &file);
+    let Some((plant, program, paths)) = model_and_program(&mut ctx, &file, dir, &mut all) else {
+        ctx.finish(&mut all);
+        return Err(ScenarioErrors::Invalid(all));
+    };
+    let mut includes = read_includes(&mut ctx, &file, dir, &mut all);
+    let mut parts: Vec<(&mut FileCtx, ScriptParts<'_>)> = includes
+        .iter_mut()
+        .map(|(ctx, script)| (ctx, script.script()))
+        .collect();
+    parts.push((&mut ctx, file.script()));
+    let script = super::load_script::script(&plant, &mut parts, settings.end);
+    drop(parts);
+    let expectations = super::load_expect::expectations(
+        &mut ctx,
+        &file.expect,
+        &plant,
+        &program,
+        &script,
+        settings.end,
+    );
+    for (include, _) in includes {
+        include.finish(&mut all);
+    }
+    ctx.finish(&mut all);
+    if !all.is_empty() {
+        return Err(ScenarioErrors::Invalid(all));
+    }
+    let name = file.name.clone().unwrap_or_else(|| {
+        Path::new(&source.name)
+            .file_stem()
+            .map_or_else(|| source.name.clone(), |s| s.to_string_lossy().to_string())
+    });
+    Ok(Scenario {
+        name,
+        description: file.description.clone(),
+        source: source.clone(),
+        plant_path: paths.0,
+        program_source: paths.1,
+        entry: file.entry.clone(),
+        plant,
+        program,
+        cycle: settings.cycle,
+        end: settings.end,
+        kappa: settings.kappa,
+        deadline: settings.deadline,
+        script,
+        expectations,
+    })
+}
+
+/// The run's numbers, checked.
+struct Settings {
+    cycle: f64,
+    end: f64,
+    kappa: usize,
+    deadline: Option<Duration>,
+}
+
+fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
+    let mut cycle = file.cycle;
+    if !(cycle.is_finite() && cycle > 0.0) {
+        ctx.error(
+            &[Step::Field("cycle")],
+            format!("cycle period {cycle} is not a positive number of seconds"),
+            "a period in seconds greater than 0, such as 0.1",
+        );
+        cycle = 1.0;
+    }
+    let mut end = file.end;
+    if !(end.is_finite() && end >= 0.0) {
+        ctx.error(
+            &[Step::Field("end")],
+            format!("end time {end} is not a time"),
+            "the time the run stops, in seconds (0 or more)",
+        );
+        end = 0.0;
+    } else if end / cycle > MAX_CYCLES {
+        ctx.error(
+            &[Step::Field("end")],
+            format!("{end} s at {cycle} s per cycle is more than {MAX_CYCLES:e} cycles",),
+            "an end time and a cycle period giving at most a billion cycles",
+        );
+    }
+    let kappa = match file.kappa {
+        None => DEFAULT_KAPPA,
+        Some(k) if k >= 1 => usize::try_from(k).unwrap_or(usize::MAX),
+        Some(k) => {
+            ctx.error(
+                &[Step::Field("kappa")],
+                format!("κ = {k} tracks no state"),
+                "the number of system states mode estimation tracks, at least 1",
+            );
+            DEFAULT_KAPPA
+        }
+    };
+    let deadline = file.deadline.and_then(|d| {
+        let valid = d.is_finite() && d > 0.0;
+        if !valid {
+            ctx.error(
+                &[Step::Field("deadline")],
+                format!("cycle deadline {d} is not a positive number of seconds"),
+                "a wall-time budget per cycle in seconds, such as 0.05",
+            );
+        }
+        valid.then(|| Duration::from_secs_f64(d))
+    });
+    Settings {
+        cycle,
+        end,
+        kappa,
+        deadline,
+    }
+}
+
+/// `dir/relative` with `.` and `name/..` removed, so file names read well in messages.
+pub(crate) fn resolve_path(dir: &Path, relative: &str) -> PathBuf {
+    let joined = dir.join(relative);
+    let mut out: Vec<Component> = Vec::new();
+    for part in joined.components() {
+        match part {
+            Component::CurDir => {}
+            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out.iter().collect()
+}
+
+/// Reads a file named at `path` in the scenario; an unreadable file is an error there.
+fn read_named(ctx: &mut FileCtx, path: &[Step], dir: &Path, name: &str) -> Option<Source> {
+    let resolved = resolve_path(dir, name);
+    match std::fs::read_to_string(&resolved) {
+        Ok(text) => Some(Source::new(resolved.display().to_string(), text)),
+        Err(e) => {
+            ctx.error(
+                path,
+                format!("cannot read `{}`: {e}", resolved.display()),
+                "a path relative to the scenario file",
+            );
+            None
+        }
+    }
+}
+
+type Loaded = (Plant, Thca, (String, Source));
+
+/// Loads the plant model and links the program against it.
+fn model_and_program(
+    ctx: &mut FileCtx,
+    file: &ScenarioFile,
+    dir: &Path,
+    all: &mut Vec<SourceErrors>,
+) -> Option<Loaded> {
+    let plant_source = read_named(ctx, &[Step::Field("plant")], dir, &file.plant);
+    let program_source = read_named(ctx, &[Step::Field("program")], dir, &file.program);
+    let plant = match Plant::load(&plant_source?) {
+        Ok(plant) => plant,
+        Err(errors) => {
+            all.push(errors);
+            return None;
+        }
+    };
+    let program_source = program_source?;
+    let options = LinkOptions {
+        entry: file.entry.as_deref(),
+        plant: Some(plant.table()),
+    };
+    match rmpl::load(&program_source, &options) {
+        Ok(program) => {
+            let plant_path = resolve_path(dir, &file.plant).display().to_string();
+            let paths = (plant_path, program_source);
+            Some((plant, program, paths))
+        }
+        Err(errors) => {
+            all.push(errors);
+            None
+        }
+    }
+}
+
+/// Reads the included scripts (errors in them are theirs).
+fn read_includes(
+    ctx: &mut FileCtx,
+    file: &ScenarioFile,
+    dir: &Path,
+    all: &mut Vec<SourceErrors>,
+) -> Vec<(FileCtx, ScriptFile)> {
+    let options =
+        ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let mut out = Vec::new();
+    for (i, name) in file.include.iter().enumerate() {
+        let path = [Step::Field("include"), Step::Index(i)];
+        let Some(source) = read_named(ctx, &path, dir, name) else {
+            continue;
+        };
+        match options.from_str::<ScriptFile>(&source.text) {
+            Ok(script) => out.push((FileCtx::new(source), script)),
+            Err(e) => {
+                let diagnostic = ron_error(&source, &e);
+                all.push(SourceErrors::new(source, vec![diagnostic]));
+            }
+        }
+    }
+    out
+}
+
+/// Parses and resolves the formula written at `path` of `ctx`'s file and checks which
+/// variables it mentions; `None` (errors recorded) when it does not fit.
+pub(super) fn formula(
+    ctx: &mut FileCtx,
+    path: &[Step],
+    text: &str,
+    table: &VarTable,
+    allowed: Vars,
+    classes: &VarClasses,
+) -> Option<Formula> {
+    let offset = ctx.span(path).start;
+    let resolved = logic::syntax::parse_at(text, offset)
+        .map_err(|d| vec![d])
+        .and_then(|expr| logic::resolve(&expr, table));
+    let formula = match resolved {
+        Ok(formula) => formula,
+        Err(diagnostics) => {
+            diagnostics.into_iter().for_each(|d| ctx.push(d));
+            return None;
+        }
+    };
+    let span = offset..offset + text.len();
+    if formula.has_external_atoms() {
+        ctx.push(
+            Diagnostic::new(
+                "a clock or a confidence `P(...)` cannot be tested here",
+                span,
+            )
+            .expected(allowed.expected()),
+        );
+        return None;
+    }
+    let wrong: Vec<VarId> = formula
+        .variables()
+        .into_iter()
+        .filter(|&v| !classes.allows(allowed, v))
+        .collect();
+    if let Some(&var) = wrong.first() {
+        let name = table.variable(var).name();
+        let mut diagnostic =
+            Diagnostic::new(format!("`{name}` is {}", classes.describe(var)), span)
+                .expected(allowed.expected());
+        let known = classes.names(allowed, table);
+        if let Some(close) = did_you_mean(name, known.iter().map(String::as_str)) {
+            diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+        }
+        ctx.push(diagnostic);
+        return None;
+    }
+    Some(formula)
+}
+
+impl Vars {
+    fn expected(self) -> &'static str {
+        match self {
+            Vars::Controls => "a formula over the plant's controls (the commands it accepts)",
+            Vars::Modes => "a formula over component modes (`engine = firing`): ŝ assigns modes",
+            Vars::Held => {
+                "a formula over the plant's observables and the script's hidden variables"
+            }
+            Vars::Plant => "a formula over the plant's variables",
+        }
+    }
+}
+
+/// What each variable of the scenario's world is.
+pub(super) struct VarClasses {
+    controls: Vec<VarId>,
+    modes: Vec<VarId>,
+    observables: Vec<VarId>,
+    hidden: Vec<VarId>,
+    plant_vars: usize,
+}
+
+impl VarClasses {
+    pub(super) fn new(plant: &Plant, hidden: Vec<VarId>) -> Self {
+        VarClasses {
+            controls: plant.controls().iter().map(|c| c.var).collect(),
+            modes: plant.components().iter().map(|c| c.mode_var()).collect(),
+            observables: plant.observables().to_vec(),
+            hidden,
+            plant_vars: plant.table().len(),
+        }
+    }
+
+    fn allows(&self, allowed: Vars, var: VarId) -> bool {
+        match allowed {
+            Vars::Controls => self.controls.contains(&var),
+            Vars::Modes => self.modes.contains(&var),
+            Vars::Held => self.observables.contains(&var) || self.hidden.contains(&var),
+            Vars::Plant => var.index() < self.plant_vars,
+        }
+    }
+
+    fn describe(&self, var: VarId) -> &'static str {
+        if self.controls.contains(&var) {
+            "a control (a command the executive sends)"
+        } else if self.modes.contains(&var) {
+            "a component's mode, which the plant does not report (its observables show it)"
+        } else if self.observables.contains(&var) {
+            "an observable (test it in a rule's `when`)"
+        } else if self.hidden.contains(&var) {
+            "a hidden variable of the script"
+        } else {
+            "an attribute the plant does not report (not an observable)"
+        }
+    }
+
+    fn names(&self, allowed: Vars, table: &VarTable) -> Vec<String> {
+        table
+            .variables()
+            .filter(|(id, _)| self.allows(allowed, *id))
+            .map(|(_, v)| v.name().to_string())
+            .collect()
+    }
+
+    /// True for observables.
+    pub(super) fn is_observable(&self, var: VarId) -> bool {
+        self.observables.contains(&var)
+    }
+
+    /// True for hidden variables.
+    pub(super) fn is_hidden(&self, var: VarId) -> bool {
+        self.hidden.contains(&var)
+    }
+}
+
+/// Makes an empty script for a plant (used before anything is declared).
+pub(super) fn empty_script(plant: &Plant) -> Script {
+    Script {
+        world: plant.table().clone(),
+        observables: plant.observables().to_vec(),
+        controls: plant.controls().iter().map(|c| (c.var, c.idle)).collect(),
+        modes: plant.components().iter().map(|c| c.mode_var()).collect(),
+        hidden: Vec::new(),
+        initial: Vec::new(),
+        rules: Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::logic::ValueId;
+    use crate::simulation::testing::engine_camera;
+
+    #[test]
+    fn paths_read_as_a_person_writes_them() {
+        let dir = Path::new("scenarios/propulsion");
+        assert_eq!(
+            resolve_path(dir, "../../models/propulsion.ron"),
+            Path::new("models/propulsion.ron")
+        );
+        assert_eq!(
+            resolve_path(dir, "./plant.ron"),
+            Path::new("scenarios/propulsion/plant.ron")
+        );
+        assert_eq!(
+            resolve_path(Path::new(""), "../x.ron"),
+            Path::new("../x.ron")
+        );
+    }
+
+    /// A scenario without `name` is named after its file; κ defaults; hidden variables start
+    /// at their first value.
+    #[test]
+    fn defaults() {
+        let scenario = engine_camera(r#"hidden: { "weather": ["calm", "storm"] }"#);
+        assert_eq!(scenario.name, "test");
+        assert_eq!(scenario.kappa, DEFAULT_KAPPA);
+        assert_eq!(scenario.deadline, None);
+        let weather = scenario.script.hidden()[0];
+        assert_eq!(scenario.script.initial(), [(weather, ValueId(0))]);
+    }
+
+    /// Numbers out of range are located errors, all of them reported together.
+    #[test]
+    fn bad_numbers_are_reported_together() {
+        let text = "Scenario(program: \"programs/engine_burn.rmpl\", \
+                    plant: \"models/engine_camera.ron\", cycle: 0.0, end: -1.0, kappa: 0, \
+                    deadline: -0.5)";
+        let errors = load_source(
+            &Source::new("bad.ron", text),
+            Path::new(env!("CARGO_MANIFEST_DIR")),
+        )
+        .expect_err("invalid")
+        .to_string();
+        for expected in [
+            "cycle period 0 is not a positive number of seconds",
+            "end time -1 is not a time",
+            "κ = 0 tracks no state",
+            "cycle deadline -0.5 is not a positive number of seconds",
+        ] {
+            assert!(
+                errors.contains(expected),
+                "missing `{expected}` in {errors}"
+            );
+        }
+    }
+}

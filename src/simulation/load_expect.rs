@@ -1,0 +1,417 @@
+//! Loading a scenario's expectations, each problem located in the scenario file.
+
+use super::expect::{Expectation, ExpectationKind, Window};
+use super::format::{DelayFile, ExpectFile};
+use super::load::{FileCtx, VarClasses, Vars, formula};
+use super::script::{Delay, Script};
+use crate::diagnostic::locate::Step;
+use crate::diagnostic::{Diagnostic, did_you_mean};
+use crate::logic::{Formula, ValueId};
+use crate::plant::{ComponentId, ModeKind, Plant};
+use crate::sequencer::Thca;
+
+/// Every expectation of the scenario that is valid; errors are recorded in `ctx`.
+pub(super) fn expectations(
+    ctx: &mut FileCtx,
+    files: &[ExpectFile],
+    plant: &Plant,
+    program: &Thca,
+    script: &Script,
+    end: f64,
+) -> Vec<Expectation> {
+    let loader = ExpectLoader {
+        plant,
+        script,
+        classes: VarClasses::new(plant, script.hidden.clone()),
+        goals: program_goals(plant, program),
+        end,
+    };
+    files
+        .iter()
+        .enumerate()
+        .filter_map(|(i, file)| loader.expectation(ctx, i, file))
+        .collect()
+}
+
+/// The goals the program's locations assert, displayed as the executive reports them.
+fn program_goals(plant: &Plant, program: &Thca) -> Vec<String> {
+    let mut goals: Vec<String> = program
+        .locations()
+        .iter()
+        .filter_map(|l| l.goal())
+        .map(|g| {
+            program
+                .formula(g.formula)
+                .display(plant.table())
+                .to_string()
+        })
+        .collect();
+    goals.dedup();
+    goals
+}
+
+struct ExpectLoader<'a> {
+    plant: &'a Plant,
+    script: &'a Script,
+    classes: VarClasses,
+    goals: Vec<String>,
+    end: f64,
+}
+
+/// The path to a field of expectation `i`.
+fn field(i: usize, name: &str) -> Vec<Step<'_>> {
+    vec![Step::Field("expect"), Step::Index(i), Step::Field(name)]
+}
+
+impl ExpectLoader<'_> {
+    fn expectation(&self, ctx: &mut FileCtx, i: usize, file: &ExpectFile) -> Option<Expectation> {
+        use ExpectFile as F;
+        use ExpectationKind as K;
+        let (kind, label) = match file {
+            F::Estimated { state, after, by } => (
+                K::Estimated {
+                    state: self.formula(ctx, i, "state", state, Vars::Modes)?,
+                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                },
+                format!("estimated {state}{}", eventual(*after, *by)),
+            ),
+            F::EstimatedAt { state, time } => (
+                K::EstimatedAt {
+                    state: self.formula(ctx, i, "state", state, Vars::Modes)?,
+                    time: self.time(ctx, i, "time", *time)?,
+                },
+                format!("estimated {state} at {time} s"),
+            ),
+            F::NeverEstimated { state, from, to } => (
+                K::NeverEstimated {
+                    state: self.formula(ctx, i, "state", state, Vars::Modes)?,
+                    window: self.window(ctx, i, ("from", *from), ("to", *to))?,
+                },
+                format!("never estimated {state}{}", during(*from, *to)),
+            ),
+            F::Commanded { command, after, by } => (
+                K::Commanded {
+                    command: self.formula(ctx, i, "command", command, Vars::Controls)?,
+                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                },
+                format!("commanded {command}{}", eventual(*after, *by)),
+            ),
+            F::CommandsInOrder {
+                commands,
+                after,
+                by,
+            } => {
+                let formulas: Vec<Option<Formula>> = commands
+                    .iter()
+                    .enumerate()
+                    .map(|(k, text)| {
+                        let mut path = field(i, "commands");
+                        path.push(Step::Index(k));
+                        formula(
+                            ctx,
+                            &path,
+                            text,
+                            &self.script.world,
+                            Vars::Controls,
+                            &self.classes,
+                        )
+                    })
+                    .collect();
+                (
+                    K::CommandsInOrder {
+                        commands: formulas.into_iter().collect::<Option<Vec<_>>>()?,
+                        window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                    },
+                    format!(
+                        "commands in order: {}{}",
+                        commands.join("; "),
+                        eventual(*after, *by)
+                    ),
+                )
+            }
+            F::NeverCommanded { command, from, to } => (
+                K::NeverCommanded {
+                    command: self.formula(ctx, i, "command", command, Vars::Controls)?,
+                    window: self.window(ctx, i, ("from", *from), ("to", *to))?,
+                },
+                format!("never commanded {command}{}", during(*from, *to)),
+            ),
+            F::Diagnosed {
+                fault,
+                after,
+                by,
+                within,
+                of,
+            } => {
+                let (component, mode) = self.fault(ctx, i, fault)?;
+                let within = self.tolerance(ctx, i, *within, of.as_deref())?;
+                let label = match (within, of) {
+                    (Some((delay, _)), Some(rule)) => {
+                        format!("diagnosed {fault} within {} of rule `{rule}`", show(delay))
+                    }
+                    _ => format!("diagnosed {fault}{}", eventual(*after, *by)),
+                };
+                (
+                    K::Diagnosed {
+                        component,
+                        mode,
+                        window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                        within,
+                    },
+                    label,
+                )
+            }
+            F::Achieved { goal, after, by } => (
+                K::Achieved {
+                    goal: self.goal(ctx, i, goal)?,
+                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                },
+                format!("achieved {goal}{}", eventual(*after, *by)),
+            ),
+            F::GoalFailed { goal, after, by } => {
+                let displayed = match goal {
+                    Some(goal) => Some(self.goal(ctx, i, goal)?),
+                    None => None,
+                };
+                let what = goal
+                    .as_deref()
+                    .map_or("a goal".to_string(), |g| format!("goal {g}"));
+                (
+                    K::GoalFailed {
+                        goal: displayed,
+                        window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                    },
+                    format!("{what} failed{}", eventual(*after, *by)),
+                )
+            }
+            F::Completed { after, by } => (
+                K::Completed {
+                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                },
+                format!("program completed{}", eventual(*after, *by)),
+            ),
+            F::Reported { event, after, by } => (
+                K::Reported {
+                    event: *event,
+                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                },
+                format!("reported {event:?}{}", eventual(*after, *by)),
+            ),
+            F::NeverReported { event, from, to } => (
+                K::NeverReported {
+                    event: *event,
+                    window: self.window(ctx, i, ("from", *from), ("to", *to))?,
+                },
+                format!("never reported {event:?}{}", during(*from, *to)),
+            ),
+        };
+        Some(Expectation { label, kind })
+    }
+
+    fn formula(
+        &self,
+        ctx: &mut FileCtx,
+        i: usize,
+        name: &str,
+        text: &str,
+        vars: Vars,
+    ) -> Option<Formula> {
+        formula(
+            ctx,
+            &field(i, name),
+            text,
+            &self.script.world,
+            vars,
+            &self.classes,
+        )
+    }
+
+    fn time(&self, ctx: &mut FileCtx, i: usize, name: &str, time: f64) -> Option<f64> {
+        if !(time.is_finite() && time >= 0.0) {
+            ctx.error(
+                &field(i, name),
+                format!("{time} is not a time"),
+                "seconds, 0 or more",
+            );
+            return None;
+        }
+        if time > self.end {
+            ctx.error(
+                &field(i, name),
+                format!("{time} s is after the run ends at {} s", self.end),
+                "a time within the run",
+            );
+            return None;
+        }
+        Some(time)
+    }
+
+    fn window(
+        &self,
+        ctx: &mut FileCtx,
+        i: usize,
+        (from_name, from): (&str, Option<f64>),
+        (to_name, to): (&str, Option<f64>),
+    ) -> Option<Window> {
+        let from = match from {
+            Some(t) => self.time(ctx, i, from_name, t)?,
+            None => f64::NEG_INFINITY,
+        };
+        let to = match to {
+            Some(t) => self.time(ctx, i, to_name, t)?,
+            None => f64::INFINITY,
+        };
+        if from > to {
+            ctx.error(
+                &field(i, to_name),
+                format!("`{to_name}` ({to} s) is before `{from_name}` ({from} s)"),
+                "a window whose end is not before its start",
+            );
+            return None;
+        }
+        Some(Window { from, to })
+    }
+
+    /// `component = fault-mode`.
+    fn fault(&self, ctx: &mut FileCtx, i: usize, text: &str) -> Option<(ComponentId, ValueId)> {
+        let formula = self.formula(ctx, i, "fault", text, Vars::Modes)?;
+        let assignment = formula
+            .as_assignments()
+            .filter(|a| a.len() == 1)
+            .and_then(|a| a.first().copied());
+        let span = ctx.span(&field(i, "fault"));
+        let Some((var, value)) = assignment else {
+            ctx.push(
+                Diagnostic::new(format!("`{text}` is not one component's mode"), span)
+                    .expected("`component = fault-mode`, such as `PDE = resettable`"),
+            );
+            return None;
+        };
+        let component = self.plant.component_of(var)?;
+        let mode = self.plant.component(component).mode(value);
+        if mode.kind != ModeKind::Fault {
+            let faults: Vec<&str> = self
+                .plant
+                .component(component)
+                .modes()
+                .iter()
+                .filter(|m| m.kind == ModeKind::Fault)
+                .map(|m| m.name.as_str())
+                .collect();
+            ctx.push(
+                Diagnostic::new(format!("`{}` is a nominal mode", mode.name), span)
+                    .expected(format!(
+                        "a fault mode of `{}`",
+                        self.plant.component(component).name()
+                    ))
+                    .note(format!("its fault modes: {}", faults.join(", "))),
+            );
+            return None;
+        }
+        Some((component, value))
+    }
+
+    /// `within` and `of` go together; `of` names a rule.
+    fn tolerance(
+        &self,
+        ctx: &mut FileCtx,
+        i: usize,
+        within: Option<DelayFile>,
+        of: Option<&str>,
+    ) -> Option<Option<(Delay, usize)>> {
+        match (within, of) {
+            (None, None) => Some(None),
+            (Some(_), None) => {
+                ctx.error(
+                    &field(i, "within"),
+                    "`within` needs `of`, the rule that injects the fault",
+                    "`of: \"rule name\"` next to `within`",
+                );
+                None
+            }
+            (None, Some(_)) => {
+                ctx.error(
+                    &field(i, "of"),
+                    "`of` needs `within`, how soon after the rule fires",
+                    "`within: Cycles(n)` or `within: Seconds(s)` next to `of`",
+                );
+                None
+            }
+            (Some(within), Some(rule)) => {
+                let Some(index) = self.script.rule_named(rule) else {
+                    let names: Vec<&str> =
+                        self.script.rules.iter().map(|r| r.name.as_str()).collect();
+                    let mut diagnostic = Diagnostic::new(
+                        format!("no rule named `{rule}`"),
+                        ctx.span(&field(i, "of")),
+                    )
+                    .expected("the name of a rule of the scenario or its includes")
+                    .note(format!("rules: {}", names.join(", ")));
+                    if let Some(close) = did_you_mean(rule, names.iter().copied()) {
+                        diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+                    }
+                    ctx.push(diagnostic);
+                    return None;
+                };
+                let delay = match within {
+                    DelayFile::Cycles(n) if n >= 0 => Delay::Cycles(n.unsigned_abs()),
+                    DelayFile::Seconds(s) if s.is_finite() && s >= 0.0 => Delay::Seconds(s),
+                    _ => {
+                        ctx.error(
+                            &field(i, "within"),
+                            "not a tolerance",
+                            "0 or more cycles or seconds",
+                        );
+                        return None;
+                    }
+                };
+                Some(Some((delay, index)))
+            }
+        }
+    }
+
+    /// A goal the program asserts, displayed as the executive reports it.
+    fn goal(&self, ctx: &mut FileCtx, i: usize, text: &str) -> Option<String> {
+        let formula = self.formula(ctx, i, "goal", text, Vars::Plant)?;
+        let displayed = formula.display(self.plant.table()).to_string();
+        if self.goals.contains(&displayed) {
+            return Some(displayed);
+        }
+        ctx.push(
+            Diagnostic::new(
+                format!("the program asserts no goal `{displayed}`"),
+                ctx.span(&field(i, "goal")),
+            )
+            .expected("a goal written in the program")
+            .note(format!("its goals: {}", self.goals.join("; "))),
+        );
+        None
+    }
+}
+
+fn eventual(after: Option<f64>, by: Option<f64>) -> String {
+    match (after, by) {
+        (None, None) => String::new(),
+        (Some(a), None) => format!(" after {a} s"),
+        (None, Some(b)) => format!(" by {b} s"),
+        (Some(a), Some(b)) if a == b => format!(" at {a} s"),
+        (Some(a), Some(b)) => format!(" between {a} s and {b} s"),
+    }
+}
+
+fn during(from: Option<f64>, to: Option<f64>) -> String {
+    match (from, to) {
+        (None, None) => String::new(),
+        (Some(a), None) => format!(" from {a} s"),
+        (None, Some(b)) => format!(" until {b} s"),
+        (Some(a), Some(b)) => format!(" from {a} s to {b} s"),
+    }
+}
+
+fn show(delay: Delay) -> String {
+    match delay {
+        Delay::Cycles(1) => "1 cycle".to_string(),
+        Delay::Cycles(n) => format!("{n} cycles"),
+        Delay::Seconds(s) => format!("{s} s"),
+    }
+}

@@ -1,0 +1,239 @@
+//! Scripted plants and scenarios (DESIGN.md §11; thesis §7.2.1).
+//!
+//! A *scenario* runs a program against a plant model with a *scripted plant* standing in for the
+//! hardware — a rule-based simulator like the one of the thesis's EDL demonstration, which
+//! "eavesdrops on the issued command and state estimate streams" and "triggers one or more rules
+//! that inject desired observations some specified number of execution cycles later" (§7.2.1) —
+//! and says what must happen: its *expectations*. `kairos run SCENARIO` prints the mission log
+//! and exits 0 when every expectation holds, 1 when one does not. Faults are injected by rules
+//! (the plant misbehaves); the estimator is never told.
+//!
+//! # The scenario format (RON)
+//!
+//! ```ron
+//! Scenario(
+//!     name: "propulsion: nominal",          // optional; default: the file's name
+//!     description: "What it shows.",        // optional
+//!     program: "fire.rmpl",                 // paths are relative to this file
+//!     entry: "Fire",                        // optional; default: the file's first program
+//!     plant: "../../models/propulsion.ron",
+//!     cycle: 1.0,                           // cycle period, seconds; cycle i is at i · cycle
+//!     end: 300.0,                           // the last cycle is at or before this time
+//!     kappa: 5,                             // optional (default 10): states tracked by estimation
+//!     deadline: 0.05,                       // optional: wall-time budget per cycle, seconds
+//!     include: ["plant.ron"],               // optional: script files (below), read first
+//!     hidden: { "pde": ["off", "on", "latched"] },   // the plant's own hidden state
+//!     initial: { "engine.temp": "low", "pde": "off" },
+//!     rules: [ /* Rule(...) */ ],
+//!     expect: [ /* expectations */ ],
+//! )
+//! ```
+//!
+//! A *script file* holds the plant part alone, to be shared by several scenarios:
+//! `Script(hidden: {...}, initial: {...}, rules: [...])`. Included scripts are
+//! read in order, then the scenario's own `hidden`, `initial` and `rules`. Rule names are unique
+//! across them; a later `initial` value overrides an earlier one.
+//!
+//! ## The plant's values
+//!
+//! The scripted plant holds a value for each observable of the model and for each `hidden`
+//! variable (`name: [values]`, the first value is the initial one). It reports, every cycle,
+//! every observable that has a value, holding the last one (DESIGN.md §3). `initial` gives the
+//! values at the start; an observable without one is not reported until a rule sets it (the
+//! executive reports it missing). Hidden variables are the plant's own state — whether the PDE
+//! is powered, whether a heater works — which the executive never sees; rules test and set them.
+//!
+//! ## Rules
+//!
+//! ```ron
+//! Rule(
+//!     name: "PDE relays engine-standby",        // unique; expectations refer to it
+//!     on: Command("PDE.cmd = engine-standby"),  // the trigger (below)
+//!     when: "pde = on and engine.power = zero", // optional condition over observables and
+//!                                               // hidden variables, the constraint language
+//!     after: Cycles(1),                         // optional delay: Cycles(n) or Seconds(s)
+//!     set: { "engine.power": "nominal" },       // values from then on
+//!     drop: ["engine.temp"],                    // observables no longer reported (drop-out),
+//!                                               // or garbled names no longer reported
+//!     garble: { "engine.temp": "scorching" },   // reported verbatim though the model does not
+//!                                               // know it (in place of that observable)
+//!     once: false,                              // optional: fire at most once
+//!     fault: false,                             // optional: the plant misbehaves (the log
+//!                                               // highlights it)
+//! )
+//! ```
+//! A rule needs at least one of `set`, `drop`, `garble`. Triggers:
+//! - `Command("PDE.cmd = on")` — a formula over the plant's controls, tested against every
+//!   cycle's command μ (controls not commanded hold their idle value): fires every cycle μ
+//!   satisfies it, so a re-issued command fires it again.
+//! - `Estimate("engine = heating")` — a formula over component modes, tested against ŝ, the
+//!   executive's most likely mode of each component: fires when it (and the condition) comes to
+//!   hold.
+//! - `Time(16800.0)` — fires at the first cycle at or after that time at which the condition
+//!   holds; once. In the scenario itself a time after `end` is an error; an included script's
+//!   may lie beyond a short scenario's end, and never fire.
+//! - `Cycle(30)` — likewise at or after that cycle (numbered from 0).
+//!
+//! The effect shows after the delay, counted from the cycle the rule fired: `Cycles(n)`, or
+//! `Seconds(s)` (the first cycle at least s later). Without `after`, as early as possible: the
+//! same cycle for time and cycle rules, the next cycle for command and estimate rules — an
+//! observation at t(i+1) reflects the commands of t(i), and ŝ(i) is computed from the
+//! observation of t(i), so a command or estimate rule cannot have a zero delay. Within a cycle:
+//! effects due are applied in the order their rules fired, then time and cycle rules fire, then
+//! the plant reports; after the executive's cycle, command rules and then estimate rules fire.
+//! The condition is tested when the rule fires, on the values the plant reported in that cycle.
+//!
+//! Examples, one per trigger:
+//! ```ron
+//! Rule(name: "PDE powers up", on: Command("PDE.cmd = on"), when: "pde = off", set: { "pde": "on" }),
+//! Rule(name: "heating ends", on: Estimate("engine = heating"), after: Seconds(40.0),
+//!      set: { "engine.temp": "nominal" }),
+//! Rule(name: "atmospheric drag", on: Time(16800.0), set: { "entry.drag": "sensed" }),
+//! Rule(name: "PDE latches up", on: Cycle(1), set: { "pde": "latched" }, fault: true),
+//! ```
+//!
+//! ## Expectations
+//!
+//! Times are seconds. *Eventual* expectations take an optional window `after:`/`by:` and hold
+//! when some cycle in it shows them; *never* expectations take `from:`/`to:` and hold when no
+//! cycle in it shows what they exclude. Formulas use the constraint language.
+//! ```ron
+//! Estimated(state: "engine = firing", by: 300.0),      // ŝ satisfies it at some cycle
+//! EstimatedAt(state: "engine = heating", time: 20.0),  // ŝ satisfies it at the first cycle at
+//!                                                      // or after that time
+//! NeverEstimated(state: "engine = off", from: 50.0, to: 17150.0),
+//! Commanded(command: "PDE.cmd = engine-fire", by: 300.0),   // over controls, against μ
+//! CommandsInOrder(commands: ["PDE.cmd = on", "PDE.cmd = engine-standby"], by: 60.0),
+//!                                   // the commands issued in the window (non-idle cycles),
+//!                                   // exactly these, in this order
+//! NeverCommanded(command: "lander.cmd = fire-backup"),
+//! Diagnosed(fault: "PDE = resettable", within: Cycles(3), of: "PDE latches up"),
+//!                                   // the diagnosis event, at most 3 cycles after the rule
+//!                                   // first fired; or with after:/by: instead
+//! Achieved(goal: "engine = firing", by: 300.0),        // a goal as the program writes it
+//! GoalFailed(goal: "engine = standby"),                // goal interpretation failed, for a
+//!                                                      // goal containing this one (optional)
+//! Completed(by: 300.0),                                // the program completed
+//! Reported(event: ObservationRejected),                // any executive event, by kind
+//! NeverReported(event: EstimatorInconsistency),
+//! ```
+//! Event kinds: `GoalAsserted`, `GoalAchieved`, `GoalFailed`, `GoalConflict`, `Preempted`,
+//! `ClockStarted`, `ModeChanged`, `Diagnosis`, `CommandIssued`, `Repair` (a command that repairs
+//! a fault), `Waiting`, `PlanFailed`, `EstimatorInconsistency`, `SearchCut`,
+//! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`.
+//!
+//! ## The run
+//!
+//! Cycle i runs at t = i · cycle from 0: the plant reports, the executive steps, the command goes
+//! to the plant. The run stops after the last cycle at or before `end`, or earlier once nothing
+//! more can happen: the program has completed, the plant is in its intended configuration, the
+//! script has nothing pending and every eventual expectation has been shown.
+//!
+//! Every problem in a scenario, script, model or program is reported with its file, line and
+//! column, the text and what was expected there.
+
+mod expect;
+mod format;
+mod load;
+mod load_expect;
+mod load_script;
+mod run;
+mod script;
+
+use std::fmt;
+use std::time::Duration;
+
+pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
+pub use format::EventName;
+pub use load::{DEFAULT_KAPPA, load, load_source};
+pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
+pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
+
+use crate::diagnostic::{Source, SourceErrors};
+use crate::plant::Plant;
+use crate::sequencer::Thca;
+
+/// A loaded, validated scenario.
+#[derive(Debug, Clone)]
+pub struct Scenario {
+    /// Its name.
+    pub name: String,
+    /// What it shows.
+    pub description: String,
+    /// The scenario file.
+    pub source: Source,
+    /// The plant model's path.
+    pub plant_path: String,
+    /// The program file (its path is its name); events' spans point into it.
+    pub program_source: Source,
+    /// The entry program, when the scenario names one.
+    pub entry: Option<String>,
+    /// The plant model.
+    pub plant: Plant,
+    /// The program, linked against the plant.
+    pub program: Thca,
+    /// The cycle period, in seconds.
+    pub cycle: f64,
+    /// The end time, in seconds.
+    pub end: f64,
+    /// κ for mode estimation.
+    pub kappa: usize,
+    /// The wall-time deadline of a cycle.
+    pub deadline: Option<Duration>,
+    /// The scripted plant.
+    pub script: Script,
+    /// What must happen.
+    pub expectations: Vec<Expectation>,
+}
+
+/// Why a scenario could not be loaded.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ScenarioErrors {
+    /// The scenario file itself cannot be read.
+    Unreadable(String),
+    /// The problems found, grouped by the file they are in (scenario, scripts, model, program).
+    Invalid(Vec<SourceErrors>),
+}
+
+impl fmt::Display for ScenarioErrors {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ScenarioErrors::Unreadable(message) => f.write_str(message),
+            ScenarioErrors::Invalid(files) => {
+                for (i, errors) in files.iter().enumerate() {
+                    if i > 0 {
+                        writeln!(f)?;
+                    }
+                    write!(f, "{errors}")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+impl std::error::Error for ScenarioErrors {}
+
+#[cfg(test)]
+pub(crate) mod testing {
+    //! Scenarios written inline for unit tests, against the shipped models and programs.
+
+    use std::path::Path;
+
+    use super::{Scenario, load_source};
+    use crate::diagnostic::Source;
+
+    /// A scenario on the engine/camera model running `programs/engine_burn.rmpl` at a 0.05 s
+    /// cycle (the camera's picture lasts 0.1 to 0.2 s), with `rest` (fields after `end`) added.
+    pub(crate) fn engine_camera(rest: &str) -> Scenario {
+        let text = format!(
+            "Scenario(program: \"programs/engine_burn.rmpl\", plant: \"models/engine_camera.ron\", \
+             cycle: 0.05, end: 100.0, {rest})"
+        );
+        load_source(
+            &Source::new("test.ron", text),
+            Path::new(env!("CARGO_MANIFEST_DIR")),
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    }
+}

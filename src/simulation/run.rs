@@ -1,0 +1,335 @@
+//! Running a scenario: the executive against the scripted plant, cycle by cycle, with the
+//! expectations checked as it goes.
+
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+use super::Scenario;
+use super::expect::{Checker, Names, Verdict};
+use super::script::{PlantEvent, ScriptedPlant, TIME_EPSILON};
+use crate::executive::adapters::{Clock, ControlAdapter, MonitorAdapter, SimulatedClock};
+use crate::executive::{
+    BuildError, Event, EventKind, Executive, NamedValue, Retention, Step, StepError, Timelines,
+};
+
+/// What one cycle of a run showed: for the mission log, the trace and benchmarks.
+#[derive(Debug)]
+pub struct CycleRecord<'a> {
+    /// The executive's cycle.
+    pub step: &'a Step,
+    /// The observation the plant reported for it.
+    pub observation: &'a [NamedValue],
+    /// What the scripted plant did in the cycle (rules fired, effects applied).
+    pub plant_events: &'a [PlantEvent],
+}
+
+/// Why a run stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopReason {
+    /// The end time was reached.
+    EndTime,
+    /// The program completed, the plant is in its intended configuration, the script has
+    /// nothing pending and every eventual expectation has been shown: nothing more can happen.
+    Settled,
+}
+
+/// How a run went. With the [`Scenario`] (plant, program, its source) it holds everything a
+/// picture of the run needs: the start and end times, every event and the state timelines.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOutcome {
+    /// The time of the first cycle.
+    pub start: f64,
+    /// Each expectation's verdict, in the scenario's order.
+    pub verdicts: Vec<Verdict>,
+    /// Cycles run.
+    pub cycles: u64,
+    /// The time of the last cycle.
+    pub last_time: f64,
+    /// Why it stopped.
+    pub stop: StopReason,
+    /// True once the program had completed.
+    pub completed: bool,
+    /// Wall time of the whole run.
+    pub wall: Duration,
+    /// Cycles that overran the scenario's deadline.
+    pub overruns: u64,
+    /// The longest cycle.
+    pub slowest_cycle: Duration,
+    /// The events the executive reported, oldest first: the last [`RunOptions::events`] of
+    /// them.
+    pub events: Vec<Event>,
+    /// How many older events were not kept.
+    pub events_dropped: usize,
+    /// The executive's state timelines and command and observation histories at the end
+    /// (bounded by the retention).
+    pub timelines: Timelines,
+}
+
+impl RunOutcome {
+    /// True when every expectation holds.
+    pub fn passed(&self) -> bool {
+        self.verdicts.iter().all(Verdict::holds)
+    }
+}
+
+/// Why a run could not go on.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RunError {
+    /// The executive could not be built.
+    #[error("the executive cannot be built: {0}")]
+    Build(#[from] BuildError),
+    /// The executive refused a cycle.
+    #[error("the executive stopped: {0}")]
+    Step(#[from] StepError),
+    /// The scripted plant refused a command.
+    #[error("the plant refused the command of the cycle at {time} s: {message}")]
+    Control {
+        /// The cycle's time.
+        time: f64,
+        /// Why.
+        message: String,
+    },
+}
+
+/// Options of a run beyond the scenario's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunOptions {
+    /// How much history the executive's timelines keep (default: the executive's).
+    pub retention: Option<Retention>,
+    /// How many of the latest events the outcome keeps, so that a run of any length uses
+    /// bounded memory (the log and the trace see every event as it happens).
+    pub events: usize,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions {
+            retention: None,
+            events: 16384,
+        }
+    }
+}
+
+/// Runs `scenario` from time 0 to its end (or until nothing more can happen), calling `observe`
+/// after every cycle.
+pub fn run(
+    scenario: &Scenario,
+    options: RunOptions,
+    observe: &mut dyn FnMut(&CycleRecord<'_>),
+) -> Result<RunOutcome, RunError> {
+    let started = Instant::now();
+    let mut executive = build(scenario, options)?;
+    let mut plant = ScriptedPlant::new(&scenario.script);
+    let mut checker = Checker::new(
+        &scenario.expectations,
+        Names {
+            plant: &scenario.plant,
+            world: &scenario.script.world,
+            controls: &scenario.script.controls,
+        },
+    );
+    let mut clock = SimulatedClock::new(0.0, scenario.cycle);
+    let start = clock.start();
+    let mut time = start;
+    let mut events: VecDeque<Event> = VecDeque::new();
+    let mut events_dropped = 0;
+    let (mut cycles, mut overruns, mut slowest) = (0, 0, Duration::ZERO);
+    let mut completed = false;
+    let mut last_time;
+    let stop = loop {
+        let observation = plant.observe(time);
+        let step = executive.step(time, &observation)?;
+        let command: Vec<NamedValue> = step
+            .command
+            .iter()
+            .map(|&(x, v)| NamedValue::of(executive.plant(), x, v))
+            .collect();
+        plant
+            .send(time, &command)
+            .map_err(|message| RunError::Control { time, message })?;
+        plant.estimated(&step.most_likely);
+        let plant_events = plant.take_events();
+        checker.observe(&step, &plant);
+        observe(&CycleRecord {
+            step: &step,
+            observation: &observation,
+            plant_events: &plant_events,
+        });
+        cycles += 1;
+        last_time = step.time;
+        completed |= step.completed;
+        slowest = slowest.max(step.times.total);
+        overruns += step
+            .events
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::DeadlineOverrun { .. }))
+            .count() as u64;
+        events.extend(step.events.iter().cloned());
+        while events.len() > options.events {
+            events.pop_front();
+            events_dropped += 1;
+        }
+        if time >= scenario.end - TIME_EPSILON {
+            break StopReason::EndTime;
+        }
+        if step.is_settled() && plant.is_quiet(scenario.end) && !checker.awaits_something() {
+            break StopReason::Settled;
+        }
+        time = clock.next_cycle();
+        if time > scenario.end + TIME_EPSILON {
+            break StopReason::EndTime;
+        }
+    };
+    Ok(RunOutcome {
+        start,
+        verdicts: checker.finish(&plant),
+        cycles,
+        last_time,
+        stop,
+        completed,
+        wall: started.elapsed(),
+        overruns,
+        slowest_cycle: slowest,
+        events: events.into(),
+        events_dropped,
+        timelines: executive.timelines().clone(),
+    })
+}
+
+fn build(scenario: &Scenario, options: RunOptions) -> Result<Executive, BuildError> {
+    let mut builder =
+        Executive::builder(scenario.plant.clone(), scenario.program.clone()).kappa(scenario.kappa);
+    if let Some(deadline) = scenario.deadline {
+        builder = builder.cycle_deadline(deadline);
+    }
+    if let Some(retention) = options.retention {
+        builder = builder.retention(retention);
+    }
+    builder.build()
+}
+
+#[cfg(test)]
+mod tests {
+    //! Runs of the engine/camera scenario with expectations that hold and that do not.
+
+    use super::*;
+    use crate::simulation::Outcome;
+    use crate::simulation::testing::engine_camera;
+
+    fn outcome(rest: &str) -> RunOutcome {
+        let scenario = engine_camera(&format!(
+            r#"include: ["scenarios/engine_camera/plant.ron"], {rest}"#
+        ));
+        run(&scenario, RunOptions::default(), &mut |_| {}).expect("the run goes")
+    }
+
+    fn reason(verdict: &Verdict) -> &str {
+        match &verdict.outcome {
+            Outcome::Failed { reason } => reason,
+            Outcome::Met { .. } => panic!("{} holds", verdict.label),
+        }
+    }
+
+    /// DESIGN.md §11: the run stops once nothing more can happen, and its expectations are
+    /// judged; eventual ones with the time that showed them.
+    #[test]
+    fn a_nominal_run_settles_and_its_expectations_hold() {
+        let outcome = outcome(
+            r#"expect: [Completed(by: 100.0), EstimatedAt(state: "engine = heating", time: 10.0),
+                        NeverCommanded(command: "engine.cmd = off")]"#,
+        );
+        assert!(outcome.passed(), "{:?}", outcome.verdicts);
+        assert_eq!(outcome.stop, StopReason::Settled);
+        assert!(outcome.completed);
+        assert!(
+            matches!(outcome.verdicts[1].outcome, Outcome::Met { at: Some(t) } if (t - 10.0).abs() < 1e-6)
+        );
+        assert_eq!(
+            outcome.cycles,
+            (outcome.last_time / 0.05).round() as u64 + 1
+        );
+        assert!(
+            outcome
+                .events
+                .iter()
+                .any(|e| matches!(e.kind, EventKind::ProgramCompleted))
+        );
+        assert_eq!(
+            outcome.timelines.commands().len(),
+            5,
+            "the commands are kept"
+        );
+    }
+
+    /// Failed expectations say why, with times and the estimate.
+    #[test]
+    fn failed_expectations_say_why() {
+        let outcome = outcome(
+            r#"expect: [
+                EstimatedAt(state: "engine = firing", time: 10.0),
+                CommandsInOrder(commands: ["camera.cmd = on", "engine.cmd = standby"]),
+                Estimated(state: "camera = failed"),
+                NeverEstimated(state: "engine = heating", from: 5.0),
+            ]"#,
+        );
+        assert!(!outcome.passed());
+        let reasons: Vec<&str> = outcome.verdicts.iter().map(reason).collect();
+        assert_eq!(reasons[0], "at 10.000 s ŝ had engine = heating");
+        assert_eq!(
+            reasons[1],
+            "command 1 of the sequence, at 0.000 s, was engine.cmd = standby"
+        );
+        assert!(
+            reasons[2].starts_with("not shown; at the end"),
+            "{}",
+            reasons[2]
+        );
+        assert_eq!(reasons[3], "at 5.000 s ŝ had engine = heating");
+    }
+
+    /// The run ends at the end time when the program has not completed.
+    #[test]
+    fn a_run_stops_at_its_end_time() {
+        let scenario = engine_camera(r#"include: ["scenarios/engine_camera/plant.ron"]"#);
+        let short = Scenario {
+            end: 20.5,
+            ..scenario
+        };
+        let mut seen = 0;
+        let outcome = run(&short, RunOptions::default(), &mut |_| seen += 1).expect("runs");
+        assert_eq!(outcome.stop, StopReason::EndTime);
+        assert_eq!((outcome.cycles, seen), (411, 411));
+        assert!((outcome.last_time - 20.5).abs() < 1e-6);
+        assert!(!outcome.completed);
+    }
+
+    /// Issue 6: a run of any length keeps bounded memory — the outcome keeps the latest events.
+    #[test]
+    fn the_outcome_keeps_the_latest_events() {
+        let scenario = engine_camera(r#"include: ["scenarios/engine_camera/plant.ron"]"#);
+        let options = RunOptions {
+            events: 3,
+            ..RunOptions::default()
+        };
+        let outcome = run(&scenario, options, &mut |_| {}).expect("runs");
+        assert_eq!(outcome.events.len(), 3);
+        assert!(outcome.events_dropped > 0);
+        assert!(matches!(
+            outcome.events.last().map(|e| &e.kind),
+            Some(EventKind::ProgramCompleted)
+        ));
+    }
+
+    /// A deadline no cycle can meet is reported, every cycle, and the run goes on.
+    #[test]
+    fn deadline_overruns_are_counted() {
+        let scenario = engine_camera(r#"include: ["scenarios/engine_camera/plant.ron"]"#);
+        let strict = Scenario {
+            deadline: Some(Duration::from_nanos(1)),
+            end: 5.0,
+            ..scenario
+        };
+        let outcome = run(&strict, RunOptions::default(), &mut |_| {}).expect("runs");
+        assert_eq!(outcome.overruns, outcome.cycles);
+    }
+}

@@ -1,0 +1,615 @@
+//! The scripted plant: a rule-based simulator in the manner of the one the thesis's EDL
+//! demonstration used (§7.2.1: it "eavesdrops on the issued command and state estimate streams"
+//! and "triggers one or more rules that inject desired observations some specified number of
+//! execution cycles later").
+//!
+//! The plant holds a value for every observable it reports and for its own hidden state
+//! variables. Every cycle it reports every observable that has a value, holding the last one
+//! (DESIGN.md §3). Rules fire on the command the executive issued, on its estimate, at a time or
+//! at a cycle, optionally only while a condition over the plant's values holds, and change
+//! values after a delay.
+//!
+//! Order within cycle i at time t(i) (DESIGN.md §3: an observation at t(i+1) reflects the
+//! commands of t(i)):
+//! 1. [`observe`](MonitorAdapter::observe): effects due at cycle i are applied (in the order
+//!    their rules fired); then time and cycle rules whose moment has come fire, in declaration
+//!    order (an effect without delay applies at once); the observation is reported.
+//! 2. The executive runs its cycle.
+//! 3. [`send`](ControlAdapter::send): command rules fire on μ(i); their effects are due at cycle
+//!    i + 1 at the earliest.
+//! 4. [`estimated`](ScriptedPlant::estimated): estimate rules fire on ŝ(i); effects likewise.
+
+use crate::executive::NamedValue;
+use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
+use crate::logic::{Formula, ValueId, VarId, VarTable};
+
+/// Two times closer than this are the same instant (cycle times are products of the period).
+pub(crate) const TIME_EPSILON: f64 = 1e-6;
+
+/// A scripted plant's definition: its variables, initial values and rules.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Script {
+    /// The plant model's variables followed by the script's hidden variables.
+    pub(crate) world: VarTable,
+    /// The plant's observables, in the model's order.
+    pub(crate) observables: Vec<VarId>,
+    /// The plant's controls and their idle values.
+    pub(crate) controls: Vec<(VarId, ValueId)>,
+    /// Each component's mode variable, by component index.
+    pub(crate) modes: Vec<VarId>,
+    /// The hidden variables.
+    pub(crate) hidden: Vec<VarId>,
+    /// Values at the start.
+    pub(crate) initial: Vec<(VarId, ValueId)>,
+    /// The rules, included files' first, in declaration order.
+    pub(crate) rules: Vec<Rule>,
+}
+
+impl Script {
+    /// The plant's variables and the hidden ones.
+    pub fn variables(&self) -> &VarTable {
+        &self.world
+    }
+
+    /// The rules.
+    pub fn rules(&self) -> &[Rule] {
+        &self.rules
+    }
+
+    /// The rule with this name.
+    pub fn rule_named(&self, name: &str) -> Option<usize> {
+        self.rules.iter().position(|r| r.name == name)
+    }
+
+    /// The initial values (observables and hidden variables).
+    pub fn initial(&self) -> &[(VarId, ValueId)] {
+        &self.initial
+    }
+
+    /// The hidden variables.
+    pub fn hidden(&self) -> &[VarId] {
+        &self.hidden
+    }
+}
+
+/// One rule of the script.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rule {
+    /// Its name, unique in the scenario.
+    pub name: String,
+    /// What makes it fire.
+    pub trigger: Trigger,
+    /// It fires only while this holds over the plant's values (observables and hidden).
+    pub condition: Option<Formula>,
+    /// How long after firing its effect shows.
+    pub delay: Delay,
+    /// What it does.
+    pub effect: Effect,
+    /// Fires at most once.
+    pub once: bool,
+    /// Makes the plant misbehave (the mission log highlights it).
+    pub fault: bool,
+}
+
+/// What makes a rule fire.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Trigger {
+    /// Every cycle whose command μ (idle values for controls not commanded) satisfies the
+    /// formula over control variables.
+    Command(Formula),
+    /// When ŝ, the most likely mode of each component, comes to satisfy the formula over mode
+    /// variables (with the condition: when both come to hold).
+    Estimate(Formula),
+    /// The first cycle at or after this time (in seconds) at which the condition holds.
+    Time(f64),
+    /// The first cycle at or after this one (numbered from 0) at which the condition holds.
+    Cycle(u64),
+}
+
+impl Trigger {
+    /// True for triggers that fire after the executive's cycle (command, estimate): their effect
+    /// shows at the next cycle at the earliest.
+    pub fn after_the_step(&self) -> bool {
+        matches!(self, Trigger::Command(_) | Trigger::Estimate(_))
+    }
+}
+
+/// A delay, or a tolerance, in cycles or seconds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Delay {
+    /// This many cycles.
+    Cycles(u64),
+    /// At the first cycle at least this many seconds later.
+    Seconds(f64),
+}
+
+/// What a rule does to the plant.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Effect {
+    /// Values to hold from now on (observables are reported with them).
+    pub set: Vec<(VarId, ValueId)>,
+    /// Observables to stop reporting (a sensor drop-out).
+    pub drop: Vec<VarId>,
+    /// Garbled names (not observables) to stop reporting: the end of a garbled telemetry word.
+    pub ungarble: Vec<String>,
+    /// Name/value pairs to report verbatim although they do not fit the model, in place of the
+    /// observable of that name if there is one (a garbled telemetry word).
+    pub garble: Vec<NamedValue>,
+}
+
+impl Effect {
+    /// `engine.temp = nominal, pde = on, engine.power dropped, engine.colour = "blue"`.
+    pub fn describe(&self, world: &VarTable) -> String {
+        let mut parts: Vec<String> = self
+            .set
+            .iter()
+            .map(|&(x, v)| world.assignment(x, v).to_string())
+            .collect();
+        parts.extend(
+            self.drop
+                .iter()
+                .map(|&x| format!("{} no longer reported", world.variable(x).name())),
+        );
+        parts.extend(
+            self.ungarble
+                .iter()
+                .map(|name| format!("{name} no longer reported")),
+        );
+        parts.extend(
+            self.garble
+                .iter()
+                .map(|g| format!("{} = \"{}\" (garbled)", g.variable, g.value)),
+        );
+        parts.join(", ")
+    }
+}
+
+/// When a fired rule's effect is applied.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Due {
+    /// At this cycle.
+    Cycle(u64),
+    /// At the first cycle at or after this time, and not before this cycle.
+    Time { at: f64, not_before: u64 },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct Pending {
+    rule: usize,
+    due: Due,
+}
+
+/// Something the scripted plant did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PlantEventKind {
+    /// The rule fired (its effect is due now or later).
+    Fired,
+    /// The rule's effect was applied to the plant.
+    Applied,
+}
+
+/// A rule firing or taking effect.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlantEvent {
+    /// The cycle.
+    pub cycle: u64,
+    /// Its time.
+    pub time: f64,
+    /// The rule, by index into [`Script::rules`].
+    pub rule: usize,
+    /// Fired or applied.
+    pub kind: PlantEventKind,
+}
+
+/// A plant that follows a [`Script`]; see the module documentation.
+#[derive(Debug, Clone)]
+pub struct ScriptedPlant<'s> {
+    script: &'s Script,
+    values: Vec<Option<ValueId>>,
+    garbled: Vec<NamedValue>,
+    cycle: Option<u64>,
+    time: f64,
+    pending: Vec<Pending>,
+    /// Whether each rule's trigger and condition held at its last evaluation (edge triggers).
+    held: Vec<bool>,
+    /// The first cycle and time each rule fired.
+    first_fired: Vec<Option<(u64, f64)>>,
+    /// How many times each rule fired.
+    fired: Vec<u64>,
+    events: Vec<PlantEvent>,
+}
+
+impl<'s> ScriptedPlant<'s> {
+    /// A plant in the script's initial state, before its first cycle.
+    pub fn new(script: &'s Script) -> Self {
+        let mut values = vec![None; script.world.len()];
+        for &(var, value) in &script.initial {
+            values[var.index()] = Some(value);
+        }
+        let rules = script.rules.len();
+        ScriptedPlant {
+            script,
+            values,
+            garbled: Vec::new(),
+            cycle: None,
+            time: 0.0,
+            pending: Vec::new(),
+            held: vec![false; rules],
+            first_fired: vec![None; rules],
+            fired: vec![0; rules],
+            events: Vec::new(),
+        }
+    }
+
+    /// The script it follows.
+    pub fn script(&self) -> &'s Script {
+        self.script
+    }
+
+    /// The current value of an observable or hidden variable (`None`: not reported).
+    pub fn value(&self, var: VarId) -> Option<ValueId> {
+        self.values.get(var.index()).copied().flatten()
+    }
+
+    /// When a rule first fired: (cycle, time).
+    pub fn first_fired(&self, rule: usize) -> Option<(u64, f64)> {
+        self.first_fired.get(rule).copied().flatten()
+    }
+
+    /// How many times a rule fired.
+    pub fn times_fired(&self, rule: usize) -> u64 {
+        self.fired.get(rule).copied().unwrap_or(0)
+    }
+
+    /// What the plant did since the last call (rule firings and effects), oldest first.
+    pub fn take_events(&mut self) -> Vec<PlantEvent> {
+        std::mem::take(&mut self.events)
+    }
+
+    /// True when nothing is pending and no time or cycle rule is still to fire before `end`:
+    /// the plant changes only if the executive commands something or changes its estimate.
+    pub fn is_quiet(&self, end: f64) -> bool {
+        self.pending.is_empty()
+            && self.script.rules.iter().enumerate().all(|(i, rule)| {
+                let spent = self.fired[i] > 0;
+                match rule.trigger {
+                    Trigger::Time(at) => spent || at > end + TIME_EPSILON,
+                    Trigger::Cycle(_) => spent,
+                    Trigger::Command(_) | Trigger::Estimate(_) => true,
+                }
+            })
+    }
+
+    /// Notes the executive's estimate ŝ(i) (a mode per component, by component index) for
+    /// estimate rules. Call it after [`send`](ControlAdapter::send) in each cycle.
+    pub fn estimated(&mut self, modes: &[ValueId]) {
+        let script = self.script;
+        let mode_of = |var: VarId| {
+            let component = script.modes.iter().position(|&m| m == var)?;
+            modes.get(component).copied()
+        };
+        for (i, rule) in script.rules.iter().enumerate() {
+            if let Trigger::Estimate(formula) = &rule.trigger {
+                let now = formula.eval_assignment(&script.world, &mode_of) == Some(true)
+                    && self.condition_holds(rule);
+                let rising = now && !self.held[i];
+                self.held[i] = now;
+                if rising {
+                    self.fire(i);
+                }
+            }
+        }
+    }
+
+    fn condition_holds(&self, rule: &Rule) -> bool {
+        rule.condition.as_ref().is_none_or(|condition| {
+            condition.eval_assignment(&self.script.world, &|var| self.value(var)) == Some(true)
+        })
+    }
+
+    fn current_cycle(&self) -> u64 {
+        self.cycle.unwrap_or(0)
+    }
+
+    /// Fires rule `i` now, unless it is a spent `once` rule.
+    fn fire(&mut self, i: usize) {
+        let script = self.script;
+        let rule = &script.rules[i];
+        if rule.once && self.fired[i] > 0 {
+            return;
+        }
+        let cycle = self.current_cycle();
+        let earliest = cycle + u64::from(rule.trigger.after_the_step());
+        self.fired[i] += 1;
+        self.first_fired[i].get_or_insert((cycle, self.time));
+        self.push_event(i, PlantEventKind::Fired);
+        let due = match rule.delay {
+            Delay::Cycles(n) => Due::Cycle((cycle + n).max(earliest)),
+            Delay::Seconds(s) => Due::Time {
+                at: self.time + s,
+                not_before: earliest,
+            },
+        };
+        if self.is_due(due) {
+            self.apply(i);
+        } else {
+            self.pending.push(Pending { rule: i, due });
+        }
+    }
+
+    fn is_due(&self, due: Due) -> bool {
+        let Some(cycle) = self.cycle else {
+            return false;
+        };
+        match due {
+            Due::Cycle(n) => n <= cycle,
+            Due::Time { at, not_before } => cycle >= not_before && self.time >= at - TIME_EPSILON,
+        }
+    }
+
+    fn apply(&mut self, i: usize) {
+        let script = self.script;
+        let effect = &script.rules[i].effect;
+        for &(var, value) in &effect.set {
+            self.values[var.index()] = Some(value);
+            let name = script.world.variable(var).name();
+            self.garbled.retain(|g| g.variable != name);
+        }
+        for &var in &effect.drop {
+            self.values[var.index()] = None;
+            let name = script.world.variable(var).name();
+            self.garbled.retain(|g| g.variable != name);
+        }
+        for name in &effect.ungarble {
+            self.garbled.retain(|g| &g.variable != name);
+        }
+        for garbled in &effect.garble {
+            self.garbled.retain(|g| g.variable != garbled.variable);
+            self.garbled.push(garbled.clone());
+        }
+        self.push_event(i, PlantEventKind::Applied);
+    }
+
+    fn push_event(&mut self, rule: usize, kind: PlantEventKind) {
+        self.events.push(PlantEvent {
+            cycle: self.current_cycle(),
+            time: self.time,
+            rule,
+            kind,
+        });
+    }
+
+    /// Applies the effects due now, in the order their rules fired.
+    fn apply_due(&mut self) {
+        let mut i = 0;
+        while i < self.pending.len() {
+            if self.is_due(self.pending[i].due) {
+                let pending = self.pending.remove(i);
+                self.apply(pending.rule);
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    /// Fires time and cycle rules whose moment has come and whose condition holds.
+    fn fire_timed(&mut self) {
+        let cycle = self.current_cycle();
+        let script = self.script;
+        for (i, rule) in script.rules.iter().enumerate() {
+            let reached = match rule.trigger {
+                Trigger::Time(at) => self.time >= at - TIME_EPSILON,
+                Trigger::Cycle(n) => cycle >= n,
+                Trigger::Command(_) | Trigger::Estimate(_) => continue,
+            };
+            let now = reached && self.condition_holds(rule);
+            let rising = now && !self.held[i];
+            self.held[i] = now;
+            if rising && self.fired[i] == 0 {
+                self.fire(i);
+            }
+        }
+    }
+
+    /// The observation: every observable with a value, garbled pairs in place of or beside them.
+    fn report(&self) -> Vec<NamedValue> {
+        let world = &self.script.world;
+        let mut observed: Vec<NamedValue> = Vec::with_capacity(self.script.observables.len());
+        for &var in &self.script.observables {
+            let variable = world.variable(var);
+            if let Some(garbled) = self.garbled.iter().find(|g| g.variable == variable.name()) {
+                observed.push(garbled.clone());
+            } else if let Some(value) = self.value(var) {
+                observed.push(NamedValue::new(variable.name(), variable.value_name(value)));
+            }
+        }
+        let extra: Vec<NamedValue> = self
+            .garbled
+            .iter()
+            .filter(|g| !observed.iter().any(|o| o.variable == g.variable))
+            .cloned()
+            .collect();
+        observed.extend(extra);
+        observed
+    }
+
+    /// The full control action μ named by `command` (idle values elsewhere); unknown names and
+    /// values are refused.
+    fn control_values(&self, command: &[NamedValue]) -> Result<Vec<Option<ValueId>>, String> {
+        let world = &self.script.world;
+        let mut values = vec![None; world.len()];
+        for &(var, idle) in &self.script.controls {
+            values[var.index()] = Some(idle);
+        }
+        for assignment in command {
+            let var = world
+                .variable_id(&assignment.variable)
+                .filter(|v| self.script.controls.iter().any(|(c, _)| c == v))
+                .ok_or_else(|| format!("no actuator for {assignment}: not a control"))?;
+            let value = world
+                .variable(var)
+                .value(&assignment.value)
+                .ok_or_else(|| format!("no actuator for {assignment}: not a value"))?;
+            values[var.index()] = Some(value);
+        }
+        Ok(values)
+    }
+}
+
+impl MonitorAdapter for ScriptedPlant<'_> {
+    fn observe(&mut self, time: f64) -> Vec<NamedValue> {
+        let cycle = self.cycle.map_or(0, |c| c + 1);
+        self.cycle = Some(cycle);
+        self.time = time;
+        self.apply_due();
+        self.fire_timed();
+        self.report()
+    }
+}
+
+impl ControlAdapter for ScriptedPlant<'_> {
+    fn send(&mut self, _time: f64, command: &[NamedValue]) -> Result<(), String> {
+        let values = self.control_values(command)?;
+        let script = self.script;
+        for (i, rule) in script.rules.iter().enumerate() {
+            if let Trigger::Command(formula) = &rule.trigger {
+                let issued = formula.eval_assignment(&script.world, &|var| values[var.index()])
+                    == Some(true);
+                if issued && self.condition_holds(rule) {
+                    self.fire(i);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The rule semantics of DESIGN.md §11 and thesis §7.2.1, on the engine/camera model.
+
+    use super::*;
+    use crate::simulation::testing::engine_camera;
+
+    const INITIAL: &str = r#"initial: { "engine.temp": "low", "engine.thrust": "zero", "camera.shutter": "closed" },"#;
+
+    fn observed<'a>(report: &'a [NamedValue], name: &str) -> Option<&'a str> {
+        report
+            .iter()
+            .find(|o| o.variable == name)
+            .map(|o| o.value.as_str())
+    }
+
+    fn fire(plant: &mut ScriptedPlant<'_>) {
+        plant
+            .send(0.0, &[NamedValue::new("engine.cmd", "fire")])
+            .expect("a control");
+    }
+
+    /// §3: an observation at t(i+1) reflects the commands of t(i); a command rule's effect
+    /// shows at the next cycle at the earliest.
+    #[test]
+    fn a_command_rule_shows_at_the_next_cycle() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} rules: [Rule(name: "fires", on: Command("engine.cmd = fire"),
+                set: {{ "engine.thrust": "nominal" }})]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        assert_eq!(observed(&plant.observe(0.0), "engine.thrust"), Some("zero"));
+        fire(&mut plant);
+        assert_eq!(plant.first_fired(0), Some((0, 0.0)));
+        assert_eq!(
+            observed(&plant.observe(1.0), "engine.thrust"),
+            Some("nominal")
+        );
+        let kinds: Vec<PlantEventKind> = plant.take_events().iter().map(|e| e.kind).collect();
+        assert_eq!(kinds, [PlantEventKind::Fired, PlantEventKind::Applied]);
+    }
+
+    /// `Seconds(s)`: the first cycle at least s after the firing; `once`: one firing only.
+    #[test]
+    fn a_delay_in_seconds_and_a_once_rule() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} rules: [Rule(name: "fires late", on: Command("engine.cmd = fire"),
+                after: Seconds(2.5), set: {{ "engine.thrust": "nominal" }}, once: true)]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        let mut seen = Vec::new();
+        for i in 0..5 {
+            let report = plant.observe(f64::from(i));
+            seen.push(observed(&report, "engine.thrust").map(str::to_string));
+            fire(&mut plant);
+        }
+        let nominal = Some("nominal".to_string());
+        assert_eq!(seen[2], Some("zero".to_string()));
+        assert_eq!(seen[3], nominal, "due at 2.5 s: shown at 3 s");
+        assert_eq!(plant.times_fired(0), 1, "a once rule fires once");
+    }
+
+    /// Estimate rules fire when ŝ comes to satisfy the formula, not on every cycle it does.
+    #[test]
+    fn an_estimate_rule_fires_on_the_rising_edge() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} rules: [Rule(name: "hot", on: Estimate("engine = heating"),
+                set: {{ "engine.temp": "nominal" }})]"#
+        ));
+        let plant_model = &scenario.plant;
+        let mode = |component: &str, name: &str| {
+            let c = plant_model.component_named(component).expect("a component");
+            plant_model.component(c).mode_named(name).expect("a mode")
+        };
+        let heating = [mode("engine", "heating"), mode("camera", "off")];
+        let off = [mode("engine", "off"), mode("camera", "off")];
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        for modes in [&off, &heating, &heating, &off, &heating] {
+            plant.observe(plant.time + 1.0);
+            plant.estimated(modes);
+        }
+        assert_eq!(plant.times_fired(0), 2);
+    }
+
+    /// Time rules wait for their condition; garbled words replace an observable's value until
+    /// it is set again, and extra garbled names last until dropped.
+    #[test]
+    fn time_rules_conditions_and_garbled_words() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} hidden: {{ "weather": ["calm", "storm"] }},
+            rules: [
+                Rule(name: "storm", on: Cycle(3), set: {{ "weather": "storm" }}),
+                Rule(name: "noise", on: Time(1.0), when: "weather = storm",
+                     garble: {{ "engine.temp": "sizzling", "engine.colour": "blue" }}),
+                Rule(name: "calm", on: Cycle(5), set: {{ "engine.temp": "low" }},
+                     drop: ["engine.colour"]),
+            ]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        let reports: Vec<Vec<NamedValue>> = (0..6).map(|i| plant.observe(f64::from(i))).collect();
+        assert_eq!(observed(&reports[2], "engine.temp"), Some("low"));
+        assert_eq!(
+            observed(&reports[3], "engine.temp"),
+            Some("sizzling"),
+            "the condition comes to hold at cycle 3 (rules fire in order)"
+        );
+        assert_eq!(observed(&reports[4], "engine.colour"), Some("blue"));
+        assert_eq!(observed(&reports[5], "engine.temp"), Some("low"));
+        assert_eq!(observed(&reports[5], "engine.colour"), None);
+        assert!(plant.is_quiet(100.0));
+    }
+
+    #[test]
+    fn a_command_for_no_control_is_refused() {
+        let scenario = engine_camera(INITIAL);
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        plant.observe(0.0);
+        assert!(
+            plant
+                .send(0.0, &[NamedValue::new("engine.temp", "low")])
+                .is_err()
+        );
+        assert!(
+            plant
+                .send(0.0, &[NamedValue::new("engine.cmd", "warp")])
+                .is_err()
+        );
+    }
+}

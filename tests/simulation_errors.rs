@@ -1,0 +1,84 @@
+//! The scenario loader's errors (DESIGN.md §11 scenario files, §13: "every file error points at
+//! file:line:column with the offending text and what was expected"). Each file in
+//! `tests/bad_scenarios/` says in its first comment what is wrong with it; its snapshot shows the
+//! message as `kairos run` prints it.
+
+use std::path::Path;
+
+use kairos::simulation;
+
+fn errors_of(file: &str) -> String {
+    let path = format!("tests/bad_scenarios/{file}.ron");
+    // Relative to the crate root, so that the messages name files as a user at the root sees them.
+    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
+    match simulation::load(Path::new(&path)) {
+        Ok(_) => panic!("{path} loaded"),
+        Err(errors) => errors.to_string(),
+    }
+}
+
+macro_rules! bad_scenario {
+    ($name:ident, $($must:literal),+) => {
+        #[test]
+        fn $name() {
+            let shown = errors_of(stringify!($name));
+            $(assert!(shown.contains($must), "missing `{}` in:\n{shown}", $must);)+
+            insta::assert_snapshot!(shown);
+        }
+    };
+}
+
+bad_scenario!(syntax_error, "syntax_error.ron:6:5", "Expected comma");
+bad_scenario!(unknown_field, "unknown_field.ron:6:5", "`ends`");
+bad_scenario!(missing_program, "missing_program.ron:3:15", "cannot read");
+bad_scenario!(
+    unknown_observable,
+    "unknown_observable.ron:8:17",
+    "did you mean `engine.temp`?"
+);
+bad_scenario!(
+    unknown_value,
+    "unknown_value.ron:8:74",
+    "one of: low, nominal"
+);
+bad_scenario!(
+    command_on_a_mode,
+    "command_on_a_mode.ron:8:42",
+    "a formula over the plant's controls"
+);
+bad_scenario!(zero_delay, "zero_delay.ron:8:72", "Cycles(1) or more");
+bad_scenario!(
+    bad_condition,
+    "bad_condition.ron:8:57",
+    "syntax error in formula"
+);
+bad_scenario!(
+    duplicate_rule,
+    "duplicate_rule.ron:8:25",
+    "already declared"
+);
+bad_scenario!(
+    unknown_rule,
+    "unknown_rule.ron:8:75",
+    "did you mean `PDE powers up`?"
+);
+bad_scenario!(
+    nominal_fault,
+    "nominal_fault.ron:8:32",
+    "resettable, failed"
+);
+bad_scenario!(
+    goal_not_in_program,
+    "goal_not_in_program.ron:8:30",
+    "its goals: engine = firing"
+);
+bad_scenario!(
+    window_backwards,
+    "window_backwards.ron:8:67",
+    "window_backwards.ron:8:88"
+);
+bad_scenario!(
+    time_after_end,
+    "time_after_end.ron:8:41",
+    "after the run ends at 100 s"
+);
