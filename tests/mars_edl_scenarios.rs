@@ -90,6 +90,10 @@ fn nominal_edl_follows_the_section_7_2_2_timeline() {
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "command PDE.cmd = engine-fire (engine: standby -> firing)",
             "goal achieved engine = firing",
+            // The gravity turn during the landing slew (Figure B-4's concurrent threads).
+            "command att.cmd = to-landing",
+            "command prop.cmd = gravity-turn",
+            "believed att: slew-to-landing -> landing-orient",
             "command radar_altim.cmd = off",
             "command prop.cmd = const-vel-descent",
             "goal asserted engine = off",
