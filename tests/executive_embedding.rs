@@ -416,3 +416,28 @@ fn timelines_record_the_most_likely_modes_over_time() {
     assert_eq!(timeline.at(20.0).map(|i| i.value), Some(heating));
     assert_eq!(executive.timelines().commands().len(), 6);
 }
+
+#[test]
+fn a_maintained_goal_is_reported_achieved_once_while_it_holds() {
+    // An `always` location re-asserts its goal every cycle (§4.2); the mission log reports the
+    // assertion once (GoalAsserted) and must report the achievement once too, not every cycle
+    // the goal goes on holding: the Mars EDL holds `att = entry-orient` for 300 s, 3,000 cycles
+    // of 0.1 s, between separation and entry (scenarios/mars_edl/nominal.ron).
+    let mut executive = executive("Hold() :: { always (PDE = off) }");
+    let mut hardware = Hardware::default();
+    let steps = drive(&mut executive, &mut hardware, 10.0);
+    let achieved = steps
+        .iter()
+        .flat_map(|s| &s.events)
+        .filter(|e| matches!(e.kind, EventKind::GoalAchieved { .. }))
+        .count();
+    assert_eq!(
+        steps.len(),
+        11,
+        "the program runs on: always never completes"
+    );
+    assert_eq!(
+        achieved, 1,
+        "achieved once, while the goal holds throughout"
+    );
+}

@@ -177,3 +177,49 @@ fn the_lander_policy_marks_irreversible_steps_and_repairs() {
         setup.mode("lander", "separated")
     ));
 }
+
+/// §7.2.3, Figure B-4: once the engine fires, the program asserts the landing attitude and the
+/// gravity turn together ("the propulsion control system concurrently initiates a gravity turn
+/// maneuver"). The attitude slew is a timed transition of up to 300 s; the planner must not hold
+/// the propulsion controller's mode switch, which does not depend on the attitude, until the slew
+/// ends. On the propulsion path the wait still holds: the PDE, which relays the heating engine's
+/// command, is switched off only once the engine is in standby (§6.3.3).
+#[test]
+fn independent_goals_go_on_while_a_timed_transition_is_awaited() {
+    let mut setup = Setup::model("mars_lander");
+    let start = setup.state(&[
+        ("engine", "firing"),
+        ("valve1", "open"),
+        ("valve2", "open"),
+        ("att", "vel-vector-orient"),
+    ]);
+    let goal = setup
+        .interpret(&start, "att = landing-orient and prop = gravity-turn")
+        .expect("a goal state");
+    let run = setup.run(&start, &goal);
+    assert_eq!(run.outcome, PlanOutcome::Achieved);
+    assert_eq!(
+        setup.actions(&run)[..3],
+        [
+            "command att.cmd = to-landing (att: vel-vector-orient -> slew-to-landing)",
+            "command prop.cmd = gravity-turn (prop: idle -> gravity-turn)",
+            "wait, after Uniform(0, 300) s (att: slew-to-landing -> landing-orient)",
+        ]
+    );
+
+    let cold = setup.state(&[]);
+    let goal = setup
+        .interpret(&cold, "engine = standby")
+        .expect("a goal state");
+    let run = setup.run(&cold, &goal);
+    assert_eq!(run.outcome, PlanOutcome::Achieved);
+    assert_eq!(
+        setup.actions(&run),
+        [
+            "command PDE.cmd = on (PDE: off -> on)",
+            "command PDE.cmd = engine-standby (engine: off -> heating)",
+            "wait, after Uniform(30, 60) s (engine: heating -> standby)",
+            "command PDE.cmd = off (PDE: on -> off)",
+        ]
+    );
+}

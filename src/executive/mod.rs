@@ -280,6 +280,10 @@ struct Interpretation {
 #[derive(Default)]
 struct Reported {
     goal_locations: Vec<LocationId>,
+    /// The locations whose goal the sequencer found achieved in the previous cycle: a
+    /// maintained goal (`always`) is re-asserted and found achieved every cycle it holds, and is
+    /// reported achieved again only after a cycle in which it was not.
+    achieved: Vec<LocationId>,
     conflicts: Vec<(LocationId, LocationId)>,
     goal_failure: Option<String>,
     plan_failure: Option<String>,
@@ -575,9 +579,22 @@ impl Executive {
             events.extend(start.events);
             Some(start.goal)
         };
+        let achieved: Vec<LocationId> = events
+            .iter()
+            .filter_map(|event| match event {
+                sequencer::Event::GoalAchieved { location, .. } => Some(*location),
+                _ => None,
+            })
+            .collect();
         for event in events {
+            let repeated = matches!(&event, sequencer::Event::GoalAchieved { location, .. }
+                if self.reported.achieved.contains(location));
+            if repeated {
+                continue;
+            }
             self.report_sequencer_event(event, log);
         }
+        self.reported.achieved = achieved;
         if let Some(goal) = &goal {
             self.report_new_goals(goal, log);
         }

@@ -49,7 +49,7 @@ pub use simulate::{Move, NominalRun, PlanOutcome, PlanStep};
 use crate::logic::{Formula, ValueId};
 use crate::opsat::{Theory, TheoryError};
 use crate::plant::{ComponentId, ModeKind, Plant, StepError};
-use causal::Influence;
+use causal::{Dependencies, Influence};
 use requirement::GuardCompiler;
 
 /// Everything mode reconfiguration compiles from a plant model, and its two online queries.
@@ -60,6 +60,10 @@ pub struct Reconfiguration {
     policies: Vec<ConcurrentPolicy>,
     /// Components upstream first (the causal units in topological order).
     upstream_first: Vec<ComponentId>,
+    /// What each transition's guard depends on (upstream modes and controls), by component and
+    /// transition index: while the planner waits on a timed transition it commands only what
+    /// cannot touch the awaited transition's guard.
+    guards: Vec<Vec<Dependencies>>,
 }
 
 impl Reconfiguration {
@@ -84,6 +88,16 @@ impl Reconfiguration {
             })
             .collect();
         let causal = CausalGraph::new(&upstream);
+        let guards = plant
+            .component_ids()
+            .map(|(id, component)| {
+                component
+                    .transitions()
+                    .iter()
+                    .map(|t| influence.dependencies(plant, id, &t.guard.variables()))
+                    .collect()
+            })
+            .collect();
         let mut compiler = GuardCompiler::new(plant, &influence)?;
         let mut policies = plant
             .component_ids()
@@ -102,6 +116,7 @@ impl Reconfiguration {
             causal,
             policies,
             upstream_first,
+            guards,
         })
     }
 
@@ -123,6 +138,11 @@ impl Reconfiguration {
     /// One component's concurrent policy.
     pub fn policy(&self, c: ComponentId) -> &ConcurrentPolicy {
         &self.policies[c.index()]
+    }
+
+    /// What the guard of transition `transition` of `c` depends on.
+    pub(crate) fn guard_dependencies(&self, c: ComponentId, transition: usize) -> &Dependencies {
+        &self.guards[c.index()][transition]
     }
 
     /// Components upstream first.

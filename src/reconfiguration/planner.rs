@@ -8,7 +8,10 @@
 //! the next step; its sub-goals on upstream components are achieved first, again downstream
 //! first and depth first through their own policies; once they all hold the step's command is
 //! issued, or, when the step needs no command (a timed transition), the planner waits
-//! (**Idle**). A step that leaves a mode's reversible region is taken only toward the
+//! (**Idle**) — and meanwhile serves the goals of components the awaited transition does not
+//! depend on (neither the waiting component, nor a component or control its guard reads), so
+//! that a 20 s attitude slew does not hold up the propulsion controller's mode switch, while
+//! the PDE, which relays the heating engine's command, still waits for the engine. A step that leaves a mode's reversible region is taken only toward the
 //! component's goal mode and only when the configuration goal named it; repairs out of fault
 //! modes are ordinary steps of the policies.
 
@@ -150,13 +153,50 @@ pub(crate) fn next_action(
         goal,
         working_on: Vec::new(),
     };
+    // The first wait met, and the transitions awaited so far.
+    let mut wait: Option<Wait> = None;
+    let mut awaited: Vec<(ComponentId, usize)> = Vec::new();
     for &c in reconfiguration.causal_graph().downstream_first() {
         let target = goal.mode(c);
-        if current[c.index()] != target {
-            return planner.achieve(c, target);
+        if current[c.index()] == target {
+            continue;
+        }
+        match planner.achieve(c, target) {
+            Action::Idle(next) => {
+                awaited.push((next.component, next.transition));
+                wait.get_or_insert(next);
+            }
+            // While a timed transition is awaited, goals of components it does not depend on
+            // go on (the program's concurrent threads, e.g. §7.2.3's landing slew and gravity
+            // turn); a command that could touch the awaited guard waits, as do failures.
+            Action::Command(command)
+                if wait.is_none() || independent(reconfiguration, &command, &awaited) =>
+            {
+                return Action::Command(command);
+            }
+            action if wait.is_none() => return action,
+            _ => {}
         }
     }
-    Action::Achieved
+    wait.map_or(Action::Achieved, Action::Idle)
+}
+
+/// True when `command` moves none of the awaited components, nor any component or control
+/// their awaited guards depend on.
+fn independent(
+    reconfiguration: &Reconfiguration,
+    command: &Command,
+    awaited: &[(ComponentId, usize)],
+) -> bool {
+    awaited.iter().all(|&(c, transition)| {
+        let guard = reconfiguration.guard_dependencies(c, transition);
+        command.component != c
+            && !guard.modes.contains(&command.component)
+            && command
+                .assignments
+                .iter()
+                .all(|(x, _)| !guard.controls.contains(x))
+    })
 }
 
 /// One cycle's depth-first descent through the policies.

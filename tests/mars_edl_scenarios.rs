@@ -1,0 +1,248 @@
+//! The Mars EDL scenarios (issue 7 item 3; thesis §7.2): every scenario under
+//! `scenarios/mars_edl/` runs through `kairos run` and exits 0 (all its expectations hold), and
+//! the mission log shows the moments each one is about. scenarios/mars_edl/README.md maps the
+//! validation requirements of §7.2.1 to the scenarios and their expectations.
+
+#[path = "support/cli.rs"]
+mod cli;
+
+use std::path::Path;
+
+use cli::kairos;
+
+const DIR: &str = "scenarios/mars_edl";
+
+/// The scenarios this file runs, one test each.
+const SCENARIOS: [&str; 6] = [
+    "nominal.ron",
+    "engine_stuck_heating.ron",
+    "engine_power_loss.ron",
+    "pde_resettable.ron",
+    "lander_pyro_misfire.ron",
+    "mars_polar_lander.ron",
+];
+/// The other files there: the scripts the scenarios include, and the requirement mapping.
+const NOT_SCENARIOS: [&str; 3] = ["plant.ron", "descent.ron", "README.md"];
+
+/// Runs a scenario and returns its mission log, failing with the log if it does not pass.
+fn run(name: &str) -> String {
+    let path = format!("{DIR}/{name}");
+    let (code, stdout, stderr) = kairos(&["run", &path]);
+    assert_eq!(code, 0, "{path} failed:\n{stdout}\n{stderr}");
+    assert!(stdout.contains("PASS: "), "{stdout}");
+    stdout
+}
+
+/// The log has each line (trimmed of the column padding), in this order.
+fn assert_in_order(log: &str, lines: &[&str]) {
+    let squeezed: Vec<String> = log
+        .lines()
+        .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+        .collect();
+    let mut from = 0;
+    for line in lines {
+        let wanted = line.split_whitespace().collect::<Vec<_>>().join(" ");
+        match squeezed[from..].iter().position(|l| l.contains(&wanted)) {
+            Some(i) => from += i + 1,
+            None => panic!("`{line}` not found (in order) in the mission log:\n{log}"),
+        }
+    }
+}
+
+#[test]
+fn every_scenario_file_is_run() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join(DIR);
+    for entry in std::fs::read_dir(&dir).expect("the scenario directory exists") {
+        let name = entry.expect("an entry").file_name();
+        let name = name.to_string_lossy();
+        assert!(
+            SCENARIOS.contains(&name.as_ref()) || NOT_SCENARIOS.contains(&name.as_ref()),
+            "{DIR}/{name} has no test in tests/mars_edl_scenarios.rs"
+        );
+    }
+}
+
+/// §7.2.2, the whole EDL at the 0.1 s cycle: nominal validation requirements 1-7 of §7.2.1.
+#[test]
+fn nominal_edl_follows_the_section_7_2_2_timeline() {
+    let log = run("nominal.ron");
+    assert_in_order(
+        &log,
+        &[
+            "cycle 0.1 s until 17200 s",
+            "command PDE.cmd = engine-standby (engine: off -> heating)",
+            "[ 43.100 s]",
+            "believed engine: heating -> standby",
+            "clock t1 started",
+            "[ 16243.200 s]",
+            "command nav.cmd = inertial (nav: earth-relative -> inertial)",
+            "command att.cmd = to-entry",
+            "[ 16495.500 s]",
+            "command lander.cmd = fire-primary (lander: connected -> separated)",
+            "believed entry: not-initiated -> initiated",
+            "command chute.cmd = fire",
+            "command heatshield.cmd = fire",
+            "command legs.cmd = fire",
+            "command radar_altim.cmd = on",
+            "command backshield.cmd = fire",
+            "command PDE.cmd = on (PDE: off -> on)",
+            "command PDE.cmd = open1 (valve1: closed -> open)",
+            "command PDE.cmd = open2 (valve2: closed -> open)",
+            "command PDE.cmd = engine-fire (engine: standby -> firing)",
+            "goal achieved engine = firing",
+            // The gravity turn during the landing slew (Figure B-4's concurrent threads).
+            "command att.cmd = to-landing",
+            "command prop.cmd = gravity-turn",
+            "believed att: slew-to-landing -> landing-orient",
+            "command radar_altim.cmd = off",
+            "command prop.cmd = const-vel-descent",
+            "goal asserted engine = off",
+            "command PDE.cmd = engine-off (engine: standby -> off)",
+            "goal achieved landing = success",
+            "completed the program has completed",
+        ],
+    );
+    assert!(!log.contains("DIAGNOSIS"), "{log}");
+    // The 300 s hold of the entry attitude is one achievement, not one per cycle.
+    assert_eq!(log.matches("achieved att = entry-orient").count(), 1);
+}
+
+/// §7.2.5: the engine stuck in heating past the 60 s bound of its timed transition is diagnosed
+/// failed (fault validation requirement 2 of §7.2.1).
+#[test]
+fn an_engine_stuck_heating_is_diagnosed_when_the_60_s_window_closes() {
+    let log = run("engine_stuck_heating.ron");
+    assert_in_order(
+        &log,
+        &[
+            "rule `heater sticks` takes effect: heater = stuck (FAULT)",
+            "believed engine: off -> heating",
+            "[ 60.200 s]",
+            "DIAGNOSIS engine = failed",
+            "GOAL FAILED engine = standby",
+        ],
+    );
+}
+
+/// §7.2.5: an unanticipated fault, power lost while heating, falls to the unconstrained failed
+/// mode (fault validation requirement 1 of §7.2.1).
+#[test]
+fn an_engine_losing_power_while_heating_falls_to_its_unconstrained_mode() {
+    let log = run("engine_power_loss.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 20.000 s]",
+            "rule `engine loses power` takes effect: engine.power = zero (FAULT)",
+            "believed engine: heating -> failed",
+            "DIAGNOSIS engine = failed",
+        ],
+    );
+}
+
+/// §7.2.4-§7.2.5: a resettable PDE is reset and the EDL continues (fault validation
+/// requirement 3 of §7.2.1).
+#[test]
+fn a_resettable_pde_is_reset_and_the_edl_continues() {
+    let log = run("pde_resettable.ron");
+    assert_in_order(
+        &log,
+        &[
+            "DIAGNOSIS PDE = resettable",
+            "REPAIR PDE.cmd = reset (repair) (PDE: resettable -> on)",
+            "command PDE.cmd = engine-standby (engine: off -> heating)",
+            "goal achieved engine = standby",
+            "clock t1 started",
+        ],
+    );
+}
+
+/// §7.2.5 and §3.3: the primary separation pyro misfires; the backup separates the lander and
+/// the EDL lands (fault validation requirements 1 and 4 of §7.2.1).
+#[test]
+fn a_primary_pyro_misfire_is_diagnosed_and_the_backup_separates_the_lander() {
+    let log = run("lander_pyro_misfire.ron");
+    assert_in_order(
+        &log,
+        &[
+            "command lander.cmd = fire-primary",
+            "believed lander: connected -> unsuccessful-attempt",
+            "DIAGNOSIS lander = unsuccessful-attempt",
+            "REPAIR lander.cmd = fire-backup (repair) (lander: unsuccessful-attempt -> separated)",
+            "believed lander: unsuccessful-attempt -> separated",
+            "goal achieved lander = separated",
+            "goal achieved landing = success",
+            "completed the program has completed",
+        ],
+    );
+}
+
+/// §1.1 and §7.2.3: the Mars Polar Lander's latched touchdown spike is reset and the engine
+/// burns until the real touchdown.
+#[test]
+fn a_touchdown_spike_at_leg_deployment_does_not_stop_the_engine() {
+    let log = run("mars_polar_lander.ron");
+    assert_in_order(
+        &log,
+        &[
+            "rule `leg deployment spike` takes effect: touchdown_sensor.flag = set (FAULT)",
+            "believed touchdown_sensor: not-triggered -> triggered",
+            "goal achieved engine = firing",
+            "goal asserted touchdown_sensor = not-triggered",
+            "command touchdown_sensor.cmd = reset",
+            "believed touchdown_sensor: triggered -> not-triggered",
+            "rule `12 m` takes effect",
+            "rule `touchdown` takes effect",
+            "goal asserted engine = off",
+            "goal achieved landing = success",
+        ],
+    );
+}
+
+/// The Mars Polar Lander scenario is a real check: without the program's touchdown-reset thread
+/// (Figure B-4's `whenever ... donext touchdown_sensor = not-triggered`), the latched spike and
+/// the 12 m trigger shut the engine down in the air, and the scenario fails (exit 1).
+#[test]
+fn without_the_reset_thread_the_mars_polar_lander_scenario_fails() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let program = std::fs::read_to_string(root.join("programs/mars_edl.rmpl")).expect("program");
+    let reset = "        whenever ((alt_12m_trigger = not-triggered) ∧ (touchdown_sensor = triggered)) donext\n          touchdown_sensor = not-triggered,\n";
+    assert!(
+        program.contains(reset),
+        "the reset thread is in the program"
+    );
+    let scenario = std::fs::read_to_string(root.join(DIR).join("mars_polar_lander.ron"))
+        .expect("scenario")
+        .replace(
+            "../../programs/mars_edl.rmpl",
+            "mars_edl_without_reset.rmpl",
+        )
+        .replace(
+            "../../models/mars_lander.ron",
+            &root.join("models/mars_lander.ron").to_string_lossy(),
+        )
+        .replace(
+            "[\"plant.ron\", \"descent.ron\"]",
+            &format!(
+                "[\"{}\", \"{}\"]",
+                root.join(DIR).join("plant.ron").to_string_lossy(),
+                root.join(DIR).join("descent.ron").to_string_lossy()
+            ),
+        );
+    let dir = std::env::temp_dir().join(format!("kairos-mpl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    std::fs::write(
+        dir.join("mars_edl_without_reset.rmpl"),
+        program.replace(reset, ""),
+    )
+    .expect("written");
+    let path = dir.join("mpl.ron");
+    std::fs::write(&path, scenario).expect("written");
+    let (code, stdout, stderr) = kairos(&["run", &path.to_string_lossy(), "--quiet"]);
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(code, 1, "the scenario must fail:\n{stdout}\n{stderr}");
+    assert!(
+        stdout.contains("FAILED never commanded PDE.cmd = engine-off or PDE.cmd = engine-standby"),
+        "the engine is shut down before touchdown:\n{stdout}"
+    );
+}
