@@ -191,6 +191,8 @@ impl Expander {
         let ocsps: Vec<OnceCell<Ocsp>> = sources.iter().map(|_| OnceCell::new()).collect();
         let mut streams = Streams::take(
             &mut self.solutions,
+            plant,
+            theory,
             sources,
             observation,
             limits.search,

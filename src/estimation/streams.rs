@@ -13,6 +13,13 @@
 //! what was served), runs a [`MARGIN`] further so that the next cycles stay certified, and
 //! renews the certificate. A shape whose enumeration ran out is complete: any costs are served
 //! from the list.
+//!
+//! The maximum in `Δ` runs over the modes a feasible solution can take only: a mode that the
+//! theory and the observation refute on its own (`entry = initiated` while no drag is sensed,
+//! `engine = standby` while it still reads cold) is in no feasible solution, so its cost — the
+//! one that moves fastest inside a timed window, being the timed transition's — cannot lower an
+//! unlisted solution's. Which modes are refuted is decided once per observation, by one SAT
+//! call per mode, and only for modes whose cost moved ([`Possible`]).
 
 use std::cell::OnceCell;
 
@@ -22,7 +29,7 @@ use std::rc::Rc;
 
 use super::expand::{Choices, SourceChoices};
 use crate::logic::ValueId;
-use crate::opsat::{Cut, Enumeration, Ocsp, SearchOptions, Theory};
+use crate::opsat::{Consistency, Cut, Enumeration, Literal, Ocsp, SearchOptions, Theory};
 use crate::plant::{Observation, Plant, target_ocsp};
 
 /// Past this many shapes the cache starts afresh.
@@ -57,6 +64,42 @@ struct Known {
 #[derive(Default)]
 pub(crate) struct SolutionCache {
     shapes: FxHashMap<Vec<u64>, Known>,
+    possible: Possible,
+}
+
+/// Which modes can appear in a feasible solution under one observation: `component = mode`
+/// consistent with the theory and the observation (a necessary condition), decided lazily and
+/// remembered until the observation changes.
+#[derive(Default)]
+struct Possible {
+    observation: Observation,
+    /// (component, mode) → consistent.
+    decided: FxHashMap<(usize, ValueId), bool>,
+    assumptions: Vec<Literal>,
+}
+
+impl Possible {
+    /// Forgets what was decided under another observation.
+    fn observe(&mut self, observation: &Observation) {
+        if self.observation != *observation {
+            self.observation = observation.clone();
+            self.decided.clear();
+        }
+    }
+
+    /// Whether component `c` may be in `mode` in a solution consistent with the observation.
+    fn allows(&mut self, plant: &Plant, theory: &mut Theory, c: usize, mode: ValueId) -> bool {
+        if let Some(&possible) = self.decided.get(&(c, mode)) {
+            return possible;
+        }
+        self.assumptions.clear();
+        self.assumptions
+            .push(Literal::Is(plant.components()[c].mode_var(), mode));
+        self.assumptions.extend(self.observation.literals());
+        let possible = theory.consistent(&self.assumptions) == Consistency::Consistent;
+        self.decided.insert((c, mode), possible);
+        possible
+    }
 }
 
 /// One source's stream during an expansion.
@@ -116,28 +159,40 @@ fn costs(choices: &Choices) -> impl Iterator<Item = impl Iterator<Item = (ValueI
         .map(|next| next.iter().map(|n| (n.mode, n.cost)))
 }
 
-/// Σ over components of the largest change of a mode's cost (same shape, so same order).
-fn drift(old: &Choices, new: &Choices) -> f64 {
+/// Σ over components of the largest change of the cost of a mode that `possible(component,
+/// mode)` allows (same shape, so same order): how much cheaper any feasible solution can have
+/// become. `possible` is asked only about modes whose change would raise the maximum.
+fn drift(old: &Choices, new: &Choices, mut possible: impl FnMut(usize, ValueId) -> bool) -> f64 {
     old.iter()
         .zip(new)
-        .map(|(a, b)| {
-            a.iter()
-                .zip(b)
-                .map(|(x, y)| (x.cost - y.cost).abs())
-                .fold(0.0, f64::max)
+        .enumerate()
+        .map(|(c, (a, b))| {
+            a.iter().zip(b).fold(0.0, |largest: f64, (x, y)| {
+                let change = (x.cost - y.cost).abs();
+                if change > largest && possible(c, x.mode) {
+                    change
+                } else {
+                    largest
+                }
+            })
         })
         .sum()
 }
 
 impl Known {
     /// The known solutions servable under `choices`' costs before any unknown one (by index),
-    /// dearest first.
-    fn certified(&self, choices: &Choices) -> Vec<(usize, f64)> {
+    /// dearest first. `possible` says which modes a feasible solution may take (see
+    /// [`drift`]).
+    fn certified(
+        &self,
+        choices: &Choices,
+        possible: impl FnMut(usize, ValueId) -> bool,
+    ) -> Vec<(usize, f64)> {
         let limit = if self.complete {
             f64::INFINITY
         } else {
             match &self.certificate {
-                Some((old, bound)) => bound - drift(old, choices),
+                Some((old, bound)) => bound - drift(old, choices, possible),
                 None => return Vec::new(),
             }
         };
@@ -158,6 +213,8 @@ impl<'o> Streams<'o> {
     /// `ocsps` holds one lazily built OCSP per source.
     pub(crate) fn take(
         cache: &mut SolutionCache,
+        plant: &Plant,
+        theory: &mut Theory,
         sources: &[SourceChoices],
         observation: &Observation,
         options: SearchOptions,
@@ -166,6 +223,7 @@ impl<'o> Streams<'o> {
         if cache.shapes.len() >= CACHE_LIMIT {
             cache.shapes.clear();
         }
+        cache.possible.observe(observation);
         let mut streams = Streams {
             keys: Vec::new(),
             known: Vec::new(),
@@ -190,7 +248,9 @@ impl<'o> Streams<'o> {
             let known = &streams.known[shape];
             streams.streams.push(Stream {
                 shape,
-                certified: known.certified(&source.choices),
+                certified: known.certified(&source.choices, |c, mode| {
+                    cache.possible.allows(plant, theory, c, mode)
+                }),
                 done: known.complete,
                 choices: Rc::clone(&source.choices),
                 served: Vec::new(),
