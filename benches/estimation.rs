@@ -245,11 +245,12 @@ fn mars_lander(c: &mut Criterion) {
     let plant = model("mars_lander");
     let mut group = c.benchmark_group("me_step/mars_lander");
     group.measurement_time(Duration::from_secs(3));
-    // (name, first cycle): quiet cruise steps; the engine heating (from 0.2 s); the entry
-    // trigger's Gaussian window, its per-step probability non-zero from ≈ 15,675 s.
+    // (name, first cycle): quiet cruise steps; the engine inside its Uniform(30, 60) s heating
+    // window (heating from 0.2 s, standby at 43.2 s); the entry trigger's Gaussian window, its
+    // per-step probability non-zero from ≈ 15,675 s.
     let quiet: [(&str, f64); 3] = [
         ("cruise", 1000.0),
-        ("heating", 20.0),
+        ("heating", 31.0),
         ("entry_window", 16000.0),
     ];
     for kappa in [1usize, 10] {

@@ -13,7 +13,8 @@
 //!
 //! Cases (all at the executive's 0.1 s cycle where they are measured):
 //! - `cruise`: quiet steps of the 16,200 s cruise wait, from 1,000 s;
-//! - `heating`: the engine inside its 30–60 s heating window, from 5 s;
+//! - `heating`: the engine inside its Uniform(30, 60) s heating window (heating from 0.2 s,
+//!   standby at 43.2 s), from 25 s (so measured from 30 s with the default warm-up);
 //! - `entry`: the entry trigger's Gaussian(16800, 30) window, from 15,700 s (per-step
 //!   probability non-zero, drag not yet sensed);
 //! - `events`: every cycle whose observation changed or that follows a command (mode changes),
@@ -180,7 +181,7 @@ fn main() {
     let plant = model("mars_lander");
     let case = match args.case.as_str() {
         "cruise" => window(&plant, 1000.0, args.warmup, args.steps),
-        "heating" => window(&plant, 5.0, args.warmup, args.steps),
+        "heating" => window(&plant, 25.0, args.warmup, args.steps),
         "entry" => window(&plant, 15700.0, args.warmup, args.steps),
         "events" => events(&plant),
         "edl" => whole(&plant),

@@ -41,8 +41,11 @@ const CACHE_LIMIT: usize = 20_000;
 /// different costs to stay certified…
 const MARGIN: f64 = 1.0;
 
-/// …but fetches at most this many solutions beyond the one asked for.
-const PREFETCH: usize = 6;
+/// …but fetches at most this many solutions beyond the one asked for. Enough to get past a
+/// plateau of equally likely solutions (the Mars lander's dozen components failing at the same
+/// 1e-9/s rate): a bound still on the plateau certifies none of it once costs move at all, and
+/// the source whose look-ahead reaches it would be enumerated afresh every cycle.
+const PREFETCH: usize = 32;
 
 /// A shape that has collected this many solutions without being complete starts afresh, so
 /// that certifying stays cheap.
