@@ -170,7 +170,7 @@ fn drift(old: &Choices, new: &Choices, mut possible: impl FnMut(usize, ValueId) 
         .zip(new)
         .enumerate()
         .map(|(c, (a, b))| {
-            a.iter().zip(b).fold(0.0, |largest: f64, (x, y)| {
+            a.iter().zip(b.iter()).fold(0.0, |largest: f64, (x, y)| {
                 let change = (x.cost - y.cost).abs();
                 if change > largest && possible(c, x.mode) {
                     change

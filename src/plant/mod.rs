@@ -27,8 +27,8 @@ mod validate;
 use std::hash::{Hash, Hasher};
 
 pub use step::{
-    Commands, InputError, Observation, StepError, component_distributions, consistent_state,
-    enabled_transitions, step_tcca, successor, transition_choices,
+    Commands, InputError, Observation, StepError, component_distribution, component_distributions,
+    consistent_state, enabled_transitions, step_tcca, successor, transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{Timing, TransitionLaw, mode_distribution};
