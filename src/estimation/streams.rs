@@ -56,6 +56,10 @@ const KNOWN_LIMIT: usize = 256;
 struct Known {
     /// Feasible next plant states, distinct.
     solutions: Vec<Vec<ValueId>>,
+    /// Per solution, each component's position among its next modes, which the shape fixes
+    /// (`u32::MAX` if absent, which a solution of the shape's OCSP never is): the solution's
+    /// cost under any costs of the shape is then a sum of lookups ([`cost_at`]).
+    positions: Vec<Vec<u32>>,
     /// Every feasible solution not in `solutions` costs at least `bound` under these choices'
     /// costs.
     certificate: Option<(Rc<Choices>, f64)>,
@@ -134,7 +138,8 @@ pub(crate) struct Streams<'o> {
 
 /// The shape of a source's OCSP: the allowed values per component and the observation.
 fn shape_key(choices: &Choices, observation: &Observation) -> Vec<u64> {
-    let mut key = Vec::with_capacity(choices.len() * 3 + observation.values().len() + 1);
+    let size = choices.iter().map(|next| 1 + next.len()).sum::<usize>();
+    let mut key = Vec::with_capacity(size + 1 + observation.values().len());
     for next in choices {
         key.push(next.len() as u64);
         key.extend(next.iter().map(|n| u64::from(n.mode.0)));
@@ -146,12 +151,26 @@ fn shape_key(choices: &Choices, observation: &Observation) -> Vec<u64> {
     key
 }
 
-/// The cost of `modes` under `choices` (`None` if a mode is not among them).
-fn cost_of(choices: &Choices, modes: &[ValueId]) -> Option<f64> {
+/// Each component's position in `choices` of its mode in `modes` (`u32::MAX` if absent).
+fn positions_of(choices: &Choices, modes: &[ValueId]) -> Vec<u32> {
     choices
         .iter()
         .zip(modes)
-        .map(|(next, m)| next.iter().find(|n| n.mode == *m).map(|n| n.cost))
+        .map(|(next, m)| {
+            next.iter()
+                .position(|n| n.mode == *m)
+                .map_or(u32::MAX, |i| i as u32)
+        })
+        .collect()
+}
+
+/// The cost under `choices` of the solution at `positions` (see [`positions_of`]); `None` if a
+/// position is absent. Summed component by component, in order.
+fn cost_at(choices: &Choices, positions: &[u32]) -> Option<f64> {
+    choices
+        .iter()
+        .zip(positions)
+        .map(|(next, &i)| next.get(i as usize).map(|n| n.cost))
         .sum()
 }
 
@@ -200,10 +219,10 @@ impl Known {
             }
         };
         let mut out: Vec<(usize, f64)> = self
-            .solutions
+            .positions
             .iter()
             .enumerate()
-            .filter_map(|(i, s)| Some((i, cost_of(choices, s)?)))
+            .filter_map(|(i, at)| Some((i, cost_at(choices, at)?)))
             .filter(|(_, cost)| *cost <= limit)
             .collect();
         out.sort_by(|a, b| b.1.total_cmp(&a.1));
@@ -354,6 +373,7 @@ impl<'o> Streams<'o> {
                         solution.assignment.into_iter().map(|(_, v)| v).collect();
                     stream.live_bound = Some(cost);
                     if !known.solutions.contains(&modes) {
+                        known.positions.push(positions_of(&stream.choices, &modes));
                         known.solutions.push(modes.clone());
                     }
                     // A fresh enumeration re-finds what was served from the certificate.

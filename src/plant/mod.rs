@@ -111,6 +111,9 @@ pub struct Component {
     transitions: Vec<Transition>,
     /// Per mode, the transitions that leave it (`"*"` expanded).
     outgoing: Vec<Vec<usize>>,
+    /// Per mode, whether a transition leaving it needs the clock ([`Component::clock_matters`],
+    /// asked for every candidate state in estimation, so decided once).
+    timed: Vec<bool>,
 }
 
 impl Component {
@@ -167,12 +170,7 @@ impl Component {
     /// component's clock cannot matter until it changes mode (which resets it), so estimation
     /// forgets it and merges states that differ only there (DESIGN.md §8).
     pub fn clock_matters(&self, mode: ValueId) -> bool {
-        self.outgoing(mode).iter().any(|&t| {
-            self.transitions[t]
-                .law
-                .timing()
-                .is_some_and(Timing::needs_clock)
-        })
+        self.timed.get(mode.index()).copied().unwrap_or(false)
     }
 }
 
