@@ -136,7 +136,9 @@ struct StepMemo {
 /// One memoised distribution.
 struct Memo {
     mode: ValueId,
-    enabled: Vec<usize>,
+    /// The source's enabled transitions (all components'; this one's at its index), shared
+    /// with the cache of enabled transitions rather than copied.
+    enabled: Rc<Vec<Vec<usize>>>,
     clock: Option<u64>,
     next: Rc<[NextMode]>,
 }
@@ -147,7 +149,8 @@ impl StepMemo {
         let step = (from.to_bits(), to.to_bits());
         if self.step != step || self.components.len() != plant.components().len() {
             self.step = step;
-            self.components.clear();
+            // Emptied, not dropped: the lists keep their capacity from step to step.
+            self.components.iter_mut().for_each(Vec::clear);
             self.components
                 .resize_with(plant.components().len(), Vec::new);
         }
@@ -174,23 +177,29 @@ impl Expander {
         let choices = plant
             .component_ids()
             .zip(&state.modes)
-            .zip(enabled.iter())
             .zip(&mut self.memo.components)
-            .map(|((((id, component), &mode), enabled), memos)| {
+            .enumerate()
+            .map(|(c, (((id, component), &mode), memos))| {
                 let clock = state.clock(id, from);
                 let bits = clock.map(f64::to_bits);
-                let known = memos
-                    .iter()
-                    .find(|m| m.mode == mode && m.clock == bits && m.enabled == *enabled);
+                let known = memos.iter().find(|m| {
+                    m.mode == mode
+                        && m.clock == bits
+                        && (Rc::ptr_eq(&m.enabled, &enabled) || m.enabled[c] == enabled[c])
+                });
                 match known {
                     Some(memo) => Rc::clone(&memo.next),
                     None => {
                         let next = next_modes(component_distribution(
-                            component, mode, enabled, clock, step,
+                            component,
+                            mode,
+                            &enabled[c],
+                            clock,
+                            step,
                         ));
                         memos.push(Memo {
                             mode,
-                            enabled: enabled.clone(),
+                            enabled: Rc::clone(&enabled),
                             clock: bits,
                             next: Rc::clone(&next),
                         });

@@ -70,7 +70,12 @@ struct Known {
 /// Cached knowledge, per OCSP shape, across calls.
 #[derive(Default)]
 pub(crate) struct SolutionCache {
-    shapes: FxHashMap<Vec<u64>, Known>,
+    /// Shape key → slot in `known`: a step looks each shape up once and puts its knowledge
+    /// back by slot, without hashing the key again.
+    shapes: FxHashMap<Vec<u64>, usize>,
+    known: Vec<Known>,
+    /// Scratch for building a shape key.
+    key: Vec<u64>,
     possible: Possible,
 }
 
@@ -126,7 +131,8 @@ struct Stream {
 
 /// The streams of one expansion; the cache's knowledge is taken out for it and put back after.
 pub(crate) struct Streams<'o> {
-    keys: Vec<Vec<u64>>,
+    /// Per shape of this expansion, its slot in the cache.
+    slots: Vec<usize>,
     known: Vec<Known>,
     streams: Vec<Stream>,
     ocsps: &'o [OnceCell<Ocsp>],
@@ -136,10 +142,10 @@ pub(crate) struct Streams<'o> {
     pub(crate) cut: Option<Cut>,
 }
 
-/// The shape of a source's OCSP: the allowed values per component and the observation.
-fn shape_key(choices: &Choices, observation: &Observation) -> Vec<u64> {
-    let size = choices.iter().map(|next| 1 + next.len()).sum::<usize>();
-    let mut key = Vec::with_capacity(size + 1 + observation.values().len());
+/// The shape of a source's OCSP, into `key`: the allowed values per component and the
+/// observation.
+fn shape_key(choices: &Choices, observation: &Observation, key: &mut Vec<u64>) {
+    key.clear();
     for next in choices {
         key.push(next.len() as u64);
         key.extend(next.iter().map(|n| u64::from(n.mode.0)));
@@ -148,7 +154,6 @@ fn shape_key(choices: &Choices, observation: &Observation) -> Vec<u64> {
     for &(x, v) in observation.values() {
         key.push((u64::from(x.0) << 32) | u64::from(v.0));
     }
-    key
 }
 
 /// Each component's position in `choices` of its mode in `modes` (`u32::MAX` if absent).
@@ -244,10 +249,11 @@ impl<'o> Streams<'o> {
     ) -> Streams<'o> {
         if cache.shapes.len() >= CACHE_LIMIT {
             cache.shapes.clear();
+            cache.known.clear();
         }
         cache.possible.observe(observation);
         let mut streams = Streams {
-            keys: Vec::new(),
+            slots: Vec::new(),
             known: Vec::new(),
             streams: Vec::with_capacity(sources.len()),
             ocsps,
@@ -256,15 +262,21 @@ impl<'o> Streams<'o> {
             cut: None,
         };
         for source in sources {
-            let key = shape_key(&source.choices, observation);
-            let shape = match streams.keys.iter().position(|k| *k == key) {
+            shape_key(&source.choices, observation, &mut cache.key);
+            let slot = match cache.shapes.get(cache.key.as_slice()) {
+                Some(&slot) => slot,
+                None => {
+                    cache.shapes.insert(cache.key.clone(), cache.known.len());
+                    cache.known.push(Known::default());
+                    cache.known.len() - 1
+                }
+            };
+            let shape = match streams.slots.iter().position(|&s| s == slot) {
                 Some(shape) => shape,
                 None => {
-                    streams
-                        .known
-                        .push(cache.shapes.remove(&key).unwrap_or_default());
-                    streams.keys.push(key);
-                    streams.keys.len() - 1
+                    streams.known.push(std::mem::take(&mut cache.known[slot]));
+                    streams.slots.push(slot);
+                    streams.slots.len() - 1
                 }
             };
             let known = &streams.known[shape];
@@ -295,14 +307,15 @@ impl<'o> Streams<'o> {
                 }
             }
         }
-        for ((key, mut known), certificate) in self.keys.into_iter().zip(self.known).zip(renewed) {
+        for ((slot, mut known), certificate) in self.slots.into_iter().zip(self.known).zip(renewed)
+        {
             if certificate.is_some() {
                 known.certificate = certificate;
             }
             if !known.complete && known.solutions.len() > KNOWN_LIMIT {
                 known = Known::default();
             }
-            cache.shapes.insert(key, known);
+            cache.known[slot] = known;
         }
     }
 
