@@ -14,7 +14,9 @@
 //! Cases (all at the executive's 0.1 s cycle where they are measured):
 //! - `cruise`: quiet steps of the 16,200 s cruise wait, from 1,000 s;
 //! - `heating`: the engine inside its Uniform(30, 60) s heating window (heating from 0.2 s,
-//!   standby at 43.2 s), from 25 s (so measured from 30 s with the default warm-up);
+//!   standby at 43.2 s), from 25 s (so measured from 30 s with the default warm-up, and inside
+//!   the window for `--steps 100`; BENCHMARKS.md skips the window's opening with
+//!   `--warmup 60`);
 //! - `entry`: the entry trigger's Gaussian(16800, 30) window, from 15,700 s (per-step
 //!   probability non-zero, drag not yet sensed);
 //! - `events`: every cycle whose observation changed or that follows a command (mode changes),
