@@ -1,5 +1,6 @@
-//! Mode estimation benchmarks (DESIGN.md §14; issue 4): one estimation step on the propulsion
-//! subsystem at κ ∈ {1, 5, 10, 50}; the exact update against TimedME on an 8-component plant;
+//! Mode estimation benchmarks (DESIGN.md §14; issues 4 and 7): one estimation step on the Mars
+//! lander at κ ∈ {1, 10} during the EDL (a quiet cruise cycle, the engine heating, the entry
+//! trigger's window, a new observation); on the propulsion subsystem at κ ∈ {1, 5, 10, 50}; the exact update against TimedME on an 8-component plant;
 //! TimedME on synthetic chain and tree plants of 10, 100 and 1000 components.
 //!
 //! "warm" steps repeat a cycle the estimator has seen (a quiet cycle: the caches of enabled
@@ -16,10 +17,11 @@ use std::time::Duration;
 
 use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
 use kairos::diagnostic::Source;
-use kairos::estimation::log::replay;
-use kairos::estimation::{Belief, BeliefUpdate, ModeEstimator, TimedMe, TimedMeOptions};
+use kairos::estimation::log::{LogRecord, replay};
+use kairos::estimation::{Belief, BeliefUpdate, ModeEstimator, TimedMe, TimedMeOptions, Update};
 use kairos::opsat::{Theory, TheoryOptions};
 use kairos::plant::{Commands, Observation, Plant};
+use support::lander_edl::{CYCLE, Faults, edl, ms, nominal_edl};
 use support::plants::{log, model};
 use support::random_ocsp::sample;
 use support::random_plant::{random_plant, random_run};
@@ -167,6 +169,116 @@ fn propulsion(c: &mut Criterion) {
                     .expect("update")
             })
         });
+    }
+    group.finish();
+}
+
+/// The Mars lander's nominal EDL (`tests/support/lander_edl.rs`) replayed through TimedME(κ) (quiet
+/// stretches on a 600 s grid, every 0.1 s cycle from `from` s on), and the next `steps` cycles as
+/// they came: the belief before each and its records.
+struct LanderRun {
+    theory: Theory,
+    estimator: TimedMe,
+    steps: Vec<(Belief, LogRecord, LogRecord)>,
+    next: usize,
+    lap: u32,
+}
+
+impl LanderRun {
+    fn new(plant: &Plant, kappa: usize, from: f64, steps: usize) -> LanderRun {
+        let timeline = nominal_edl(Faults::default());
+        let start = ms(from);
+        let fine = (0..=steps as u64).map(|k| start + k * ms(CYCLE));
+        let mut times: Vec<u64> = timeline
+            .times(edl::END, 600.0)
+            .into_iter()
+            .filter(|&t| t < start)
+            .chain(fine)
+            .collect();
+        times.sort_unstable();
+        times.dedup();
+        let records = timeline.records(plant, &times);
+        let mut theory = plant.theory().expect("theory");
+        let mut estimator = TimedMe::new(TimedMeOptions::kappa(kappa));
+        let updates = replay(plant, &mut theory, &mut estimator, &records).expect("replay");
+        let first = records.len() - steps - 1;
+        let steps = (first..records.len() - 1)
+            .map(|i| {
+                let belief = updates[i].belief.clone();
+                (belief, records[i].clone(), records[i + 1].clone())
+            })
+            .collect();
+        LanderRun {
+            theory,
+            estimator,
+            steps,
+            next: 0,
+            lap: 0,
+        }
+    }
+
+    /// The next of the recorded steps, round robin. Each lap shifts the step's end by 1 ns, so
+    /// that every clock reading and step length is new to the estimator, as in a real run
+    /// (whose cycle lengths differ in their last bits from cycle to cycle).
+    fn step(&mut self, plant: &Plant) -> Update {
+        let (belief, before, now) = &self.steps[self.next];
+        let time = now.time + f64::from(self.lap) * 1e-9;
+        self.next += 1;
+        if self.next == self.steps.len() {
+            self.next = 0;
+            self.lap += 1;
+        }
+        self.estimator
+            .update(
+                plant,
+                &mut self.theory,
+                black_box(belief),
+                &before.commands,
+                &now.observation,
+                time,
+            )
+            .expect("update")
+    }
+}
+
+fn mars_lander(c: &mut Criterion) {
+    let plant = model("mars_lander");
+    let mut group = c.benchmark_group("me_step/mars_lander");
+    group.measurement_time(Duration::from_secs(3));
+    // (name, first cycle): quiet cruise steps; the engine inside its Uniform(30, 60) s heating
+    // window (heating from 0.2 s, standby at 43.2 s); the entry trigger's Gaussian window, its
+    // per-step probability non-zero from ≈ 15,675 s.
+    let quiet: [(&str, f64); 3] = [
+        ("cruise", 1000.0),
+        ("heating", 31.0),
+        ("entry_window", 16000.0),
+    ];
+    for kappa in [1usize, 10] {
+        for (name, from) in quiet {
+            let mut run: Option<LanderRun> = None;
+            group.bench_with_input(BenchmarkId::new(name, kappa), &kappa, |b, _| {
+                let run = run.get_or_insert_with(|| LanderRun::new(&plant, kappa, from, 100));
+                b.iter(|| run.step(&plant))
+            });
+        }
+        // The engine reaches standby: `engine.temp = nominal` is observed for the first time
+        // (43.2 s), every quiet cycle before it already seen by the estimator.
+        group.sample_size(20);
+        group.bench_with_input(
+            BenchmarkId::new("new_observation", kappa),
+            &kappa,
+            |b, _| {
+                b.iter_batched(
+                    || LanderRun::new(&plant, kappa, edl::STANDBY - 1.0, 10),
+                    |mut run| {
+                        run.next = 9;
+                        run.step(&plant)
+                    },
+                    BatchSize::SmallInput,
+                )
+            },
+        );
+        group.sample_size(100);
     }
     group.finish();
 }
@@ -450,5 +562,11 @@ fn scaling(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, propulsion, exact_against_timed, scaling);
+criterion_group!(
+    benches,
+    mars_lander,
+    propulsion,
+    exact_against_timed,
+    scaling
+);
 criterion_main!(benches);

@@ -154,7 +154,7 @@ impl Targets {
 
 /// Calls `visit(modes, probability)` for every combination of one choice per component.
 fn for_each_combination(choices: &Choices, mut visit: impl FnMut(&[ValueId], f64)) {
-    if choices.iter().any(Vec::is_empty) {
+    if choices.iter().any(|c| c.is_empty()) {
         return;
     }
     let mut position = vec![0usize; choices.len()];

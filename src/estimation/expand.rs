@@ -20,6 +20,8 @@
 //! cached per (modes, μ), observation factors per (modes, observation), and each OCSP shape's
 //! feasible solutions with a certificate that stays valid as probabilities drift (`streams.rs`),
 //! so a quiet step — even with a jittery cycle length or a clock running — makes no SAT call.
+//! Within a step, the κ sources mostly differ in one component's mode, so each component's
+//! next-mode distribution is computed once per distinct input and shared ([`StepMemo`]).
 
 use std::cell::OnceCell;
 use std::cmp::Reverse;
@@ -35,7 +37,7 @@ use super::{EstimationError, WeightedState};
 use crate::logic::ValueId;
 use crate::opsat::{Cut, Ocsp, SearchOptions, Theory};
 use crate::plant::{
-    Commands, Observation, Plant, SystemState, component_distributions, enabled_transitions,
+    Commands, Observation, Plant, SystemState, component_distribution, enabled_transitions,
 };
 
 /// Past this many entries a cache starts afresh.
@@ -62,15 +64,21 @@ impl NextMode {
     }
 }
 
-/// Per component, the next modes a source state may take.
-pub(crate) type Choices = Vec<Vec<NextMode>>;
+/// Per component, the next modes a source state may take (shared between the sources of a
+/// step whose component has the same distribution).
+pub(crate) type Choices = Vec<Rc<[NextMode]>>;
+
+/// Next modes from a (mode, probability) distribution.
+fn next_modes(distribution: Vec<(ValueId, f64)>) -> Rc<[NextMode]> {
+    distribution
+        .into_iter()
+        .map(|(m, p)| NextMode::new(m, p))
+        .collect()
+}
 
 /// Choices from per-component (mode, probability) distributions.
 pub(crate) fn choices_from(distributions: Vec<Vec<(ValueId, f64)>>) -> Choices {
-    distributions
-        .into_iter()
-        .map(|d| d.into_iter().map(|(m, p)| NextMode::new(m, p)).collect())
-        .collect()
+    distributions.into_iter().map(next_modes).collect()
 }
 
 /// One source of candidates: a probability and, per component, its next modes.
@@ -106,18 +114,54 @@ pub(crate) struct Limits {
 #[derive(Default)]
 pub(crate) struct Expander {
     enabled: FxHashMap<Vec<u32>, Rc<Vec<Vec<usize>>>>,
-    prepared: FxHashMap<Vec<u64>, Rc<Choices>>,
+    memo: StepMemo,
     solutions: SolutionCache,
     pub(crate) observe: ObservationModel,
     scratch: Vec<u32>,
-    step_key: Vec<u64>,
+}
+
+/// The next-mode distributions computed in one step, per component. Certified: a component's
+/// distribution is [`component_distribution`] of (component, mode, enabled transitions, clock,
+/// step length) and nothing else, so an entry whose mode, enabled transitions and clock (bit for
+/// bit) match, within the step it was computed in (`from` and `to` bit for bit, hence the same
+/// step length), is the very distribution a recomputation would give.
+#[derive(Default)]
+struct StepMemo {
+    /// The step (`from`, `to`) the entries belong to, as bits.
+    step: (u64, u64),
+    /// Per component, the distributions computed so far in this step.
+    components: Vec<Vec<Memo>>,
+}
+
+/// One memoised distribution.
+struct Memo {
+    mode: ValueId,
+    /// The source's enabled transitions (all components'; this one's at its index), shared
+    /// with the cache of enabled transitions rather than copied.
+    enabled: Rc<Vec<Vec<usize>>>,
+    clock: Option<u64>,
+    next: Rc<[NextMode]>,
+}
+
+impl StepMemo {
+    /// Starts the step `from`–`to` unless it is the current one.
+    fn start(&mut self, plant: &Plant, from: f64, to: f64) {
+        let step = (from.to_bits(), to.to_bits());
+        if self.step != step || self.components.len() != plant.components().len() {
+            self.step = step;
+            // Emptied, not dropped: the lists keep their capacity from step to step.
+            self.components.iter_mut().for_each(Vec::clear);
+            self.components
+                .resize_with(plant.components().len(), Vec::new);
+        }
+    }
 }
 
 impl Expander {
     /// Each component's next modes from `state` in the step `from`–`to` (Figure 6-10's
-    /// "identify enabled transitions" and §6.2.2's probabilities). Both halves are cached: the
-    /// enabled transitions per (modes, μ), the resulting choices per (modes, μ, step length,
-    /// the clocks that matter) — so a quiet source is prepared once.
+    /// "identify enabled transitions" and §6.2.2's probabilities). The enabled transitions are
+    /// cached per (modes, μ); each component's distribution is shared within the step by the
+    /// sources that give it the same inputs ([`StepMemo`]).
     pub(crate) fn choices(
         &mut self,
         plant: &Plant,
@@ -127,30 +171,44 @@ impl Expander {
         from: f64,
         to: f64,
     ) -> Result<Rc<Choices>, EstimationError> {
-        self.step_key.clear();
-        self.step_key
-            .extend(state.modes.iter().map(|m| u64::from(m.0)));
-        self.step_key
-            .extend(commands.values().iter().map(|(_, v)| u64::from(v.0)));
-        self.step_key.push((to - from).to_bits());
-        for (c, start) in state.clock_starts.iter().enumerate() {
-            if let Some(start) = start {
-                self.step_key.extend([c as u64, (from - start).to_bits()]);
-            }
-        }
-        if let Some(prepared) = self.prepared.get(self.step_key.as_slice()) {
-            return Ok(Rc::clone(prepared));
-        }
         let enabled = self.enabled(plant, theory, state, commands)?;
-        let prepared = Rc::new(choices_from(component_distributions(
-            plant, state, &enabled, from, to,
-        )));
-        if self.prepared.len() >= CACHE_LIMIT {
-            self.prepared.clear();
-        }
-        self.prepared
-            .insert(self.step_key.clone(), Rc::clone(&prepared));
-        Ok(prepared)
+        self.memo.start(plant, from, to);
+        let step = to - from;
+        let choices = plant
+            .component_ids()
+            .zip(&state.modes)
+            .zip(&mut self.memo.components)
+            .enumerate()
+            .map(|(c, (((id, component), &mode), memos))| {
+                let clock = state.clock(id, from);
+                let bits = clock.map(f64::to_bits);
+                let known = memos.iter().find(|m| {
+                    m.mode == mode
+                        && m.clock == bits
+                        && (Rc::ptr_eq(&m.enabled, &enabled) || m.enabled[c] == enabled[c])
+                });
+                match known {
+                    Some(memo) => Rc::clone(&memo.next),
+                    None => {
+                        let next = next_modes(component_distribution(
+                            component,
+                            mode,
+                            &enabled[c],
+                            clock,
+                            step,
+                        ));
+                        memos.push(Memo {
+                            mode,
+                            enabled: Rc::clone(&enabled),
+                            clock: bits,
+                            next: Rc::clone(&next),
+                        });
+                        next
+                    }
+                }
+            })
+            .collect();
+        Ok(Rc::new(choices))
     }
 
     /// The enabled transitions from `state` under μ, cached per (modes, μ).
@@ -191,6 +249,8 @@ impl Expander {
         let ocsps: Vec<OnceCell<Ocsp>> = sources.iter().map(|_| OnceCell::new()).collect();
         let mut streams = Streams::take(
             &mut self.solutions,
+            plant,
+            theory,
             sources,
             observation,
             limits.search,

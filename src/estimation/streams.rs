@@ -13,6 +13,13 @@
 //! what was served), runs a [`MARGIN`] further so that the next cycles stay certified, and
 //! renews the certificate. A shape whose enumeration ran out is complete: any costs are served
 //! from the list.
+//!
+//! The maximum in `Δ` runs over the modes a feasible solution can take only: a mode that the
+//! theory and the observation refute on its own (`entry = initiated` while no drag is sensed,
+//! `engine = standby` while it still reads cold) is in no feasible solution, so its cost — the
+//! one that moves fastest inside a timed window, being the timed transition's — cannot lower an
+//! unlisted solution's. Which modes are refuted is decided once per observation, by one SAT
+//! call per mode, and only for modes whose cost moved ([`Possible`]).
 
 use std::cell::OnceCell;
 
@@ -22,7 +29,7 @@ use std::rc::Rc;
 
 use super::expand::{Choices, SourceChoices};
 use crate::logic::ValueId;
-use crate::opsat::{Cut, Enumeration, Ocsp, SearchOptions, Theory};
+use crate::opsat::{Consistency, Cut, Enumeration, Literal, Ocsp, SearchOptions, Theory};
 use crate::plant::{Observation, Plant, target_ocsp};
 
 /// Past this many shapes the cache starts afresh.
@@ -34,8 +41,11 @@ const CACHE_LIMIT: usize = 20_000;
 /// different costs to stay certified…
 const MARGIN: f64 = 1.0;
 
-/// …but fetches at most this many solutions beyond the one asked for.
-const PREFETCH: usize = 6;
+/// …but fetches at most this many solutions beyond the one asked for. Enough to get past a
+/// plateau of equally likely solutions (the Mars lander's dozen components failing at the same
+/// 1e-9/s rate): a bound still on the plateau certifies none of it once costs move at all, and
+/// the source whose look-ahead reaches it would be enumerated afresh every cycle.
+const PREFETCH: usize = 32;
 
 /// A shape that has collected this many solutions without being complete starts afresh, so
 /// that certifying stays cheap.
@@ -46,6 +56,10 @@ const KNOWN_LIMIT: usize = 256;
 struct Known {
     /// Feasible next plant states, distinct.
     solutions: Vec<Vec<ValueId>>,
+    /// Per solution, each component's position among its next modes, which the shape fixes
+    /// (`u32::MAX` if absent, which a solution of the shape's OCSP never is): the solution's
+    /// cost under any costs of the shape is then a sum of lookups ([`cost_at`]).
+    positions: Vec<Vec<u32>>,
     /// Every feasible solution not in `solutions` costs at least `bound` under these choices'
     /// costs.
     certificate: Option<(Rc<Choices>, f64)>,
@@ -56,7 +70,48 @@ struct Known {
 /// Cached knowledge, per OCSP shape, across calls.
 #[derive(Default)]
 pub(crate) struct SolutionCache {
-    shapes: FxHashMap<Vec<u64>, Known>,
+    /// Shape key → slot in `known`: a step looks each shape up once and puts its knowledge
+    /// back by slot, without hashing the key again.
+    shapes: FxHashMap<Vec<u64>, usize>,
+    known: Vec<Known>,
+    /// Scratch for building a shape key.
+    key: Vec<u64>,
+    possible: Possible,
+}
+
+/// Which modes can appear in a feasible solution under one observation: `component = mode`
+/// consistent with the theory and the observation (a necessary condition), decided lazily and
+/// remembered until the observation changes.
+#[derive(Default)]
+struct Possible {
+    observation: Observation,
+    /// (component, mode) → consistent.
+    decided: FxHashMap<(usize, ValueId), bool>,
+    assumptions: Vec<Literal>,
+}
+
+impl Possible {
+    /// Forgets what was decided under another observation.
+    fn observe(&mut self, observation: &Observation) {
+        if self.observation != *observation {
+            self.observation = observation.clone();
+            self.decided.clear();
+        }
+    }
+
+    /// Whether component `c` may be in `mode` in a solution consistent with the observation.
+    fn allows(&mut self, plant: &Plant, theory: &mut Theory, c: usize, mode: ValueId) -> bool {
+        if let Some(&possible) = self.decided.get(&(c, mode)) {
+            return possible;
+        }
+        self.assumptions.clear();
+        self.assumptions
+            .push(Literal::Is(plant.components()[c].mode_var(), mode));
+        self.assumptions.extend(self.observation.literals());
+        let possible = theory.consistent(&self.assumptions) == Consistency::Consistent;
+        self.decided.insert((c, mode), possible);
+        possible
+    }
 }
 
 /// One source's stream during an expansion.
@@ -76,7 +131,8 @@ struct Stream {
 
 /// The streams of one expansion; the cache's knowledge is taken out for it and put back after.
 pub(crate) struct Streams<'o> {
-    keys: Vec<Vec<u64>>,
+    /// Per shape of this expansion, its slot in the cache.
+    slots: Vec<usize>,
     known: Vec<Known>,
     streams: Vec<Stream>,
     ocsps: &'o [OnceCell<Ocsp>],
@@ -86,9 +142,10 @@ pub(crate) struct Streams<'o> {
     pub(crate) cut: Option<Cut>,
 }
 
-/// The shape of a source's OCSP: the allowed values per component and the observation.
-fn shape_key(choices: &Choices, observation: &Observation) -> Vec<u64> {
-    let mut key = Vec::with_capacity(choices.len() * 3 + observation.values().len() + 1);
+/// The shape of a source's OCSP, into `key`: the allowed values per component and the
+/// observation.
+fn shape_key(choices: &Choices, observation: &Observation, key: &mut Vec<u64>) {
+    key.clear();
     for next in choices {
         key.push(next.len() as u64);
         key.extend(next.iter().map(|n| u64::from(n.mode.0)));
@@ -97,15 +154,28 @@ fn shape_key(choices: &Choices, observation: &Observation) -> Vec<u64> {
     for &(x, v) in observation.values() {
         key.push((u64::from(x.0) << 32) | u64::from(v.0));
     }
-    key
 }
 
-/// The cost of `modes` under `choices` (`None` if a mode is not among them).
-fn cost_of(choices: &Choices, modes: &[ValueId]) -> Option<f64> {
+/// Each component's position in `choices` of its mode in `modes` (`u32::MAX` if absent).
+fn positions_of(choices: &Choices, modes: &[ValueId]) -> Vec<u32> {
     choices
         .iter()
         .zip(modes)
-        .map(|(next, m)| next.iter().find(|n| n.mode == *m).map(|n| n.cost))
+        .map(|(next, m)| {
+            next.iter()
+                .position(|n| n.mode == *m)
+                .map_or(u32::MAX, |i| i as u32)
+        })
+        .collect()
+}
+
+/// The cost under `choices` of the solution at `positions` (see [`positions_of`]); `None` if a
+/// position is absent. Summed component by component, in order.
+fn cost_at(choices: &Choices, positions: &[u32]) -> Option<f64> {
+    choices
+        .iter()
+        .zip(positions)
+        .map(|(next, &i)| next.get(i as usize).map(|n| n.cost))
         .sum()
 }
 
@@ -116,36 +186,48 @@ fn costs(choices: &Choices) -> impl Iterator<Item = impl Iterator<Item = (ValueI
         .map(|next| next.iter().map(|n| (n.mode, n.cost)))
 }
 
-/// Σ over components of the largest change of a mode's cost (same shape, so same order).
-fn drift(old: &Choices, new: &Choices) -> f64 {
+/// Σ over components of the largest change of the cost of a mode that `possible(component,
+/// mode)` allows (same shape, so same order): how much cheaper any feasible solution can have
+/// become. `possible` is asked only about modes whose change would raise the maximum.
+fn drift(old: &Choices, new: &Choices, mut possible: impl FnMut(usize, ValueId) -> bool) -> f64 {
     old.iter()
         .zip(new)
-        .map(|(a, b)| {
-            a.iter()
-                .zip(b)
-                .map(|(x, y)| (x.cost - y.cost).abs())
-                .fold(0.0, f64::max)
+        .enumerate()
+        .map(|(c, (a, b))| {
+            a.iter().zip(b.iter()).fold(0.0, |largest: f64, (x, y)| {
+                let change = (x.cost - y.cost).abs();
+                if change > largest && possible(c, x.mode) {
+                    change
+                } else {
+                    largest
+                }
+            })
         })
         .sum()
 }
 
 impl Known {
     /// The known solutions servable under `choices`' costs before any unknown one (by index),
-    /// dearest first.
-    fn certified(&self, choices: &Choices) -> Vec<(usize, f64)> {
+    /// dearest first. `possible` says which modes a feasible solution may take (see
+    /// [`drift`]).
+    fn certified(
+        &self,
+        choices: &Choices,
+        possible: impl FnMut(usize, ValueId) -> bool,
+    ) -> Vec<(usize, f64)> {
         let limit = if self.complete {
             f64::INFINITY
         } else {
             match &self.certificate {
-                Some((old, bound)) => bound - drift(old, choices),
+                Some((old, bound)) => bound - drift(old, choices, possible),
                 None => return Vec::new(),
             }
         };
         let mut out: Vec<(usize, f64)> = self
-            .solutions
+            .positions
             .iter()
             .enumerate()
-            .filter_map(|(i, s)| Some((i, cost_of(choices, s)?)))
+            .filter_map(|(i, at)| Some((i, cost_at(choices, at)?)))
             .filter(|(_, cost)| *cost <= limit)
             .collect();
         out.sort_by(|a, b| b.1.total_cmp(&a.1));
@@ -158,6 +240,8 @@ impl<'o> Streams<'o> {
     /// `ocsps` holds one lazily built OCSP per source.
     pub(crate) fn take(
         cache: &mut SolutionCache,
+        plant: &Plant,
+        theory: &mut Theory,
         sources: &[SourceChoices],
         observation: &Observation,
         options: SearchOptions,
@@ -165,9 +249,11 @@ impl<'o> Streams<'o> {
     ) -> Streams<'o> {
         if cache.shapes.len() >= CACHE_LIMIT {
             cache.shapes.clear();
+            cache.known.clear();
         }
+        cache.possible.observe(observation);
         let mut streams = Streams {
-            keys: Vec::new(),
+            slots: Vec::new(),
             known: Vec::new(),
             streams: Vec::with_capacity(sources.len()),
             ocsps,
@@ -176,21 +262,29 @@ impl<'o> Streams<'o> {
             cut: None,
         };
         for source in sources {
-            let key = shape_key(&source.choices, observation);
-            let shape = match streams.keys.iter().position(|k| *k == key) {
+            shape_key(&source.choices, observation, &mut cache.key);
+            let slot = match cache.shapes.get(cache.key.as_slice()) {
+                Some(&slot) => slot,
+                None => {
+                    cache.shapes.insert(cache.key.clone(), cache.known.len());
+                    cache.known.push(Known::default());
+                    cache.known.len() - 1
+                }
+            };
+            let shape = match streams.slots.iter().position(|&s| s == slot) {
                 Some(shape) => shape,
                 None => {
-                    streams
-                        .known
-                        .push(cache.shapes.remove(&key).unwrap_or_default());
-                    streams.keys.push(key);
-                    streams.keys.len() - 1
+                    streams.known.push(std::mem::take(&mut cache.known[slot]));
+                    streams.slots.push(slot);
+                    streams.slots.len() - 1
                 }
             };
             let known = &streams.known[shape];
             streams.streams.push(Stream {
                 shape,
-                certified: known.certified(&source.choices),
+                certified: known.certified(&source.choices, |c, mode| {
+                    cache.possible.allows(plant, theory, c, mode)
+                }),
                 done: known.complete,
                 choices: Rc::clone(&source.choices),
                 served: Vec::new(),
@@ -213,14 +307,15 @@ impl<'o> Streams<'o> {
                 }
             }
         }
-        for ((key, mut known), certificate) in self.keys.into_iter().zip(self.known).zip(renewed) {
+        for ((slot, mut known), certificate) in self.slots.into_iter().zip(self.known).zip(renewed)
+        {
             if certificate.is_some() {
                 known.certificate = certificate;
             }
             if !known.complete && known.solutions.len() > KNOWN_LIMIT {
                 known = Known::default();
             }
-            cache.shapes.insert(key, known);
+            cache.known[slot] = known;
         }
     }
 
@@ -291,6 +386,7 @@ impl<'o> Streams<'o> {
                         solution.assignment.into_iter().map(|(_, v)| v).collect();
                     stream.live_bound = Some(cost);
                     if !known.solutions.contains(&modes) {
+                        known.positions.push(positions_of(&stream.choices, &modes));
                         known.solutions.push(modes.clone());
                     }
                     // A fresh enumeration re-finds what was served from the certificate.

@@ -214,12 +214,14 @@ pub(crate) fn with_fault_jumps(plant: &Plant, sources: &mut [SourceChoices]) {
     for source in sources {
         let choices = Rc::make_mut(&mut source.choices);
         for (component, next) in plant.components().iter().zip(choices) {
-            for (m, mode) in component.modes().iter().enumerate() {
-                let mode_value = ValueId(m as u32);
-                if mode.is_unconstrained_fault() && !next.iter().any(|n| n.mode == mode_value) {
-                    next.push(NextMode::new(mode_value, JUMP));
-                }
-            }
+            let jumps = (0..component.modes().len())
+                .map(|m| ValueId(m as u32))
+                .filter(|&m| {
+                    component.modes()[m.index()].is_unconstrained_fault()
+                        && !next.iter().any(|n| n.mode == m)
+                })
+                .map(|m| NextMode::new(m, JUMP));
+            *next = next.iter().copied().chain(jumps).collect();
         }
     }
 }

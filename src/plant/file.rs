@@ -435,7 +435,7 @@ impl Loader {
             .enumerate()
             .filter_map(|(t, transition)| self.transition(c, t, spec, transition))
             .collect();
-        let outgoing = (0..modes.len())
+        let outgoing: Vec<Vec<usize>> = (0..modes.len())
             .map(|m| {
                 let m = ValueId(m as u32);
                 transitions
@@ -451,6 +451,14 @@ impl Loader {
                     .collect()
             })
             .collect();
+        let timed = outgoing
+            .iter()
+            .map(|leaving| {
+                leaving
+                    .iter()
+                    .any(|&t| transitions[t].law.timing().is_some_and(Timing::needs_clock))
+            })
+            .collect();
         Component {
             name: spec.name.clone(),
             mode_var,
@@ -459,6 +467,7 @@ impl Loader {
             initial,
             transitions,
             outgoing,
+            timed,
         }
     }
 

@@ -26,8 +26,8 @@ mod validate;
 use std::hash::{Hash, Hasher};
 
 pub use step::{
-    Commands, InputError, Observation, StepError, component_distributions, consistent_state,
-    enabled_transitions, step_tcca, successor, transition_choices,
+    Commands, InputError, Observation, StepError, component_distribution, component_distributions,
+    consistent_state, enabled_transitions, step_tcca, successor, transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{Timing, TransitionLaw, mode_distribution};
@@ -110,6 +110,9 @@ pub struct Component {
     transitions: Vec<Transition>,
     /// Per mode, the transitions that leave it (`"*"` expanded).
     outgoing: Vec<Vec<usize>>,
+    /// Per mode, whether a transition leaving it needs the clock ([`Component::clock_matters`],
+    /// asked for every candidate state in estimation, so decided once).
+    timed: Vec<bool>,
 }
 
 impl Component {
@@ -166,12 +169,7 @@ impl Component {
     /// component's clock cannot matter until it changes mode (which resets it), so estimation
     /// forgets it and merges states that differ only there (DESIGN.md §8).
     pub fn clock_matters(&self, mode: ValueId) -> bool {
-        self.outgoing(mode).iter().any(|&t| {
-            self.transitions[t]
-                .law
-                .timing()
-                .is_some_and(Timing::needs_clock)
-        })
+        self.timed.get(mode.index()).copied().unwrap_or(false)
     }
 }
 

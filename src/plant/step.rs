@@ -250,13 +250,27 @@ pub fn component_distributions(
         .zip(&state.modes)
         .zip(enabled)
         .map(|(((id, component), &mode), enabled)| {
-            let laws = enabled.iter().filter_map(|&t| {
-                let transition = component.transitions().get(t)?;
-                Some((transition.target, transition.law))
-            });
-            mode_distribution(mode, laws, state.clock(id, from), to - from)
+            component_distribution(component, mode, enabled, state.clock(id, from), to - from)
         })
         .collect()
+}
+
+/// One component's distribution over its next mode from `mode`, given its enabled transitions
+/// (indices into [`Component::transitions`](super::Component::transitions)), its clock at the
+/// step's start and the step's length: a pure function of these, which estimation relies on
+/// to share it between system states.
+pub fn component_distribution(
+    component: &super::Component,
+    mode: ValueId,
+    enabled: &[usize],
+    clock: Option<f64>,
+    step: f64,
+) -> Vec<(ValueId, f64)> {
+    let laws = enabled.iter().filter_map(|&t| {
+        let transition = component.transitions().get(t)?;
+        Some((transition.target, transition.law))
+    });
+    mode_distribution(mode, laws, clock, step)
 }
 
 /// The common core of Figures 6-6, 6-7, 6-10 and 6-11: in `state` at time `from`, under control

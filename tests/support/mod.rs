@@ -1,3 +1,4 @@
+pub mod lander_edl;
 pub mod plants;
 pub mod random_ocsp;
 pub mod random_plant;
