@@ -99,6 +99,10 @@ enum Command {
         /// Write every cycle as a line of JSON to this file (format: `src/report/trace.rs`).
         #[arg(long)]
         trace: Option<PathBuf>,
+        /// Draw the run as an SVG picture in this file: a swimlane per state variable, goals,
+        /// commands and diagnoses, long idle stretches compressed (`src/report/timeline.rs`).
+        #[arg(long, value_name = "FILE.svg")]
+        timeline: Option<PathBuf>,
         /// Print only the summary and the expectations' verdicts.
         #[arg(long)]
         quiet: bool,
@@ -135,10 +139,12 @@ fn main() -> ExitCode {
         Command::Run {
             scenario,
             trace,
+            timeline,
             quiet,
         } => cli::run::run(&cli::run::RunArgs {
             scenario: &scenario,
             trace: trace.as_deref(),
+            timeline: timeline.as_deref(),
             quiet,
         }),
     };

@@ -215,3 +215,46 @@ fn bad_input_exits_2() {
     ]);
     assert_eq!(code, 2, "{stderr}");
 }
+
+/// Issue 7 item 4: `kairos run --timeline FILE.svg` draws the run — one lane per state variable
+/// of the model — also when an expectation fails (exit 1), which is the run worth looking at; a
+/// path that cannot be written is bad input, reported before the run.
+#[test]
+fn timeline_draws_the_run_even_when_it_fails() {
+    let svg = std::env::temp_dir().join(format!("kairos-timeline-{}.svg", std::process::id()));
+    let svg_arg = svg.display().to_string();
+    let (code, stdout, stderr) = kairos(&[
+        "run",
+        "--quiet",
+        "tests/scenarios/failing_expectation.ron",
+        "--timeline",
+        &svg_arg,
+    ]);
+    assert_eq!(code, 1, "{stdout}\n{stderr}");
+    let text = std::fs::read_to_string(&svg).expect("the timeline is written");
+    let _ = std::fs::remove_file(&svg);
+    let document = roxmltree::Document::parse(&text).expect("the timeline is well-formed SVG");
+    let lanes: Vec<&str> = document
+        .descendants()
+        .filter(|n| n.has_tag_name("g") && n.attribute("class") == Some("lane"))
+        .filter_map(|n| n.attribute("data-component"))
+        .collect();
+    assert_eq!(
+        lanes,
+        ["PDE", "tank1", "tank2", "valve1", "valve2", "engine"],
+        "one lane per component of models/propulsion.ron"
+    );
+
+    let (code, stdout, stderr) = kairos(&[
+        "run",
+        "scenarios/propulsion/nominal.ron",
+        "--timeline",
+        "no/such/dir/run.svg",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stdout.is_empty(), "nothing runs: {stdout}");
+    assert!(
+        stderr.contains("cannot write no/such/dir/run.svg"),
+        "{stderr}"
+    );
+}

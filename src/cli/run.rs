@@ -1,13 +1,15 @@
-//! `kairos run SCENARIO [--trace FILE] [--quiet]`: run a scenario (DESIGN.md §11, §12) and print
-//! its mission log (`kairos::report::log`); exit 0 when every expectation holds, 1 when one does
-//! not (the failed ones are listed on standard error), 2 when the scenario or a file it names is
-//! bad input.
+//! `kairos run SCENARIO [--trace FILE] [--timeline FILE.svg] [--quiet]`: run a scenario
+//! (DESIGN.md §11, §12) and print its mission log (`kairos::report::log`); exit 0 when every
+//! expectation holds, 1 when one does not (the failed ones are listed on standard error), 2 when
+//! the scenario or a file it names is bad input. The timeline picture is drawn whether or not
+//! the expectations hold: a failed run is the one worth looking at.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use kairos::report::log::MissionLog;
+use kairos::report::timeline::{self, TimelineInput};
 use kairos::report::trace;
 use kairos::simulation::{self, RunError, RunOptions, RunOutcome, Scenario};
 
@@ -20,6 +22,8 @@ pub struct RunArgs<'a> {
     pub scenario: &'a Path,
     /// Where to write the JSON-lines trace.
     pub trace: Option<&'a Path>,
+    /// Where to write the SVG timeline of the run.
+    pub timeline: Option<&'a Path>,
     /// Print only the summary and the verdicts, not the log of cycles.
     pub quiet: bool,
 }
@@ -27,7 +31,15 @@ pub struct RunArgs<'a> {
 /// Loads and runs the scenario; the outcome is the exit code.
 pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let scenario = simulation::load(args.scenario).map_err(Failure::bad_input)?;
+    // Opened before the run, so that a bad path is reported before a long run, not after.
+    let picture = args
+        .timeline
+        .map(|path| create(path).map(|file| (path, file)));
+    let picture = picture.transpose()?;
     let outcome = execute(&scenario, args)?;
+    if let Some((path, file)) = picture {
+        draw(&scenario, &outcome, path, file)?;
+    }
     if outcome.passed() {
         return Ok(());
     }
@@ -49,12 +61,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
 /// Runs the scenario, writing the log and the trace as it goes. The returned outcome holds the
 /// timelines and events a drawing of the run needs (the seam for `--timeline`).
 fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
-    let mut trace = match args.trace {
-        Some(path) => Some(BufWriter::new(File::create(path).map_err(|e| {
-            Failure::bad_input(format!("error: cannot write {}: {e}", path.display()))
-        })?)),
-        None => None,
-    };
+    let mut trace = args.trace.map(create).transpose()?;
     let mut log = MissionLog::new(scenario);
     let mut printing = !args.quiet && emit(&log.header())?;
     // The callback cannot return an error; the first one is kept and reported after the run.
@@ -94,4 +101,32 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
     }
     emit(&log.summary(&outcome))?;
     Ok(outcome)
+}
+
+/// Creates an output file, buffered; a path that cannot be written is bad input.
+fn create(path: &Path) -> Result<BufWriter<File>, Failure> {
+    File::create(path)
+        .map(BufWriter::new)
+        .map_err(|e| Failure::bad_input(format!("error: cannot write {}: {e}", path.display())))
+}
+
+/// Draws the run's timeline (`kairos::report::timeline`) from the first to the last cycle.
+fn draw(
+    scenario: &Scenario,
+    outcome: &RunOutcome,
+    path: &Path,
+    mut file: BufWriter<File>,
+) -> Result<(), Failure> {
+    let svg = timeline::render(&TimelineInput {
+        plant: &scenario.plant,
+        program: Some(&scenario.program),
+        timelines: &outcome.timelines,
+        events: &outcome.events,
+        start: outcome.start,
+        end: outcome.last_time,
+        title: &scenario.name,
+    });
+    file.write_all(svg.as_bytes())
+        .and_then(|()| file.flush())
+        .map_err(|e| Failure::failed(format!("error: cannot write {}: {e}", path.display())))
 }
