@@ -13,6 +13,7 @@ const SCENARIOS: &[&str] = &[
     "scenarios/driver_valve/odd_observations.ron",
     "scenarios/engine_camera/nominal.ron",
     "scenarios/engine_camera/flameout.ron",
+    "scenarios/engine_camera/confidence.ron",
     "scenarios/propulsion/nominal.ron",
     "scenarios/propulsion/pde_resettable.ron",
 ];
@@ -163,6 +164,24 @@ fn fault_scenarios_diagnose_their_fault() {
     assert!(log.contains("GOAL FAILED  valve = open"), "{log}");
     let log = passes("scenarios/engine_camera/flameout.ron");
     assert!(log.contains("DIAGNOSIS    engine = failed"), "{log}");
+}
+
+/// Issue 6 item 5, thesis §4.4 and §7.1.2: a confidence guard reads the estimator's belief, not
+/// ŝ. With no temperature readings, standby becomes the most likely mode half-way through the
+/// Uniform(30, 60) s heating window, but P(engine = standby) >= 0.95 only near its end; the
+/// camera is switched on then.
+#[test]
+fn a_confidence_guard_waits_for_the_belief_not_the_most_likely_mode() {
+    let log = passes("scenarios/engine_camera/confidence.ron");
+    let believed = log
+        .find("believed     engine: heating -> standby (p 0.50)")
+        .expect("ŝ reaches standby at even odds");
+    let camera = log
+        .find("command      camera.cmd = on")
+        .expect("the camera is switched on");
+    assert!(believed < camera, "{log}");
+    assert!(log.contains("[    46.000 s]"), "{log}");
+    assert!(log.contains("[    60.000 s]"), "{log}");
 }
 
 /// DESIGN.md §11: "`kairos run SCENARIO` exits non-zero when one fails" — 1, naming each.
