@@ -25,6 +25,7 @@ use std::fmt;
 
 use super::Reconfiguration;
 use super::feasible::{Feasible, feasible};
+use super::reachability::members;
 use crate::logic::{Atom, Formula, ValueId, VarId};
 use crate::opsat::{Consistency, Literal, Ocsp, SearchOptions, Theory};
 use crate::plant::{ComponentId, ModeKind, Plant, describe_modes};
@@ -484,17 +485,31 @@ fn explain(
             None => {}
         }
     }
-    let goal_text = goals
-        .iter()
-        .map(|g| g.display(table).to_string())
-        .collect::<Vec<_>>()
-        .join(" and ");
+    // A component with no mode to choose blocks every goal: the conflict is that component
+    // alone, and the whole goal is what it makes unreachable.
+    let stranded = components.iter().any(|c| why.domains[c.index()].is_empty());
+    let goal_text = if goals.is_empty() && stranded {
+        why.parts
+            .iter()
+            .map(|(_, g)| g.display(table).to_string())
+            .collect::<Vec<_>>()
+    } else {
+        goals.iter().map(|g| g.display(table).to_string()).collect()
+    };
+    let goal_text = match goal_text.is_empty() {
+        true => "the goal".to_string(),
+        false => goal_text.join(" and "),
+    };
     let reach = components
         .iter()
         .map(|&c| describe_reach(plant, current, why, c))
         .collect::<Vec<_>>()
         .join("; ");
     match (goals.len(), components.is_empty()) {
+        (0, _) if stranded => GoalFailed {
+            reason: format!("{goal_text} is unreachable: {reach}"),
+            cause: FailureCause::Unreachable { goals, components },
+        },
         (0, _) => GoalFailed {
             reason: format!("the current state contradicts the model: {reach}"),
             cause: FailureCause::Unreachable { goals, components },
@@ -514,8 +529,9 @@ fn explain(
     }
 }
 
-/// "engine is failed", or "valve1 can reach only closed from closed (PDE is failed)", with the
-/// irreversible modes the goal did not name.
+/// "engine is failed", "valve1 can reach only closed from closed (PDE is failed)", or "driver
+/// can reach from resettable only the transient mode resetting-off, which it leaves by itself",
+/// with the irreversible modes the goal did not name.
 fn describe_reach(
     plant: &Plant,
     current: &[ValueId],
@@ -528,6 +544,20 @@ fn describe_reach(
     let domain = &why.domains[c.index()];
     let mut text = if domain.as_slice() == [here] && component.mode(here).kind == ModeKind::Fault {
         format!("{} is {}", component.name(), name(here))
+    } else if domain.is_empty() {
+        // Only a repaired fault leaves its component nothing to choose (otherwise the current
+        // mode stays a helper mode): every mode the repair reaches is transient, which goal
+        // interpretation offers only when named, and the modes they lead to are irreversible.
+        let passing: Vec<&str> = members(&why.feasible.helpers[c.index()])
+            .map(name)
+            .collect();
+        let modes = if passing.len() == 1 { "mode" } else { "modes" };
+        format!(
+            "{} can reach from {} only the transient {modes} {}, which it leaves by itself",
+            component.name(),
+            name(here),
+            passing.join(", ")
+        )
     } else {
         let modes: Vec<&str> = domain.iter().map(|&v| name(v)).collect();
         format!(
@@ -575,7 +605,7 @@ fn describe_reach(
 #[cfg(test)]
 mod tests {
     use super::super::Reconfiguration;
-    use super::super::testing::{SWITCH_GADGET, component, load, mode, state};
+    use super::super::testing::{SWITCH_GADGET, TRANSIENT_REPAIR, component, load, mode, state};
     use super::{FailureCause, named_modes};
     use crate::logic::parse_formula;
 
@@ -640,6 +670,41 @@ mod tests {
              be irreversible and the goal does not name it"
         );
         assert!(matches!(failed.cause, FailureCause::Unreachable { .. }));
+    }
+
+    /// A repair that leads only through a transient mode into an irreversible one leaves the
+    /// component no mode to hold; the reason says which modes it can reach and why none is
+    /// offered, instead of an empty list.
+    #[test]
+    fn a_repair_into_a_transient_mode_only_is_explained() {
+        let plant = load(TRANSIENT_REPAIR);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let current = state(&plant, &["broken"]);
+        let a = parse_formula("gadget = a", plant.table()).expect("formula");
+        let failed = reconfiguration
+            .interpret(&mut theory, &current, &a)
+            .expect_err("a is out of reach");
+        assert_eq!(
+            failed.reason,
+            "gadget = a is unreachable: gadget can reach from broken only the transient mode t, \
+             which it leaves by itself; gadget = c would be irreversible and the goal does not \
+             name it"
+        );
+        assert!(matches!(
+            failed.cause,
+            FailureCause::Unreachable { ref goals, ref components }
+                if goals.is_empty() && components == &[component(&plant, "gadget")]
+        ));
+        // Named, the irreversible mode and the transient one are offered.
+        for named in ["gadget = c", "gadget = t"] {
+            let goal = parse_formula(named, plant.table()).expect("formula");
+            assert!(
+                reconfiguration
+                    .interpret(&mut theory, &current, &goal)
+                    .is_ok()
+            );
+        }
     }
 
     /// A control is consistent with every state and entailed by none: such a goal is not a
