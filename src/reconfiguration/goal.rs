@@ -56,12 +56,7 @@ impl GoalState {
     /// components whose goal mode counts as explicitly requested, which is what allows the
     /// planner to take an irreversible transition into it. The reward is the sum of the modes'.
     pub fn new(plant: &Plant, modes: Vec<ValueId>, named: &[ComponentId]) -> GoalState {
-        let reward = plant
-            .components()
-            .iter()
-            .zip(&modes)
-            .map(|(c, &m)| c.modes().get(m.index()).map_or(0.0, |mode| mode.reward))
-            .sum();
+        let reward = summed_reward(plant, &modes);
         let mut flags = vec![false; modes.len()];
         for c in named {
             if let Some(flag) = flags.get_mut(c.index()) {
@@ -72,6 +67,31 @@ impl GoalState {
             modes,
             named: flags,
             reward,
+        }
+    }
+
+    /// The goal state to keep once the plant is in `current`: every transient mode the goal
+    /// named that the component has reached is replaced by the mode it leaves it for by itself
+    /// (see [`Reconfiguration::settle`]).
+    pub(crate) fn settled(
+        &self,
+        reconfiguration: &Reconfiguration,
+        current: &[ValueId],
+    ) -> GoalState {
+        let mut modes = self.modes.clone();
+        let policies = reconfiguration.policies();
+        let goals = modes.iter_mut().zip(&self.named).zip(current).zip(policies);
+        for (((goal, &named), &here), policy) in goals {
+            if named && *goal == here {
+                *goal = policy.settles_in(here).unwrap_or(here);
+            }
+        }
+        GoalState {
+            reward: summed_reward(reconfiguration.plant(), &modes),
+            modes,
+            // Named stays named: the way out of a named transient mode may be irreversible
+            // (resetting-on → on), and the planner takes such a step only toward a named mode.
+            named: self.named.clone(),
         }
     }
 
@@ -100,6 +120,16 @@ impl GoalState {
     pub fn describe(&self, plant: &Plant) -> String {
         describe_modes(plant, &self.modes)
     }
+}
+
+/// The summed reward of one mode per component.
+fn summed_reward(plant: &Plant, modes: &[ValueId]) -> f64 {
+    plant
+        .components()
+        .iter()
+        .zip(modes)
+        .map(|(c, &m)| c.modes().get(m.index()).map_or(0.0, |mode| mode.reward))
+        .sum()
 }
 
 /// Why goal interpretation found no goal state.
@@ -604,9 +634,12 @@ fn describe_reach(
 
 #[cfg(test)]
 mod tests {
+    use super::super::Action;
     use super::super::Reconfiguration;
-    use super::super::testing::{SWITCH_GADGET, TRANSIENT_REPAIR, component, load, mode, state};
-    use super::{FailureCause, named_modes};
+    use super::super::testing::{
+        SWITCH_GADGET, TRANSIENT_REPAIR, component, load, mode, model, state,
+    };
+    use super::{FailureCause, GoalState, named_modes};
     use crate::logic::parse_formula;
 
     #[test]
@@ -705,6 +738,55 @@ mod tests {
                     .is_ok()
             );
         }
+    }
+
+    /// §6.1.2's camera: a goal on `taking-picture`, which the camera leaves by itself, is
+    /// achieved once; the configuration kept afterwards is the idle camera it returns to, so
+    /// the planner does not take another picture (nor, had it failed, repair it into one).
+    #[test]
+    fn a_reached_transient_goal_mode_settles_where_the_component_goes_by_itself() {
+        let plant = model("engine_camera");
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let camera = component(&plant, "camera");
+        let picture = parse_formula("camera = taking-picture", plant.table()).expect("formula");
+        let idle = state(&plant, &["firing", "idle"]);
+        let goal = reconfiguration
+            .interpret(&mut theory, &idle, &picture)
+            .expect("a goal state");
+        // Not reached yet: kept as it is, and the planner commands the picture.
+        assert_eq!(reconfiguration.settle(&goal, &idle), goal);
+        assert!(matches!(
+            reconfiguration.next_action(&idle, &goal),
+            Action::Command(_)
+        ));
+        // Reached: achieved now, and from then on the camera is meant to be idle.
+        let taking = state(&plant, &["firing", "taking-picture"]);
+        assert_eq!(
+            reconfiguration.next_action(&taking, &goal),
+            Action::Achieved
+        );
+        let settled = reconfiguration.settle(&goal, &taking);
+        assert_eq!(settled.mode(camera), mode(&plant, "camera", "idle"));
+        assert!(settled.is_named(camera));
+        assert_eq!(
+            settled.mode(component(&plant, "engine")),
+            goal.mode(component(&plant, "engine"))
+        );
+        assert!(matches!(
+            reconfiguration.next_action(&taking, &settled),
+            Action::Idle(_)
+        ));
+        assert_eq!(
+            reconfiguration.next_action(&idle, &settled),
+            Action::Achieved
+        );
+        // A transient mode the goal did not name (the camera merely kept where it is) stays.
+        let kept = GoalState::new(&plant, taking.clone(), &[]);
+        assert_eq!(reconfiguration.settle(&kept, &taking), kept);
+        // Settling a settled goal changes nothing; nor does a state of the wrong shape panic.
+        assert_eq!(reconfiguration.settle(&settled, &idle), settled);
+        assert_eq!(reconfiguration.settle(&settled, &[]), settled);
     }
 
     /// A control is consistent with every state and entailed by none: such a goal is not a
