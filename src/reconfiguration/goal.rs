@@ -526,9 +526,10 @@ fn explain(
     } else {
         goals.iter().map(|g| g.display(table).to_string()).collect()
     };
-    let goal_text = match goal_text.is_empty() {
-        true => "the goal".to_string(),
-        false => goal_text.join(" and "),
+    let goal_text = if goal_text.is_empty() {
+        "the goal".to_string()
+    } else {
+        goal_text.join(" and ")
     };
     let reach = components
         .iter()
