@@ -653,11 +653,15 @@ impl Executive {
         log: &mut EventLog,
     ) -> (Option<GoalState>, Option<Action>) {
         let modes = self.most_likely();
+        // A transient goal mode, once reached, is achieved: the plant is then meant to be where
+        // it leaves it for by itself, also as the configuration a new goal keeps
+        // (ARCHITECTURE.md, reconfiguration decisions).
+        self.intended = (self.intended.as_ref()).map(|i| self.reconfiguration.settle(i, &modes));
         if let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) {
             match self.interpret(goal, &modes) {
                 Ok(goal_state) => {
                     self.reported.goal_failure = None;
-                    self.intended = Some(goal_state);
+                    self.intended = Some(self.reconfiguration.settle(&goal_state, &modes));
                 }
                 Err(reason) => {
                     if self.reported.goal_failure.as_ref() != Some(&reason) {

@@ -30,7 +30,7 @@ pub use step::{
     consistent_state, enabled_transitions, step_tcca, successor, transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};
-pub use timing::{Timing, TransitionLaw, mode_distribution};
+pub use timing::{BOUND_TOLERANCE, Timing, TransitionLaw, mode_distribution};
 
 use crate::diagnostic::{Source, SourceErrors};
 use crate::logic::{Formula, ValueId, VarId, VarTable};

@@ -25,6 +25,23 @@ use crate::logic::ValueId;
 /// Below this survival the distribution's mass counts as spent: the transition is overdue.
 const SPENT: f64 = 1e-12;
 
+/// How close to a window bound (a uniform's `lower` and `upper`, a fixed delay) a clock reading
+/// counts as *at* the bound, seconds. Such a reading is taken as this much past the bound (see
+/// [`Timing::reading`]).
+///
+/// Why: a component's clock restarts at the end of the step in which it changed mode (Figure 6-7
+/// step 8, `newInit = t_abs`), the latest time it can have entered it, so the clock may read up to
+/// one step less than the time actually spent. A departure seen one cycle after a `Uniform(0.1,
+/// 0.2)` mode was entered, with a 0.1 s cycle, covers clock `(0, 0.1]`, where the window has no
+/// mass: the departure was impossible, and a fault was the only explanation — in exact arithmetic
+/// too; floating-point times (`40.3 − 40.2 ≠ 0.1`) only decided between 0 and 1e-14. Taking a
+/// reading at a bound as 1 ms past it closes the windows at cycle instants: such a departure gets
+/// the window's first millisecond of mass (1 % for the camera), a fixed delay reached up to
+/// rounding fires, and readings farther than 1 ms from every bound are unchanged. 1 ms is far
+/// below any cycle period (§8 of the thesis: timing conditions below the cycle's resolution are
+/// not meaningful).
+pub const BOUND_TOLERANCE: f64 = 1e-3;
+
 /// When a timed transition fires, as a distribution of the component clock (seconds since the
 /// component entered its mode).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -101,11 +118,29 @@ impl Timing {
         if let Timing::Exponential { rate } = *self {
             return 1.0 - (-rate * step.max(0.0)).exp();
         }
-        let survived = self.survival(before);
+        let (from, to) = (self.reading(before), self.reading(before + step.max(0.0)));
+        let survived = self.survival(from);
         if survived <= SPENT {
             return 1.0;
         }
-        (self.mass_between(before, before + step.max(0.0)) / survived).clamp(0.0, 1.0)
+        (self.mass_between(from, to) / survived).clamp(0.0, 1.0)
+    }
+
+    /// The clock reading the window is evaluated at: a positive reading within
+    /// [`BOUND_TOLERANCE`] of a bound counts as that far past the bound, any other reading is
+    /// itself. Monotone, so the conditional probabilities of successive steps still compose to
+    /// `F` of the (adjusted) reading. A reading of 0 (the step in which the mode was entered
+    /// starts there) is never moved, so a window opening at 0 keeps its exact first step.
+    fn reading(&self, clock: f64) -> f64 {
+        let near = |bound: f64| clock > 0.0 && (clock - bound).abs() <= BOUND_TOLERANCE;
+        match *self {
+            Timing::Uniform { lower, upper } => [lower, upper]
+                .into_iter()
+                .find(|&bound| near(bound))
+                .map_or(clock, |bound| bound + BOUND_TOLERANCE),
+            Timing::Fixed { delay } if near(delay) => delay + BOUND_TOLERANCE,
+            _ => clock,
+        }
     }
 
     /// `F(to) − F(from)` for `from <= to`, from the tail where it is accurate: long before a
@@ -314,7 +349,8 @@ mod tests {
                     not_yet *= 1.0 - timing.conditional(clock, period);
                     clock += period;
                     // Gaussian mass before clock 0 is never taken: compare with the truncation.
-                    let expected = timing.survival(clock) / timing.survival(0.0);
+                    // Readings within the bound tolerance are evaluated past the bound.
+                    let expected = timing.survival(timing.reading(clock)) / timing.survival(0.0);
                     assert!(
                         (not_yet - expected).abs() < 1e-9,
                         "{timing:?} period {period} clock {clock}: {not_yet} vs {expected}"
@@ -322,6 +358,36 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_departure_seen_at_a_windows_bound_is_possible_and_nothing_else_changes() {
+        // The camera of Figure 6-5 leaves taking-picture after Uniform(0.1, 0.2) s; with a 0.1 s
+        // cycle the departure is seen one cycle after the entry, at clock 40.3 − 40.2, which is
+        // not quite 0.1 in f64 (and would have no mass if it were).
+        let picture = Timing::Uniform {
+            lower: 0.1,
+            upper: 0.2,
+        };
+        let step = 40.300000000000004 - 40.2;
+        let p = picture.conditional(0.0, step);
+        assert!(close(p, BOUND_TOLERANCE / 0.1), "{p}");
+        assert!(close(picture.conditional(0.0, 0.1), p));
+        // The next step takes the rest: the window is spent at its upper bound.
+        assert!(close(picture.conditional(step, step), 1.0));
+        // Just short of the upper bound counts as reaching it.
+        assert!(close(picture.conditional(0.15, 0.0499999999), 1.0));
+        // A fixed delay reached up to rounding fires.
+        let fixed = Timing::Fixed { delay: 0.3 };
+        assert_eq!(fixed.conditional(0.0, 0.7 - 0.4), 1.0);
+        // Away from the bounds, and at an opening bound of 0, the exact form.
+        assert!(close(picture.conditional(0.0, 0.15), 0.5));
+        assert!(close(picture.conditional(0.12, 0.04), 0.5));
+        let tau6 = Timing::Uniform {
+            lower: 0.0,
+            upper: 0.1,
+        };
+        assert!(close(tau6.conditional(0.0, 0.05), 0.5));
     }
 
     #[test]

@@ -25,6 +25,7 @@ use std::fmt;
 
 use super::Reconfiguration;
 use super::feasible::{Feasible, feasible};
+use super::reachability::members;
 use crate::logic::{Atom, Formula, ValueId, VarId};
 use crate::opsat::{Consistency, Literal, Ocsp, SearchOptions, Theory};
 use crate::plant::{ComponentId, ModeKind, Plant, describe_modes};
@@ -55,12 +56,7 @@ impl GoalState {
     /// components whose goal mode counts as explicitly requested, which is what allows the
     /// planner to take an irreversible transition into it. The reward is the sum of the modes'.
     pub fn new(plant: &Plant, modes: Vec<ValueId>, named: &[ComponentId]) -> GoalState {
-        let reward = plant
-            .components()
-            .iter()
-            .zip(&modes)
-            .map(|(c, &m)| c.modes().get(m.index()).map_or(0.0, |mode| mode.reward))
-            .sum();
+        let reward = summed_reward(plant, &modes);
         let mut flags = vec![false; modes.len()];
         for c in named {
             if let Some(flag) = flags.get_mut(c.index()) {
@@ -71,6 +67,31 @@ impl GoalState {
             modes,
             named: flags,
             reward,
+        }
+    }
+
+    /// The goal state to keep once the plant is in `current`: every transient mode the goal
+    /// named that the component has reached is replaced by the mode it leaves it for by itself
+    /// (see [`Reconfiguration::settle`]).
+    pub(crate) fn settled(
+        &self,
+        reconfiguration: &Reconfiguration,
+        current: &[ValueId],
+    ) -> GoalState {
+        let mut modes = self.modes.clone();
+        let policies = reconfiguration.policies();
+        let goals = modes.iter_mut().zip(&self.named).zip(current).zip(policies);
+        for (((goal, &named), &here), policy) in goals {
+            if named && *goal == here {
+                *goal = policy.settles_in(here).unwrap_or(here);
+            }
+        }
+        GoalState {
+            reward: summed_reward(reconfiguration.plant(), &modes),
+            modes,
+            // Named stays named: the way out of a named transient mode may be irreversible
+            // (resetting-on → on), and the planner takes such a step only toward a named mode.
+            named: self.named.clone(),
         }
     }
 
@@ -99,6 +120,16 @@ impl GoalState {
     pub fn describe(&self, plant: &Plant) -> String {
         describe_modes(plant, &self.modes)
     }
+}
+
+/// The summed reward of one mode per component.
+fn summed_reward(plant: &Plant, modes: &[ValueId]) -> f64 {
+    plant
+        .components()
+        .iter()
+        .zip(modes)
+        .map(|(c, &m)| c.modes().get(m.index()).map_or(0.0, |mode| mode.reward))
+        .sum()
 }
 
 /// Why goal interpretation found no goal state.
@@ -484,17 +515,32 @@ fn explain(
             None => {}
         }
     }
-    let goal_text = goals
-        .iter()
-        .map(|g| g.display(table).to_string())
-        .collect::<Vec<_>>()
-        .join(" and ");
+    // A component with no mode to choose blocks every goal: the conflict is that component
+    // alone, and the whole goal is what it makes unreachable.
+    let stranded = components.iter().any(|c| why.domains[c.index()].is_empty());
+    let goal_text = if goals.is_empty() && stranded {
+        why.parts
+            .iter()
+            .map(|(_, g)| g.display(table).to_string())
+            .collect::<Vec<_>>()
+    } else {
+        goals.iter().map(|g| g.display(table).to_string()).collect()
+    };
+    let goal_text = if goal_text.is_empty() {
+        "the goal".to_string()
+    } else {
+        goal_text.join(" and ")
+    };
     let reach = components
         .iter()
         .map(|&c| describe_reach(plant, current, why, c))
         .collect::<Vec<_>>()
         .join("; ");
     match (goals.len(), components.is_empty()) {
+        (0, _) if stranded => GoalFailed {
+            reason: format!("{goal_text} is unreachable: {reach}"),
+            cause: FailureCause::Unreachable { goals, components },
+        },
         (0, _) => GoalFailed {
             reason: format!("the current state contradicts the model: {reach}"),
             cause: FailureCause::Unreachable { goals, components },
@@ -514,8 +560,9 @@ fn explain(
     }
 }
 
-/// "engine is failed", or "valve1 can reach only closed from closed (PDE is failed)", with the
-/// irreversible modes the goal did not name.
+/// "engine is failed", "valve1 can reach only closed from closed (PDE is failed)", or "driver
+/// can reach from resettable only the transient mode resetting-off, which it leaves by itself",
+/// with the irreversible modes the goal did not name.
 fn describe_reach(
     plant: &Plant,
     current: &[ValueId],
@@ -528,6 +575,20 @@ fn describe_reach(
     let domain = &why.domains[c.index()];
     let mut text = if domain.as_slice() == [here] && component.mode(here).kind == ModeKind::Fault {
         format!("{} is {}", component.name(), name(here))
+    } else if domain.is_empty() {
+        // Only a repaired fault leaves its component nothing to choose (otherwise the current
+        // mode stays a helper mode): every mode the repair reaches is transient, which goal
+        // interpretation offers only when named, and the modes they lead to are irreversible.
+        let passing: Vec<&str> = members(&why.feasible.helpers[c.index()])
+            .map(name)
+            .collect();
+        let modes = if passing.len() == 1 { "mode" } else { "modes" };
+        format!(
+            "{} can reach from {} only the transient {modes} {}, which it leaves by itself",
+            component.name(),
+            name(here),
+            passing.join(", ")
+        )
     } else {
         let modes: Vec<&str> = domain.iter().map(|&v| name(v)).collect();
         format!(
@@ -574,9 +635,12 @@ fn describe_reach(
 
 #[cfg(test)]
 mod tests {
+    use super::super::Action;
     use super::super::Reconfiguration;
-    use super::super::testing::{SWITCH_GADGET, component, load, mode, state};
-    use super::{FailureCause, named_modes};
+    use super::super::testing::{
+        SWITCH_GADGET, TRANSIENT_REPAIR, component, load, mode, model, state,
+    };
+    use super::{FailureCause, GoalState, named_modes};
     use crate::logic::parse_formula;
 
     #[test]
@@ -640,6 +704,90 @@ mod tests {
              be irreversible and the goal does not name it"
         );
         assert!(matches!(failed.cause, FailureCause::Unreachable { .. }));
+    }
+
+    /// A repair that leads only through a transient mode into an irreversible one leaves the
+    /// component no mode to hold; the reason says which modes it can reach and why none is
+    /// offered, instead of an empty list.
+    #[test]
+    fn a_repair_into_a_transient_mode_only_is_explained() {
+        let plant = load(TRANSIENT_REPAIR);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let current = state(&plant, &["broken"]);
+        let a = parse_formula("gadget = a", plant.table()).expect("formula");
+        let failed = reconfiguration
+            .interpret(&mut theory, &current, &a)
+            .expect_err("a is out of reach");
+        assert_eq!(
+            failed.reason,
+            "gadget = a is unreachable: gadget can reach from broken only the transient mode t, \
+             which it leaves by itself; gadget = c would be irreversible and the goal does not \
+             name it"
+        );
+        assert!(matches!(
+            failed.cause,
+            FailureCause::Unreachable { ref goals, ref components }
+                if goals.is_empty() && components == &[component(&plant, "gadget")]
+        ));
+        // Named, the irreversible mode and the transient one are offered.
+        for named in ["gadget = c", "gadget = t"] {
+            let goal = parse_formula(named, plant.table()).expect("formula");
+            assert!(
+                reconfiguration
+                    .interpret(&mut theory, &current, &goal)
+                    .is_ok()
+            );
+        }
+    }
+
+    /// §6.1.2's camera: a goal on `taking-picture`, which the camera leaves by itself, is
+    /// achieved once; the configuration kept afterwards is the idle camera it returns to, so
+    /// the planner does not take another picture (nor, had it failed, repair it into one).
+    #[test]
+    fn a_reached_transient_goal_mode_settles_where_the_component_goes_by_itself() {
+        let plant = model("engine_camera");
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let camera = component(&plant, "camera");
+        let picture = parse_formula("camera = taking-picture", plant.table()).expect("formula");
+        let idle = state(&plant, &["firing", "idle"]);
+        let goal = reconfiguration
+            .interpret(&mut theory, &idle, &picture)
+            .expect("a goal state");
+        // Not reached yet: kept as it is, and the planner commands the picture.
+        assert_eq!(reconfiguration.settle(&goal, &idle), goal);
+        assert!(matches!(
+            reconfiguration.next_action(&idle, &goal),
+            Action::Command(_)
+        ));
+        // Reached: achieved now, and from then on the camera is meant to be idle.
+        let taking = state(&plant, &["firing", "taking-picture"]);
+        assert_eq!(
+            reconfiguration.next_action(&taking, &goal),
+            Action::Achieved
+        );
+        let settled = reconfiguration.settle(&goal, &taking);
+        assert_eq!(settled.mode(camera), mode(&plant, "camera", "idle"));
+        assert!(settled.is_named(camera));
+        assert_eq!(
+            settled.mode(component(&plant, "engine")),
+            goal.mode(component(&plant, "engine"))
+        );
+        assert!(matches!(
+            reconfiguration.next_action(&taking, &settled),
+            Action::Idle(_)
+        ));
+        assert_eq!(
+            reconfiguration.next_action(&idle, &settled),
+            Action::Achieved
+        );
+        // A transient mode the goal did not name (the camera merely kept where it is) stays.
+        let kept = GoalState::new(&plant, taking.clone(), &[]);
+        assert_eq!(reconfiguration.settle(&kept, &taking), kept);
+        // Settling a settled goal changes nothing; nor does a state of the wrong shape panic.
+        assert_eq!(reconfiguration.settle(&settled, &idle), settled);
+        assert_eq!(reconfiguration.settle(&settled, &[]), settled);
     }
 
     /// A control is consistent with every state and entailed by none: such a goal is not a

@@ -178,6 +178,20 @@ impl Reconfiguration {
         goal::interpret(self, theory, current, goal, keep)
     }
 
+    /// The intended configuration to keep once the plant is in `current`: `goal` with every
+    /// *transient* mode the goal named (one the component leaves by a transition that needs no
+    /// command, §6.1.2: a picture being taken) that the component has reached replaced by the
+    /// mode it leaves it for by itself. A goal on a transient mode is achieved once, not held:
+    /// kept as it is, the planner would command the picture again as soon as the camera
+    /// returned to idle, and keep doing so once the program has completed. Modes the goal did
+    /// not name are left as they are: a component merely kept where it is (the EDL's `entry =
+    /// not-initiated`, left by itself at atmospheric entry) is not asked to move on. When the
+    /// model leaves a transient mode for several modes, the goal keeps it (the model does not
+    /// say where the component settles).
+    pub fn settle(&self, goal: &GoalState, current: &[ValueId]) -> GoalState {
+        goal.settled(self, current)
+    }
+
     /// The reactive planner (§6.3.2–§6.3.3): the first action toward `goal` from `current` (a
     /// mode per component). Cheap enough for every cycle: a walk over the components and table
     /// look-ups, no theory.

@@ -121,13 +121,30 @@ impl ConcurrentPolicy {
     /// no sub-goal (a timed transition such as heating → standby). Goal interpretation offers
     /// such a mode only when the goal names it or the component is already in it.
     pub fn is_transient(&self, mode: ValueId) -> bool {
-        self.steps.iter().any(|step| {
-            step.source == mode
-                && step
-                    .requirement
-                    .as_ref()
-                    .is_ok_and(|r| r.is_idle() && r.modes.is_empty())
-        })
+        self.automatic_exits(mode).next().is_some()
+    }
+
+    /// Where the component goes by itself from the transient `mode`, when all its ways out
+    /// that need nothing lead to one mode (camera taking-picture → idle); `None` when `mode`
+    /// is not transient or the model does not say where it settles.
+    pub fn settles_in(&self, mode: ValueId) -> Option<ValueId> {
+        let mut exits = self.automatic_exits(mode);
+        let first = exits.next()?;
+        exits.all(|target| target == first).then_some(first)
+    }
+
+    /// The targets of the steps out of `mode` that need no command and no sub-goal.
+    fn automatic_exits(&self, mode: ValueId) -> impl Iterator<Item = ValueId> + '_ {
+        self.steps
+            .iter()
+            .filter(move |step| {
+                step.source == mode
+                    && step
+                        .requirement
+                        .as_ref()
+                        .is_ok_and(|r| r.is_idle() && r.modes.is_empty())
+            })
+            .map(|step| step.target)
     }
 
     /// Puts every step's sub-goals in the planner's order: by `rank` (a component's position

@@ -96,6 +96,33 @@ pub const DEADLOCK: &str = r#"Plant(
     connections: ["q.status = p.peer", "p.status = q.peer"],
 )"#;
 
+/// A gadget whose fault `broken` is repaired only into `t`, a transient mode it leaves by itself
+/// for `c`, which is irreversible: `c` is also entered from `a`, and nothing leads back. From
+/// `broken` there is no mode the gadget stays in unless the goal names `t` or `c`.
+pub const TRANSIENT_REPAIR: &str = r#"Plant(
+    name: "transient_repair",
+    components: [
+        Component(
+            name: "gadget",
+            attributes: { "cmd": ["none", "go-c", "fix"] },
+            modes: [
+                Mode(name: "a"),
+                Mode(name: "t"),
+                Mode(name: "c"),
+                Mode(name: "broken", kind: Fault, reward: -10),
+            ],
+            initial: { "a": 1.0 },
+            transitions: [
+                (from: "a", to: "c", guard: "gadget.cmd = go-c", probability: 1.0),
+                (from: "broken", to: "t", guard: "gadget.cmd = fix", probability: 1.0),
+                (from: "t", to: "c", after: Uniform(1.0, 2.0)),
+                (from: "*", to: "broken", rate: 0.001),
+            ],
+        ),
+    ],
+    controls: { "gadget.cmd": "none" },
+)"#;
+
 /// A plant from RON text (the texts above are valid).
 pub fn load(text: &str) -> Plant {
     Plant::load(&Source::new("test.ron", text)).unwrap_or_else(|e| panic!("{e}"))

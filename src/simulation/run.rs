@@ -256,7 +256,7 @@ mod tests {
         );
         assert_eq!(
             outcome.timelines.commands().len(),
-            5,
+            4,
             "the commands are kept"
         );
     }
@@ -314,10 +314,13 @@ mod tests {
         let outcome = run(&scenario, options, &mut |_| {}).expect("runs");
         assert_eq!(outcome.events.len(), 3);
         assert!(outcome.events_dropped > 0);
-        assert!(matches!(
-            outcome.events.last().map(|e| &e.kind),
-            Some(EventKind::ProgramCompleted)
-        ));
+        // The program completes on the picture; the camera's return to idle comes after.
+        assert!(
+            outcome
+                .events
+                .iter()
+                .any(|e| matches!(e.kind, EventKind::ProgramCompleted))
+        );
     }
 
     /// A deadline no cycle can meet is reported, every cycle, and the run goes on.
