@@ -221,6 +221,8 @@ impl ExecutiveBuilder {
             sequencer: Sequencer::new(program),
             options,
             belief: None,
+            most_likely: Vec::new(),
+            estimates: Vec::new(),
             estimate: VersionedEstimate::default(),
             answers: AnswerCache::default(),
             interpretation: None,
@@ -300,6 +302,11 @@ pub struct Executive {
     sequencer: Sequencer,
     options: ExecutiveOptions,
     belief: Option<Belief>,
+    /// ŝ of `belief`, computed once per update: the cycle reads it four times (mode changes,
+    /// the sequencer's view, reconfiguration, the step's result).
+    most_likely: Vec<ValueId>,
+    /// The plant states of `belief`, grouped once per update and handed to the step's result.
+    estimates: Vec<PlantEstimate>,
     estimate: VersionedEstimate,
     answers: AnswerCache,
     interpretation: Option<Interpretation>,
@@ -400,7 +407,6 @@ impl Executive {
         }
         self.last_time = Some(now);
         self.cycle += 1;
-        let belief = self.belief.as_ref();
         Ok(Step {
             cycle: log.cycle,
             time: now,
@@ -409,7 +415,7 @@ impl Executive {
             goal_state,
             action,
             most_likely: self.most_likely(),
-            estimates: belief.map(Belief::plant_states).unwrap_or_default(),
+            estimates: std::mem::take(&mut self.estimates),
             marking: self.sequencer.marking().map(|l| l.id).collect(),
             events: log.events,
             completed: self.sequencer.is_complete(),
@@ -424,10 +430,7 @@ impl Executive {
 
     /// ŝ: the most likely mode per component (empty before the first cycle).
     pub fn most_likely(&self) -> Vec<ValueId> {
-        self.belief
-            .as_ref()
-            .map(|b| b.most_likely_plant_state().modes)
-            .unwrap_or_default()
+        self.most_likely.clone()
     }
 
     /// Steps 1–2 of the cycle: check the observation, update the belief, report what changed.
@@ -464,9 +467,15 @@ impl Executive {
                 EstimationEvent::SearchCut(cut) => EventKind::SearchCut(cut),
             });
         }
-        let before = self.most_likely();
+        // ŝ and the plant states are derived here, where the belief changes, and nowhere else
+        // (the belief is set only here), so the cached copies always belong to the belief.
+        let estimates = update.belief.plant_states();
+        let after = Belief::most_likely_among(&estimates)
+            .map(|e| e.modes.clone())
+            .unwrap_or_default();
+        let before = std::mem::replace(&mut self.most_likely, after.clone());
+        self.estimates = estimates;
         self.belief = Some(update.belief);
-        let after = self.most_likely();
         self.report_mode_changes(&before, &after, log);
         self.refresh_estimate(&after, before != after);
         for (c, &mode) in after.iter().enumerate() {
