@@ -41,10 +41,10 @@ use crate::estimation::{
 };
 use crate::logic::{Atom, Formula, ValueId, VarId};
 use crate::opsat::{Budget, Theory, TheoryError};
-use crate::plant::{Commands, ComponentId, ModeKind, Observation, Plant};
+use crate::plant::{Commands, ComponentId, ModeKind, Plant};
 use crate::reconfiguration::{Action, GoalFailed, GoalState, Reconfiguration};
 use crate::sequencer::{self, ConfigurationGoal, LocationId, Sequencer, SequencerError, Thca};
-use observations::check_observation;
+use observations::LastObservation;
 use oracle::{AnswerCache, CachedOracle, VersionedEstimate};
 
 /// How an executive runs.
@@ -224,6 +224,7 @@ impl ExecutiveBuilder {
             most_likely: Vec::new(),
             estimates: Vec::new(),
             estimate: VersionedEstimate::default(),
+            observed: LastObservation::default(),
             answers: AnswerCache::default(),
             interpretation: None,
             intended: None,
@@ -234,6 +235,30 @@ impl ExecutiveBuilder {
             last_time: None,
             plant,
         })
+    }
+}
+
+/// Reports the observables missing from `observed` when they are not the ones last reported.
+fn report_missing(
+    plant: &Plant,
+    reported: &mut Reported,
+    observed: &[(VarId, ValueId)],
+    log: &mut EventLog,
+) {
+    let missing: Vec<VarId> = plant
+        .observables()
+        .iter()
+        .copied()
+        .filter(|var| !observed.iter().any(|(x, _)| x == var))
+        .collect();
+    if missing != reported.missing {
+        let table = plant.table();
+        let variables = missing
+            .iter()
+            .map(|&v| table.variable(v).name().to_string())
+            .collect();
+        log.push(EventKind::ObservationsMissing { variables });
+        reported.missing = missing;
     }
 }
 
@@ -308,6 +333,8 @@ pub struct Executive {
     /// The plant states of `belief`, grouped once per update and handed to the step's result.
     estimates: Vec<PlantEstimate>,
     estimate: VersionedEstimate,
+    /// The last report and its checked, typed form ([`LastObservation`]).
+    observed: LastObservation,
     answers: AnswerCache,
     interpretation: Option<Interpretation>,
     intended: Option<GoalState>,
@@ -440,22 +467,26 @@ impl Executive {
         observed: &[NamedValue],
         log: &mut EventLog,
     ) -> Result<(), StepError> {
-        let checked = check_observation(&self.plant, observed);
-        checked.rejected.into_iter().for_each(|kind| log.push(kind));
-        self.report_missing(&checked.values, log);
+        let (checked, observation) = self
+            .observed
+            .check(&self.plant, observed)
+            .map_err(EstimationError::from)?;
+        checked
+            .rejected
+            .iter()
+            .for_each(|kind| log.push(kind.clone()));
+        report_missing(&self.plant, &mut self.reported, &checked.values, log);
         self.timelines.record_observation(now, &checked.values);
-        let observation =
-            Observation::new(&self.plant, &checked.values).map_err(EstimationError::from)?;
         let update = match &self.belief {
             None => self
                 .estimator
-                .initial(&self.plant, &mut self.theory, now, &observation)?,
+                .initial(&self.plant, &mut self.theory, now, observation)?,
             Some(belief) => self.estimator.update(
                 &self.plant,
                 &mut self.theory,
                 belief,
                 &self.last_command,
-                &observation,
+                observation,
                 now,
             )?,
         };
@@ -491,25 +522,6 @@ impl Executive {
             .as_ref()
             .and_then(|b| b.marginal(var, mode))
             .unwrap_or(0.0)
-    }
-
-    fn report_missing(&mut self, observed: &[(VarId, ValueId)], log: &mut EventLog) {
-        let missing: Vec<VarId> = self
-            .plant
-            .observables()
-            .iter()
-            .copied()
-            .filter(|var| !observed.iter().any(|(x, _)| x == var))
-            .collect();
-        if missing != self.reported.missing {
-            let table = self.plant.table();
-            let variables = missing
-                .iter()
-                .map(|&v| table.variable(v).name().to_string())
-                .collect();
-            log.push(EventKind::ObservationsMissing { variables });
-            self.reported.missing = missing;
-        }
     }
 
     fn report_mode_changes(&self, before: &[ValueId], after: &[ValueId], log: &mut EventLog) {
