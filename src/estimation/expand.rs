@@ -120,20 +120,33 @@ pub(crate) struct Expander {
     scratch: Vec<u32>,
 }
 
-/// The next-mode distributions computed in one step, per component. Certified: a component's
-/// distribution is [`component_distribution`] of (component, mode, enabled transitions, clock,
-/// step length) and nothing else, so an entry whose mode, enabled transitions and clock (bit for
-/// bit) match, within the step it was computed in (`from` and `to` bit for bit, hence the same
-/// step length), is the very distribution a recomputation would give.
+/// Next-mode distributions already computed. Certified: a component's distribution is
+/// [`component_distribution`] of (component, mode, enabled transitions, clock, step length) and
+/// nothing else — the step's end points enter only through its length `to − from` — so an entry
+/// whose inputs match (the clock and the length bit for bit) is the very distribution a
+/// recomputation would give.
+///
+/// Two tiers, because clock readings move with the step's start and nothing else does: entries
+/// with a clock reading serve the current step only (they would not be met again); entries
+/// without one — every component whose clock does not matter in its mode, as estimation forgets
+/// such clocks — serve every later step of the same length too, so a quiet cycle computes only
+/// the distributions of running clocks. The clockless tier is keyed by the source's enabled
+/// transitions *by address* and the step length: the enabled transitions are cached per
+/// (modes, μ), one allocation per key, and the entry holds that allocation so the address
+/// cannot be reused; an address therefore names one (modes, μ), which fixes every component's
+/// mode and enabled transitions.
 #[derive(Default)]
 struct StepMemo {
-    /// The step (`from`, `to`) the entries belong to, as bits.
+    /// The step (`from`, `to`) the timed entries belong to, as bits.
     step: (u64, u64),
-    /// Per component, the distributions computed so far in this step.
-    components: Vec<Vec<Memo>>,
+    /// Per component, the distributions with a clock reading computed in this step.
+    timed: Vec<Vec<Memo>>,
+    /// (address of the enabled transitions, step length as bits) → per component, its
+    /// distribution without a clock, once computed.
+    untimed: FxHashMap<(usize, u64), Untimed>,
 }
 
-/// One memoised distribution.
+/// One memoised distribution of the current step.
 struct Memo {
     mode: ValueId,
     /// The source's enabled transitions (all components'; this one's at its index), shared
@@ -143,16 +156,26 @@ struct Memo {
     next: Rc<[NextMode]>,
 }
 
+/// The clockless distributions of one (modes, μ) and step length.
+struct Untimed {
+    /// The enabled transitions whose address is the key, held so that it stays unique.
+    _enabled: Rc<Vec<Vec<usize>>>,
+    /// Per component.
+    next: Vec<Option<Rc<[NextMode]>>>,
+}
+
 impl StepMemo {
     /// Starts the step `from`–`to` unless it is the current one.
     fn start(&mut self, plant: &Plant, from: f64, to: f64) {
         let step = (from.to_bits(), to.to_bits());
-        if self.step != step || self.components.len() != plant.components().len() {
+        if self.step != step || self.timed.len() != plant.components().len() {
             self.step = step;
             // Emptied, not dropped: the lists keep their capacity from step to step.
-            self.components.iter_mut().for_each(Vec::clear);
-            self.components
-                .resize_with(plant.components().len(), Vec::new);
+            self.timed.iter_mut().for_each(Vec::clear);
+            self.timed.resize_with(plant.components().len(), Vec::new);
+            if self.untimed.len() >= CACHE_LIMIT {
+                self.untimed.clear();
+            }
         }
     }
 }
@@ -160,8 +183,9 @@ impl StepMemo {
 impl Expander {
     /// Each component's next modes from `state` in the step `from`–`to` (Figure 6-10's
     /// "identify enabled transitions" and §6.2.2's probabilities). The enabled transitions are
-    /// cached per (modes, μ); each component's distribution is shared within the step by the
-    /// sources that give it the same inputs ([`StepMemo`]).
+    /// cached per (modes, μ); each component's distribution is shared by the sources, in this
+    /// step and (without a clock reading) later ones, that give it the same inputs
+    /// ([`StepMemo`]).
     pub(crate) fn choices(
         &mut self,
         plant: &Plant,
@@ -174,14 +198,31 @@ impl Expander {
         let enabled = self.enabled(plant, theory, state, commands)?;
         self.memo.start(plant, from, to);
         let step = to - from;
+        let key = (Rc::as_ptr(&enabled) as usize, step.to_bits());
+        let untimed = self.memo.untimed.entry(key).or_insert_with(|| Untimed {
+            _enabled: Rc::clone(&enabled),
+            next: vec![None; plant.components().len()],
+        });
         let choices = plant
             .component_ids()
             .zip(&state.modes)
-            .zip(&mut self.memo.components)
+            .zip(&mut self.memo.timed)
+            .zip(&mut untimed.next)
             .enumerate()
-            .map(|(c, (((id, component), &mode), memos))| {
-                let clock = state.clock(id, from);
-                let bits = clock.map(f64::to_bits);
+            .map(|(c, ((((id, component), &mode), memos), untimed))| {
+                let compute = |clock| {
+                    next_modes(component_distribution(
+                        component,
+                        mode,
+                        &enabled[c],
+                        clock,
+                        step,
+                    ))
+                };
+                let Some(reading) = state.clock(id, from) else {
+                    return Rc::clone(untimed.get_or_insert_with(|| compute(None)));
+                };
+                let bits = Some(reading.to_bits());
                 let known = memos.iter().find(|m| {
                     m.mode == mode
                         && m.clock == bits
@@ -190,13 +231,7 @@ impl Expander {
                 match known {
                     Some(memo) => Rc::clone(&memo.next),
                     None => {
-                        let next = next_modes(component_distribution(
-                            component,
-                            mode,
-                            &enabled[c],
-                            clock,
-                            step,
-                        ));
+                        let next = compute(Some(reading));
                         memos.push(Memo {
                             mode,
                             enabled: Rc::clone(&enabled),

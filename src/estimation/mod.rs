@@ -121,16 +121,23 @@ impl Belief {
     /// the exact middle of a uniform window — §7.1.2's engine at 45 s of heating — the state the
     /// timed transition leads to wins, as models list modes along their nominal progression.
     pub fn most_likely_plant_state(&self) -> PlantEstimate {
-        let states = self.plant_states();
-        let best = states.first().map_or(0.0, |e| e.probability);
-        states
-            .into_iter()
-            .take_while(|e| e.probability >= best * (1.0 - TIE))
-            .max_by(|a, b| a.modes.cmp(&b.modes))
+        Belief::most_likely_among(&self.plant_states())
+            .cloned()
             .unwrap_or(PlantEstimate {
                 modes: Vec::new(),
                 probability: 0.0,
             })
+    }
+
+    /// ŝ among `states`, the belief's [`Belief::plant_states`] (most probable first), with the
+    /// ties of [`Belief::most_likely_plant_state`]; `None` when there are none. For callers that
+    /// need both the plant states and ŝ without grouping the belief twice.
+    pub fn most_likely_among(states: &[PlantEstimate]) -> Option<&PlantEstimate> {
+        let best = states.first().map_or(0.0, |e| e.probability);
+        states
+            .iter()
+            .take_while(|e| e.probability >= best * (1.0 - TIE))
+            .max_by(|a, b| a.modes.cmp(&b.modes))
     }
 
     /// The belief that mode variable `var` has value `value`: the probability of the tracked

@@ -119,8 +119,10 @@ struct Stream {
     /// Index into [`Streams::known`].
     shape: usize,
     choices: Rc<Choices>,
-    /// Solutions handed out (or fetched ahead), cheapest first under `costs`.
-    served: Vec<(Vec<ValueId>, f64)>,
+    /// Solutions handed out (or fetched ahead), cheapest first under `costs`, by index into
+    /// the shape's solutions (which only grow during an expansion, and are distinct, so an
+    /// index names one solution).
+    served: Vec<(usize, f64)>,
     /// Certified known solutions not yet served, by index into the shape's solutions, dearest
     /// first (served from the back).
     certified: Vec<(usize, f64)>,
@@ -321,10 +323,11 @@ impl<'o> Streams<'o> {
 
     /// The next modes of solution `i` of source `k` (which [`Streams::cost`] has fetched).
     pub(crate) fn modes(&self, k: usize, i: usize) -> Vec<ValueId> {
-        self.streams[k]
+        let stream = &self.streams[k];
+        stream
             .served
             .get(i)
-            .map(|(modes, _)| modes.clone())
+            .map(|&(index, _)| self.known[stream.shape].solutions[index].clone())
             .unwrap_or_default()
     }
 
@@ -344,9 +347,8 @@ impl<'o> Streams<'o> {
             if let Some((_, cost)) = stream.served.get(i) {
                 return Some(*cost);
             }
-            if let Some((index, cost)) = stream.certified.pop() {
-                let modes = self.known[stream.shape].solutions[index].clone();
-                stream.served.push((modes, cost));
+            if let Some(certified) = stream.certified.pop() {
+                stream.served.push(certified);
                 continue;
             }
             if stream.done || self.cut.is_some() {
@@ -385,15 +387,19 @@ impl<'o> Streams<'o> {
                     let modes: Vec<ValueId> =
                         solution.assignment.into_iter().map(|(_, v)| v).collect();
                     stream.live_bound = Some(cost);
-                    if !known.solutions.contains(&modes) {
-                        known.positions.push(positions_of(&stream.choices, &modes));
-                        known.solutions.push(modes.clone());
-                    }
+                    let index = match known.solutions.iter().position(|s| *s == modes) {
+                        Some(index) => index,
+                        None => {
+                            known.positions.push(positions_of(&stream.choices, &modes));
+                            known.solutions.push(modes);
+                            known.solutions.len() - 1
+                        }
+                    };
                     // A fresh enumeration re-finds what was served from the certificate.
-                    if stream.served.iter().any(|(m, _)| *m == modes) {
+                    if stream.served.iter().any(|&(served, _)| served == index) {
                         continue;
                     }
-                    stream.served.push((modes, cost));
+                    stream.served.push((index, cost));
                     if stream.served.len() == wanted + 1 {
                         target = cost + MARGIN;
                     }

@@ -41,10 +41,10 @@ use crate::estimation::{
 };
 use crate::logic::{Atom, Formula, ValueId, VarId};
 use crate::opsat::{Budget, Theory, TheoryError};
-use crate::plant::{Commands, ComponentId, ModeKind, Observation, Plant};
+use crate::plant::{Commands, ComponentId, ModeKind, Plant};
 use crate::reconfiguration::{Action, GoalFailed, GoalState, Reconfiguration};
 use crate::sequencer::{self, ConfigurationGoal, LocationId, Sequencer, SequencerError, Thca};
-use observations::check_observation;
+use observations::LastObservation;
 use oracle::{AnswerCache, CachedOracle, VersionedEstimate};
 
 /// How an executive runs.
@@ -221,7 +221,10 @@ impl ExecutiveBuilder {
             sequencer: Sequencer::new(program),
             options,
             belief: None,
+            most_likely: Vec::new(),
+            estimates: Vec::new(),
             estimate: VersionedEstimate::default(),
+            observed: LastObservation::default(),
             answers: AnswerCache::default(),
             interpretation: None,
             intended: None,
@@ -232,6 +235,30 @@ impl ExecutiveBuilder {
             last_time: None,
             plant,
         })
+    }
+}
+
+/// Reports the observables missing from `observed` when they are not the ones last reported.
+fn report_missing(
+    plant: &Plant,
+    reported: &mut Reported,
+    observed: &[(VarId, ValueId)],
+    log: &mut EventLog,
+) {
+    let missing: Vec<VarId> = plant
+        .observables()
+        .iter()
+        .copied()
+        .filter(|var| !observed.iter().any(|(x, _)| x == var))
+        .collect();
+    if missing != reported.missing {
+        let table = plant.table();
+        let variables = missing
+            .iter()
+            .map(|&v| table.variable(v).name().to_string())
+            .collect();
+        log.push(EventKind::ObservationsMissing { variables });
+        reported.missing = missing;
     }
 }
 
@@ -300,7 +327,14 @@ pub struct Executive {
     sequencer: Sequencer,
     options: ExecutiveOptions,
     belief: Option<Belief>,
+    /// ŝ of `belief`, computed once per update: the cycle reads it four times (mode changes,
+    /// the sequencer's view, reconfiguration, the step's result).
+    most_likely: Vec<ValueId>,
+    /// The plant states of `belief`, grouped once per update and handed to the step's result.
+    estimates: Vec<PlantEstimate>,
     estimate: VersionedEstimate,
+    /// The last report and its checked, typed form ([`LastObservation`]).
+    observed: LastObservation,
     answers: AnswerCache,
     interpretation: Option<Interpretation>,
     intended: Option<GoalState>,
@@ -400,7 +434,6 @@ impl Executive {
         }
         self.last_time = Some(now);
         self.cycle += 1;
-        let belief = self.belief.as_ref();
         Ok(Step {
             cycle: log.cycle,
             time: now,
@@ -409,7 +442,7 @@ impl Executive {
             goal_state,
             action,
             most_likely: self.most_likely(),
-            estimates: belief.map(Belief::plant_states).unwrap_or_default(),
+            estimates: std::mem::take(&mut self.estimates),
             marking: self.sequencer.marking().map(|l| l.id).collect(),
             events: log.events,
             completed: self.sequencer.is_complete(),
@@ -424,10 +457,7 @@ impl Executive {
 
     /// ŝ: the most likely mode per component (empty before the first cycle).
     pub fn most_likely(&self) -> Vec<ValueId> {
-        self.belief
-            .as_ref()
-            .map(|b| b.most_likely_plant_state().modes)
-            .unwrap_or_default()
+        self.most_likely.clone()
     }
 
     /// Steps 1–2 of the cycle: check the observation, update the belief, report what changed.
@@ -437,22 +467,26 @@ impl Executive {
         observed: &[NamedValue],
         log: &mut EventLog,
     ) -> Result<(), StepError> {
-        let checked = check_observation(&self.plant, observed);
-        checked.rejected.into_iter().for_each(|kind| log.push(kind));
-        self.report_missing(&checked.values, log);
+        let (checked, observation) = self
+            .observed
+            .check(&self.plant, observed)
+            .map_err(EstimationError::from)?;
+        checked
+            .rejected
+            .iter()
+            .for_each(|kind| log.push(kind.clone()));
+        report_missing(&self.plant, &mut self.reported, &checked.values, log);
         self.timelines.record_observation(now, &checked.values);
-        let observation =
-            Observation::new(&self.plant, &checked.values).map_err(EstimationError::from)?;
         let update = match &self.belief {
             None => self
                 .estimator
-                .initial(&self.plant, &mut self.theory, now, &observation)?,
+                .initial(&self.plant, &mut self.theory, now, observation)?,
             Some(belief) => self.estimator.update(
                 &self.plant,
                 &mut self.theory,
                 belief,
                 &self.last_command,
-                &observation,
+                observation,
                 now,
             )?,
         };
@@ -464,9 +498,15 @@ impl Executive {
                 EstimationEvent::SearchCut(cut) => EventKind::SearchCut(cut),
             });
         }
-        let before = self.most_likely();
+        // ŝ and the plant states are derived here, where the belief changes, and nowhere else
+        // (the belief is set only here), so the cached copies always belong to the belief.
+        let estimates = update.belief.plant_states();
+        let after = Belief::most_likely_among(&estimates)
+            .map(|e| e.modes.clone())
+            .unwrap_or_default();
+        let before = std::mem::replace(&mut self.most_likely, after.clone());
+        self.estimates = estimates;
         self.belief = Some(update.belief);
-        let after = self.most_likely();
         self.report_mode_changes(&before, &after, log);
         self.refresh_estimate(&after, before != after);
         for (c, &mode) in after.iter().enumerate() {
@@ -482,25 +522,6 @@ impl Executive {
             .as_ref()
             .and_then(|b| b.marginal(var, mode))
             .unwrap_or(0.0)
-    }
-
-    fn report_missing(&mut self, observed: &[(VarId, ValueId)], log: &mut EventLog) {
-        let missing: Vec<VarId> = self
-            .plant
-            .observables()
-            .iter()
-            .copied()
-            .filter(|var| !observed.iter().any(|(x, _)| x == var))
-            .collect();
-        if missing != self.reported.missing {
-            let table = self.plant.table();
-            let variables = missing
-                .iter()
-                .map(|&v| table.variable(v).name().to_string())
-                .collect();
-            log.push(EventKind::ObservationsMissing { variables });
-            self.reported.missing = missing;
-        }
     }
 
     fn report_mode_changes(&self, before: &[ValueId], after: &[ValueId], log: &mut EventLog) {

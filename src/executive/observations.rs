@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::events::EventKind;
 use crate::logic::{ValueId, VarId};
-use crate::plant::Plant;
+use crate::plant::{InputError, Observation, Plant};
 
 /// `variable = value` by name: an observation from a monitor or a command to a control adapter.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -53,6 +53,34 @@ impl<A: Into<String>, B: Into<String>> From<(A, B)> for NamedValue {
 pub(crate) struct CheckedObservation {
     pub(crate) values: Vec<(VarId, ValueId)>,
     pub(crate) rejected: Vec<EventKind>,
+}
+
+/// The last cycle's report, checked and typed: a monitor that reports what it reported before
+/// (every quiet cycle) gets the same answer without resolving names again. Certified:
+/// [`check_observation`] and [`Observation::new`] are pure functions of the plant — the
+/// executive's, fixed for its life — and the report, which is compared in full.
+#[derive(Default)]
+pub(crate) struct LastObservation {
+    last: Option<(Vec<NamedValue>, CheckedObservation, Observation)>,
+}
+
+impl LastObservation {
+    /// `observed` checked ([`check_observation`]) and typed, from the last cycle's answer when
+    /// the report is the same.
+    pub(crate) fn check(
+        &mut self,
+        plant: &Plant,
+        observed: &[NamedValue],
+    ) -> Result<(&CheckedObservation, &Observation), InputError> {
+        let same = matches!(&self.last, Some((reported, _, _)) if reported.as_slice() == observed);
+        if !same {
+            let checked = check_observation(plant, observed);
+            let observation = Observation::new(plant, &checked.values)?;
+            self.last = Some((observed.to_vec(), checked, observation));
+        }
+        let (_, checked, observation) = self.last.as_ref().expect("set above");
+        Ok((checked, observation))
+    }
 }
 
 /// Resolves named observations against the plant's observables. Rejects (as events) unknown
