@@ -11,7 +11,9 @@
 //! meets a sub-goal it cannot achieve.
 //!
 //! - A component in a fault mode with a feasible repair must be repaired: its fault mode is not
-//!   a helper mode (it could not be returned to once the component has been used).
+//!   a helper mode (it could not be returned to once the component has been used). Nor are the
+//!   repair modes the repair passes through ([`Reachability`](super::Reachability)), when it
+//!   reaches modes of the nominal envelope: the component is moved on to one of those.
 //! - A mode of the irreversible frontier is **feasible as a final goal** when the policy reaches
 //!   it from every helper mode; goal interpretation offers it only when the configuration goal
 //!   names it.
@@ -112,14 +114,21 @@ impl Walker<'_> {
         for t in reachability.reversible(current) {
             set[t.index()] = self.reaches(current, t);
         }
-        let repairable = kinds[current.index()] == ModeKind::Fault
-            && (0..n).any(|v| set[v] && kinds[v] == ModeKind::Nominal);
-        let anchor = if repairable {
-            set[current.index()] = false;
-            None
-        } else {
-            Some(current)
+        // A component on its way through a repair is moved on to where it can stay: of the
+        // modes reached, only the most nominal kind is kept — modes of the nominal envelope,
+        // else repair modes, else the fault itself. Neither a fault nor a repair mode could be
+        // returned to after a repair, so they cannot be helper modes next to the modes it
+        // restores; keeping them would let pruning drop those instead.
+        let rank = |v: usize| match kinds[v] {
+            ModeKind::Fault => 0,
+            _ if reachability.is_repair_mode(ValueId(v as u32)) => 1,
+            _ => 2,
         };
+        let best = (0..n).filter(|&v| set[v]).map(rank).max();
+        for (v, member) in set.iter_mut().enumerate() {
+            *member &= Some(rank(v)) == best;
+        }
+        let anchor = set[current.index()].then_some(current);
         self.prune(&mut set, anchor);
         set
     }

@@ -89,8 +89,9 @@ impl GoalState {
         GoalState {
             reward: summed_reward(reconfiguration.plant(), &modes),
             modes,
-            // Named stays named: the way out of a named transient mode may be irreversible
-            // (resetting-on → on), and the planner takes such a step only toward a named mode.
+            // Named stays named: the way out of a named transient mode may be irreversible (a
+            // repair mode that leads only into a committing mode), and the planner takes such a
+            // step only toward a named mode.
             named: self.named.clone(),
         }
     }
@@ -560,8 +561,8 @@ fn explain(
     }
 }
 
-/// "engine is failed", "valve1 can reach only closed from closed (PDE is failed)", or "driver
-/// can reach from resettable only the transient mode resetting-off, which it leaves by itself",
+/// "engine is failed", "valve1 can reach only closed from closed (PDE is failed)", or "gadget
+/// can reach from broken only the transient mode t, which it leaves by itself",
 /// with the irreversible modes the goal did not name.
 fn describe_reach(
     plant: &Plant,

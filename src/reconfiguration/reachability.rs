@@ -6,13 +6,20 @@
 //! - A transition is **reversible** when its source can be returned to from its target by
 //!   nominal transitions: both lie in one strongly connected component of the graph of nominal
 //!   modes. The **reversible region** of a nominal mode is its strongly connected component.
+//! - A **repair mode** is a nominal mode the plant cannot reach from its initial modes by
+//!   nominal transitions (any guard): it is entered only after a fault, through a repair, and
+//!   is a step of that repair (Table 6.1's `resetting-on`, between `resettable` and `on`).
+//!   §6.3.3 allows repairs out of fault modes; a repair that takes several transitions is no
+//!   less a repair.
 //! - A nominal mode is **committing** when its strongly connected component is entered from
-//!   another one, irreversibly: `separated` for a lander that was `connected`, and every mode
-//!   reversibly reachable from there.
-//! - From a **fault** mode, repairs are allowed even though irreversible (§6.3.3): the region is
-//!   the fault mode plus the regions of the repair targets that are not committing. A repair
-//!   into a committing mode — the backup pyro that separates the lander — is treated like any
-//!   irreversible transition.
+//!   another one, irreversibly, by a transition out of a mode that is not a repair mode:
+//!   `separated` for a lander that was `connected`, and every mode reversibly reachable from
+//!   there. Entering the driver's `on` from `resetting-on` commits nothing: the driver could be
+//!   `on` before the fault.
+//! - From a **fault** mode or a repair mode, the repair continues (§6.3.3): the region is the
+//!   mode, the repair modes it leads to, and the regions of the modes they all lead to that are
+//!   not committing. A repair into a committing mode — the backup pyro that separates the
+//!   lander — is treated like any irreversible transition.
 //! - The **irreversible frontier** of a mode is what one irreversible transition leads to from
 //!   its region: such a target is allowed only when the configuration goal names it explicitly,
 //!   and never as an intermediate step (paths stay in the region until their last transition).
@@ -32,6 +39,8 @@ pub struct Reachability {
     frontier: Vec<Vec<bool>>,
     /// Nominal modes entered irreversibly from other nominal modes.
     committing: Vec<bool>,
+    /// Nominal modes reached only through a repair.
+    repair_modes: Vec<bool>,
 }
 
 impl Reachability {
@@ -58,31 +67,42 @@ impl Reachability {
                 scc[node.index()] = i;
             }
         }
-        // A strongly connected component entered from another one commits all its modes.
+        let repair_modes = off_envelope(component, &nominal);
+        // A strongly connected component entered from another one commits all its modes,
+        // unless it is entered only from repair modes: the plant could be there before the fault.
         let mut entered = vec![false; n];
         for &(a, b) in edges {
             let (a, b) = (a.index(), b.index());
-            if nominal[a] && nominal[b] && scc[a] != scc[b] {
+            if nominal[a] && !repair_modes[a] && nominal[b] && scc[a] != scc[b] {
                 entered[scc[b]] = true;
             }
         }
         let committing: Vec<bool> = (0..n).map(|v| nominal[v] && entered[scc[v]]).collect();
         let mut region = vec![vec![false; n]; n];
         for (m, row) in region.iter_mut().enumerate() {
-            row[m] = true;
-            let anchors: Vec<usize> = if nominal[m] {
-                vec![m]
-            } else {
-                edges
-                    .iter()
-                    .filter(|&&(a, b)| a.index() == m && !committing[b.index()])
-                    .map(|&(_, b)| b.index())
-                    .collect()
-            };
-            for anchor in anchors {
+            if nominal[m] && !repair_modes[m] {
                 for v in 0..n {
-                    if nominal[v] && scc[v] == scc[anchor] {
-                        row[v] = true;
+                    row[v] = nominal[v] && scc[v] == scc[m];
+                }
+                continue;
+            }
+            // A fault or a repair mode: follow the repair through repair modes, up to the
+            // modes it restores (whole strongly connected components) unless they commit.
+            row[m] = true;
+            let mut stack = vec![m];
+            while let Some(at) = stack.pop() {
+                for &(a, b) in edges {
+                    let (a, b) = (a.index(), b.index());
+                    if a != at || row[b] || committing[b] {
+                        continue;
+                    }
+                    if repair_modes[b] {
+                        row[b] = true;
+                        stack.push(b);
+                    } else {
+                        for v in 0..n {
+                            row[v] |= nominal[v] && scc[v] == scc[b];
+                        }
                     }
                 }
             }
@@ -103,6 +123,7 @@ impl Reachability {
             region,
             frontier,
             committing,
+            repair_modes,
         }
     }
 
@@ -130,6 +151,40 @@ impl Reachability {
     pub fn is_committing(&self, mode: ValueId) -> bool {
         self.committing[mode.index()]
     }
+
+    /// True for a nominal mode the plant reaches only through a repair (a step of the repair,
+    /// which the component cannot return to once repaired).
+    pub fn is_repair_mode(&self, mode: ValueId) -> bool {
+        self.repair_modes[mode.index()]
+    }
+}
+
+/// The nominal modes outside the plant's nominal envelope: not reachable from an initial
+/// nominal mode by nominal transitions. Every transition counts, whatever its guard (an
+/// environment-driven one too): what matters is where the plant can be without a fault, not
+/// what the planner can cause.
+fn off_envelope(component: &Component, nominal: &[bool]) -> Vec<bool> {
+    let mut inside: Vec<bool> = component
+        .initial()
+        .iter()
+        .zip(nominal)
+        .map(|(&p, &nominal)| nominal && p > 0.0)
+        .collect();
+    let mut stack: Vec<usize> = members(&inside).map(ValueId::index).collect();
+    while let Some(at) = stack.pop() {
+        for &t in component.outgoing(ValueId(at as u32)) {
+            let target = component.transitions()[t].target.index();
+            if nominal[target] && !inside[target] {
+                inside[target] = true;
+                stack.push(target);
+            }
+        }
+    }
+    nominal
+        .iter()
+        .zip(&inside)
+        .map(|(&nominal, &inside)| nominal && !inside)
+        .collect()
 }
 
 /// The modes whose flag is set.
