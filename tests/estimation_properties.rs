@@ -10,23 +10,18 @@
 
 mod support;
 
+#[path = "support/seeded.rs"]
+mod seeded;
 use kairos::estimation::{
     Belief, BeliefUpdate, EstimationEvent, Fallback, ModeEstimator, TimedMe, TimedMeOptions, Update,
 };
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
-use proptest::test_runner::TestRunner;
 use support::random_plant::{RandomPlant, RandomRun, consistent_with, random_plant, random_run};
 
 const MAX_COMPONENTS: usize = 5;
 const MAX_STEPS: usize = 10;
 
-fn cases(default: u32) -> u32 {
-    std::env::var("KAIROS_CASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(default)
-}
 
 /// What one random plant and run showed.
 #[derive(Default)]
@@ -136,9 +131,9 @@ fn timed_me_at_kappa_10_agrees_with_the_exact_update_in_99_percent_of_steps() {
         random_plant(MAX_COMPONENTS),
         random_run(MAX_COMPONENTS, MAX_STEPS),
     );
-    let mut runner = TestRunner::deterministic();
+    let mut runner = seeded::runner();
     let mut total = Tally::default();
-    for _ in 0..cases(300) {
+    for _ in 0..seeded::cases(300) {
         let (spec, run) = strategy.new_tree(&mut runner).expect("a case").current();
         let tally = run_case(&spec, &run);
         total.steps += tally.steps;
@@ -167,7 +162,7 @@ fn timed_me_at_kappa_10_agrees_with_the_exact_update_in_99_percent_of_steps() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(cases(48)))]
+    #![proptest_config(seeded::config(48))]
 
     /// Never a state inconsistent with the observation, whatever the plant and the run (unless
     /// the observation was set aside, which the update says).

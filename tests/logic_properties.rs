@@ -1,6 +1,8 @@
 //! Robustness and round-trip properties of the constraint language (DESIGN.md §4, §13: "no
 //! input makes the parser panic"; issue 2: "parser round-trips").
 
+#[path = "support/seeded.rs"]
+mod seeded;
 use kairos::logic::{Formula, ValueId, VarId, VarTable, parse_formula};
 use proptest::prelude::*;
 
@@ -35,7 +37,7 @@ fn formula() -> impl Strategy<Value = Formula> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(512))]
+    #![proptest_config(seeded::config(512))]
 
     /// Anything at all: an error or a formula, never a panic.
     #[test]

@@ -3,6 +3,8 @@
 
 mod support;
 
+#[path = "support/seeded.rs"]
+mod seeded;
 use kairos::logic::{Formula, ValueId, VarId};
 use kairos::opsat::{
     Budget, Consistency, Literal, SatBackend, SearchOptions, Solution, TheoryOptions,
@@ -110,7 +112,7 @@ fn brute_consistent(problem: &RandomOcsp, literals: &[Literal]) -> bool {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(std::env::var("KAIROS_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(96)))]
+    #![proptest_config(seeded::config(96))]
 
     /// best(all) equals brute-force enumeration, for every backend and search variant:
     /// decomposed and undecomposed, with and without conflicts, agree.

@@ -9,6 +9,8 @@ mod plants;
 #[path = "support/reconfiguration.rs"]
 mod support;
 
+#[path = "support/seeded.rs"]
+mod seeded;
 use kairos::logic::ValueId;
 use kairos::opsat::Literal;
 use kairos::reconfiguration::PlanOutcome;
@@ -156,7 +158,7 @@ fn check(plant: &RandomPlant, picks: &[usize], atoms: &[GoalAtom]) -> Result<(),
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(std::env::var("KAIROS_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(256)))]
+    #![proptest_config(seeded::config(256))]
 
     #[test]
     fn rp_reaches_the_gi_goal_state_and_never_takes_an_unnamed_irreversible_step(

@@ -3,6 +3,8 @@
 //! linked and, when they compile, executed for a few cycles on arbitrary estimates.
 //! `KAIROS_CASES=N` raises the number of cases.
 
+#[path = "support/seeded.rs"]
+mod seeded;
 use kairos::diagnostic::Source;
 use kairos::logic::ValueId;
 use kairos::rmpl::{self, LinkOptions};
@@ -138,15 +140,11 @@ fn mutilated() -> impl Strategy<Value = String> {
         })
 }
 
-fn cases() -> u32 {
-    std::env::var("KAIROS_CASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(256)
-}
+/// Cases per property unless `KAIROS_CASES` says otherwise.
+const DEFAULT_CASES: u32 = 256;
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(cases()))]
+    #![proptest_config(seeded::config(DEFAULT_CASES))]
 
     #[test]
     fn arbitrary_text_never_panics(text in "\\PC*", estimates in estimates()) {
