@@ -1,7 +1,8 @@
 //! Properties of mode reconfiguration on random small plants with acyclic causal graphs (issue
 //! 5): whenever goal interpretation finds a goal state, that state entails the goal, and the
 //! reactive planner, run against nominal transitions, reaches it in a bounded number of cycles
-//! without ever taking an irreversible transition into a mode the goal did not name (§6.3.3).
+//! without ever taking an irreversible transition into a mode the goal did not name (§6.3.3),
+//! making progress by the planner's own measure every cycle it acts for its focus (issue 12).
 //! `KAIROS_CASES=N` raises the number of cases.
 
 #[path = "support/reconfiguration_plants.rs"]
@@ -129,6 +130,30 @@ fn check(plant: &RandomPlant, picks: &[usize], atoms: &[GoalAtom]) -> Result<(),
         .reconfiguration
         .simulate_nominal(&mut setup.theory, &start, &goal, STEP_BOUND)
         .expect("simulates");
+    // Issue 12: the planner's measure of progress never grows, and shrinks every cycle the
+    // planner acts for the focus (the first goal not reached); so no state comes back.
+    let mut before = setup.reconfiguration.progress(&start, &goal);
+    let mut visited = vec![start.clone()];
+    for step in &run.steps {
+        let after = setup.reconfiguration.progress(&step.state, &goal);
+        let for_focus = step.action.intended().map(|(c, _, _)| c) == before.acting;
+        prop_assert!(
+            after < before || (!for_focus && after == before),
+            "no progress: {:?} then {:?} after {}\n{}",
+            before,
+            after,
+            step.action.describe(&setup.plant),
+            text
+        );
+        prop_assert!(
+            !visited.contains(&step.state),
+            "the planner came back to {}\n{}",
+            setup.describe(&step.state),
+            text
+        );
+        visited.push(step.state.clone());
+        before = after;
+    }
     prop_assert_eq!(
         &run.outcome,
         &PlanOutcome::Achieved,

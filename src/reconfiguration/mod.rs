@@ -40,7 +40,7 @@ mod testing;
 
 pub use causal::CausalGraph;
 pub use goal::{FailureCause, GoalFailed, GoalState, HOLD_COST, MOVE_COST};
-pub use planner::{Action, Command, PlanFailure, Wait};
+pub use planner::{Action, Command, PlanFailure, Progress, Wait};
 pub use policy::{ConcurrentPolicy, PolicyEntry, PolicyStep};
 pub use reachability::Reachability;
 pub use requirement::{Condition, Requirement, Unplannable};
@@ -197,6 +197,13 @@ impl Reconfiguration {
     /// look-ups, no theory.
     pub fn next_action(&self, current: &[ValueId], goal: &GoalState) -> Action {
         planner::next_action(self, current, goal)
+    }
+
+    /// The planner's measure of progress from `current` toward `goal`: every cycle in which
+    /// the planner acts for the first goal not yet reached, it strictly decreases, and no other
+    /// cycle increases it (see [`Progress`]).
+    pub fn progress(&self, current: &[ValueId], goal: &GoalState) -> Progress {
+        planner::progress(self, current, goal)
     }
 
     /// The planner run from `start` against nominal transitions (every command succeeds; a

@@ -134,6 +134,16 @@ impl Action {
 }
 
 /// The reactive planner; see [`Reconfiguration::next_action`].
+///
+/// Goals are served in the causal graph's downstream-first order. The first goal not yet
+/// reached is the *focus*; each cycle its descent (the chain of steps and sub-goals down to
+/// the component that acts, see [`Progress`]) makes progress, and nothing else may undo it:
+/// while the focus (or any goal before the current one) waits on a transition that happens by
+/// itself, later goals are served only with commands that touch none of the components and
+/// controls the waiting descents rely on ([`Reservation`]). Serving a later goal with a
+/// component the waiting descent had already moved — a helper it needs in a sub-goal mode —
+/// made the planner undo and redo the same step forever (issue 12's livelock: `c1` commanded
+/// `m3 → m1` for the focus, then back `m1 → m3` toward its own goal during the wait).
 pub(crate) fn next_action(
     reconfiguration: &Reconfiguration,
     current: &[ValueId],
@@ -147,31 +157,25 @@ pub(crate) fn next_action(
             reason,
         });
     }
-    let mut planner = Planner {
-        reconfiguration,
-        current,
-        goal,
-        working_on: Vec::new(),
-    };
-    // The first wait met, and the transitions awaited so far.
+    let mut planner = Planner::new(reconfiguration, current, goal);
+    // The first wait met, and what the waiting descents rely on.
     let mut wait: Option<Wait> = None;
-    let mut awaited: Vec<(ComponentId, usize)> = Vec::new();
+    let mut reserved = Reservation::default();
     for &c in reconfiguration.causal_graph().downstream_first() {
         let target = goal.mode(c);
         if current[c.index()] == target {
             continue;
         }
-        match planner.achieve(c, target) {
+        let action = planner.descend(c, target);
+        match action {
             Action::Idle(next) => {
-                awaited.push((next.component, next.transition));
+                reserved.add_descent(reconfiguration, &planner.trail, &next);
                 wait.get_or_insert(next);
             }
-            // While a timed transition is awaited, goals of components it does not depend on
-            // go on (the program's concurrent threads, e.g. §7.2.3's landing slew and gravity
-            // turn); a command that could touch the awaited guard waits, as do failures.
-            Action::Command(command)
-                if wait.is_none() || independent(reconfiguration, &command, &awaited) =>
-            {
+            // While a transition that happens by itself is awaited, goals that need none of
+            // what the waiting descents rely on go on (the program's concurrent threads, e.g.
+            // §7.2.3's landing slew and gravity turn); anything else waits, as do failures.
+            Action::Command(command) if wait.is_none() || reserved.allows(&command) => {
                 return Action::Command(command);
             }
             action if wait.is_none() => return action,
@@ -181,22 +185,131 @@ pub(crate) fn next_action(
     wait.map_or(Action::Achieved, Action::Idle)
 }
 
-/// True when `command` moves none of the awaited components, nor any component or control
-/// their awaited guards depend on.
-fn independent(
+/// The planner's measure of progress toward a goal state, smaller is closer (issue 12).
+///
+/// `reached` counts the components, in the causal graph's downstream-first order, that are
+/// in their goal mode before the first one that is not (the *focus*). `descent` is the focus's
+/// chain as the planner walks it: the focus's distance along its compiled policy to its
+/// target, then the number of its next step's sub-goals still to achieve (from the first unmet
+/// one, in the planner's order), then that sub-goal's component's distance to the sub-goal
+/// mode, and so on down to the component that acts or waits.
+///
+/// Every cycle in which the focus's descent acts, the measure strictly decreases: the acting
+/// component moves one step along a shortest policy path (its distance drops by one); a
+/// sub-goal reached leaves the earlier ones of its step in place (they are downstream of it,
+/// so achieving it cannot move them) and the pending count drops; a focus reached raises
+/// `reached`, which nothing undoes (later goals move only their own component and what is
+/// upstream of it, never a component earlier in the order). In other cycles (the focus waits
+/// and a later goal is served) the measure stays as it is, because the later goal may touch
+/// nothing the waiting descent relies on. With a finite measure, the planner cannot livelock.
+#[derive(Debug, Clone)]
+pub struct Progress {
+    /// Components at their goal mode before the focus, in downstream-first order.
+    pub reached: usize,
+    /// The focus's descent: distance, pending sub-goals, distance, pending, ..., distance.
+    pub descent: Vec<usize>,
+    /// The component at the bottom of the focus's descent: the one the focus's next action
+    /// (a command or a wait) is for. Not part of the measure.
+    pub acting: Option<ComponentId>,
+}
+
+impl PartialEq for Progress {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == std::cmp::Ordering::Equal
+    }
+}
+
+impl Eq for Progress {}
+
+impl Ord for Progress {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        // More components reached is closer; then a lexicographically smaller descent.
+        other
+            .reached
+            .cmp(&self.reached)
+            .then_with(|| self.descent.cmp(&other.descent))
+    }
+}
+
+impl PartialOrd for Progress {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// The measure of progress of `current` toward `goal`; see [`Progress`].
+pub(crate) fn progress(
     reconfiguration: &Reconfiguration,
-    command: &Command,
-    awaited: &[(ComponentId, usize)],
-) -> bool {
-    awaited.iter().all(|&(c, transition)| {
-        let guard = reconfiguration.guard_dependencies(c, transition);
-        command.component != c
-            && !guard.modes.contains(&command.component)
+    current: &[ValueId],
+    goal: &GoalState,
+) -> Progress {
+    let order = reconfiguration.causal_graph().downstream_first();
+    let reached = order
+        .iter()
+        .take_while(|c| current[c.index()] == goal.mode(**c))
+        .count();
+    let mut descent = Vec::new();
+    let mut acting = None;
+    if let Some(&focus) = order.get(reached) {
+        let mut planner = Planner::new(reconfiguration, current, goal);
+        planner.descend(focus, goal.mode(focus));
+        for link in &planner.trail {
+            descent.push(link.distance);
+            descent.extend(link.pending);
+        }
+        acting = planner.trail.last().map(|link| link.component);
+    }
+    Progress {
+        reached,
+        descent,
+        acting,
+    }
+}
+
+/// What the descents waiting on a transition rely on: the components on their chains, the
+/// sub-goal components of every step on them (met or not), and whatever the awaited guard
+/// reads. A later goal is served meanwhile only by a command that touches none of it.
+#[derive(Debug, Default)]
+struct Reservation {
+    components: Vec<ComponentId>,
+    controls: Vec<VarId>,
+}
+
+impl Reservation {
+    fn add_descent(&mut self, reconfiguration: &Reconfiguration, trail: &[Link], wait: &Wait) {
+        for link in trail {
+            self.components.push(link.component);
+            self.components
+                .extend(link.sub_goals.iter().map(|&(u, _)| u));
+        }
+        self.components.push(wait.component);
+        let guard = reconfiguration.guard_dependencies(wait.component, wait.transition);
+        self.components.extend(&guard.modes);
+        self.controls.extend(&guard.controls);
+    }
+
+    /// True when `command` moves no reserved component and sets no reserved control.
+    fn allows(&self, command: &Command) -> bool {
+        !self.components.contains(&command.component)
             && command
                 .assignments
                 .iter()
-                .all(|(x, _)| !guard.controls.contains(x))
-    })
+                .all(|(x, _)| !self.controls.contains(x))
+    }
+}
+
+/// One level of a descent: a component on its way to a target, and its next step's
+/// sub-goals.
+#[derive(Debug)]
+struct Link {
+    component: ComponentId,
+    /// Steps along the component's policy to its target.
+    distance: usize,
+    /// The next step's sub-goals, in the planner's order.
+    sub_goals: Vec<(ComponentId, ValueId)>,
+    /// How many of them, from the first unmet one on, are still to achieve (`None` when the
+    /// descent stopped at this level without looking at the step: a failure).
+    pending: Option<usize>,
 }
 
 /// One cycle's depth-first descent through the policies.
@@ -204,50 +317,85 @@ struct Planner<'a> {
     reconfiguration: &'a Reconfiguration,
     current: &'a [ValueId],
     goal: &'a GoalState,
-    /// Components whose step is waiting on the sub-goal being achieved (to catch cycles).
-    working_on: Vec<ComponentId>,
+    /// The levels of the current descent, from its root (to catch cycles and to measure it).
+    trail: Vec<Link>,
 }
 
-impl Planner<'_> {
-    /// The first action toward `c = target` (`c` is not there yet).
-    fn achieve(&mut self, c: ComponentId, target: ValueId) -> Action {
-        let here = self.current[c.index()];
-        if self.working_on.contains(&c) {
-            return self.fail(
-                c,
-                target,
-                "its own step needs it elsewhere (a circular requirement)",
-            );
+impl<'a> Planner<'a> {
+    fn new(
+        reconfiguration: &'a Reconfiguration,
+        current: &'a [ValueId],
+        goal: &'a GoalState,
+    ) -> Self {
+        Planner {
+            reconfiguration,
+            current,
+            goal,
+            trail: Vec::new(),
         }
-        let policy = self.reconfiguration.policy(c);
-        let (step, irreversible) = match policy.entry(here, target) {
-            PolicyEntry::Next { step, irreversible } => (&policy.steps()[step], irreversible),
-            PolicyEntry::Stay => return Action::Achieved,
-            PolicyEntry::Failure => return self.fail(c, target, "no plannable path leads there"),
-        };
-        let explicit = self.goal.mode(c) == target && self.goal.is_named(c);
-        if irreversible && !explicit {
-            return self.fail(
-                c,
-                target,
-                "the step would be irreversible and the goal does not name the target",
-            );
+    }
+
+    /// A fresh descent toward `c = target`; its levels are left in `trail`.
+    fn descend(&mut self, c: ComponentId, target: ValueId) -> Action {
+        self.trail.clear();
+        self.achieve(c, target)
+    }
+
+    /// The first action toward `c = target` (`c` is not there yet): down the chain of unmet
+    /// sub-goals (a loop, not recursion: a chain may be as long as the plant) to the component
+    /// that can act.
+    fn achieve(&mut self, mut c: ComponentId, mut target: ValueId) -> Action {
+        loop {
+            if self.trail.iter().any(|link| link.component == c) {
+                return self.fail(
+                    c,
+                    target,
+                    "its own step needs it elsewhere (a circular requirement)",
+                );
+            }
+            let here = self.current[c.index()];
+            let policy = self.reconfiguration.policy(c);
+            let (step, irreversible) = match policy.entry(here, target) {
+                PolicyEntry::Next { step, irreversible } => (&policy.steps()[step], irreversible),
+                PolicyEntry::Stay => return Action::Achieved,
+                PolicyEntry::Failure => {
+                    return self.fail(c, target, "no plannable path leads there");
+                }
+            };
+            let mut link = Link {
+                component: c,
+                distance: policy.distance(here, target).unwrap_or(usize::MAX),
+                sub_goals: Vec::new(),
+                pending: None,
+            };
+            let explicit = self.goal.mode(c) == target && self.goal.is_named(c);
+            let requirement = match &step.requirement {
+                _ if irreversible && !explicit => {
+                    Err("the step would be irreversible and the goal does not name the target")
+                }
+                Ok(requirement) => Ok(requirement),
+                Err(_) => Err("the next step's guard cannot be established"),
+            };
+            let requirement = match requirement {
+                Ok(requirement) => requirement,
+                Err(why) => {
+                    self.trail.push(link);
+                    return self.fail(c, target, why);
+                }
+            };
+            // Sub-goals are stored most downstream first (see `Reconfiguration::compile`).
+            let unmet = requirement
+                .modes
+                .iter()
+                .position(|&(u, v)| self.current[u.index()] != v);
+            link.sub_goals.clone_from(&requirement.modes);
+            link.pending = Some(unmet.map_or(0, |i| requirement.modes.len() - i));
+            self.trail.push(link);
+            match unmet {
+                Some(i) => (c, target) = requirement.modes[i],
+                None => return self.act(c, step, requirement),
+            }
         }
-        let Ok(requirement) = &step.requirement else {
-            return self.fail(c, target, "the next step's guard cannot be established");
-        };
-        // Sub-goals are stored most downstream first (see `Reconfiguration::compile`).
-        let unmet = requirement
-            .modes
-            .iter()
-            .find(|&&(u, v)| self.current[u.index()] != v);
-        if let Some(&(u, v)) = unmet {
-            self.working_on.push(c);
-            let action = self.achieve(u, v);
-            self.working_on.pop();
-            return action;
-        }
-        self.act(c, step, requirement)
     }
 
     /// The step's command, or a wait when it needs none.

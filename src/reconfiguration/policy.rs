@@ -107,6 +107,17 @@ impl ConcurrentPolicy {
         self.entries[current.index() * self.mode_count + target.index()]
     }
 
+    /// The number of steps the policy takes from `current` to `target` under nominal
+    /// execution (0 when already there); `None` when an entry on the way says Failure.
+    pub fn distance(&self, current: ValueId, target: ValueId) -> Option<usize> {
+        let mut steps = 0;
+        self.walk(current, target, |_| {
+            steps += 1;
+            true
+        })
+        .map(|()| steps)
+    }
+
     /// Every step the planner may take, by source mode then declaration order.
     pub fn steps(&self) -> &[PolicyStep] {
         &self.steps
