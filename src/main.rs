@@ -107,6 +107,33 @@ enum Command {
         #[arg(long)]
         quiet: bool,
     },
+    /// Measure cycle times per phase (estimation, sequencer, reconfiguration, whole cycle):
+    /// min / median / p99 / max of quiet and busy cycles separately, for sizing a flight
+    /// computer. Either run a scenario, or replay an estimation log with `--plant` and `--log`
+    /// (estimation alone, once per `--kappa`).
+    Bench {
+        /// The scenario to run (omit it with `--plant` and `--log`).
+        #[arg(required_unless_present = "log", conflicts_with_all = ["plant", "log"])]
+        scenario: Option<PathBuf>,
+        /// The plant model of the replay log.
+        #[arg(long, requires = "log")]
+        plant: Option<PathBuf>,
+        /// A replay log (the format of `kairos estimate`).
+        #[arg(long, requires = "plant")]
+        log: Option<PathBuf>,
+        /// κ values to measure estimation at (repeat the option or separate by commas).
+        #[arg(long, value_delimiter = ',', default_values_t = [10])]
+        kappa: Vec<usize>,
+        /// Print one JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Bad arguments that clap's rules let through: the message and exit code 2.
+fn usage_error(message: &str) -> ExitCode {
+    eprintln!("error: {message}");
+    ExitCode::from(cli::BAD_INPUT)
 }
 
 fn main() -> ExitCode {
@@ -147,6 +174,26 @@ fn main() -> ExitCode {
             timeline: timeline.as_deref(),
             quiet,
         }),
+        Command::Bench {
+            scenario,
+            plant,
+            log,
+            kappa,
+            json,
+        } => {
+            let target = match (&scenario, &plant, &log) {
+                (Some(scenario), _, _) => cli::bench::BenchTarget::Scenario(scenario),
+                (None, Some(plant), Some(log)) => cli::bench::BenchTarget::Log {
+                    plant,
+                    log,
+                    kappas: &kappa,
+                },
+                _ => {
+                    return usage_error("kairos bench needs a SCENARIO, or --plant and --log");
+                }
+            };
+            cli::bench::run(&target, json)
+        }
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,5 +1,6 @@
 //! Subcommand implementations for the `kairos` binary.
 
+pub mod bench;
 pub mod check;
 pub mod compile;
 pub mod estimate;

@@ -18,6 +18,7 @@
 //! lines and lines starting with `#` or `//` are comments. Errors point at file:line:column.
 
 use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
 
 use serde::Deserialize;
 
@@ -214,22 +215,41 @@ pub fn replay(
     estimator: &mut dyn ModeEstimator,
     records: &[LogRecord],
 ) -> Result<Vec<Update>, EstimationError> {
+    let mut updates = Vec::with_capacity(records.len());
+    replay_with(plant, theory, estimator, records, &mut |_, update, _| {
+        updates.push(update.clone());
+    })?;
+    Ok(updates)
+}
+
+/// Replays a log as [`replay`] does, handing each record's index, its update and the wall time
+/// the estimator took for it to `visit` instead of keeping them (`kairos bench`: a long log in
+/// constant memory).
+pub fn replay_with(
+    plant: &Plant,
+    theory: &mut Theory,
+    estimator: &mut dyn ModeEstimator,
+    records: &[LogRecord],
+    visit: &mut dyn FnMut(usize, &Update, Duration),
+) -> Result<(), EstimationError> {
     let Some(first) = records.first() else {
-        return Ok(Vec::new());
+        return Ok(());
     };
-    let mut updates = vec![estimator.initial(plant, theory, first.time, &first.observation)?];
-    for pair in records.windows(2) {
+    let started = Instant::now();
+    let mut last = estimator.initial(plant, theory, first.time, &first.observation)?;
+    visit(0, &last, started.elapsed());
+    for (index, pair) in records.windows(2).enumerate() {
         let (before, now) = (&pair[0], &pair[1]);
-        let belief = &updates[updates.len() - 1].belief;
-        let update = estimator.update(
+        let started = Instant::now();
+        last = estimator.update(
             plant,
             theory,
-            belief,
+            &last.belief,
             &before.commands,
             &now.observation,
             now.time,
         )?;
-        updates.push(update);
+        visit(index + 1, &last, started.elapsed());
     }
-    Ok(updates)
+    Ok(())
 }

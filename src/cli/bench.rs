@@ -1,0 +1,331 @@
+//! `kairos bench`: how long the executive's cycles take, per phase, for sizing a flight computer
+//! (DESIGN.md §12, §14).
+//!
+//! - `kairos bench SCENARIO [--json]` runs a scenario as `kairos run` does (no log) and reports,
+//!   per phase (estimation, sequencer, reconfiguration, whole cycle), the minimum, median, 99th
+//!   percentile and maximum wall time of its *quiet* and *busy* cycles separately.
+//! - `kairos bench --plant MODEL --log LOG [--kappa K ...] [--json]` replays an estimation log
+//!   (the format of `kairos estimate`) through TimedME once per κ and reports the same figures
+//!   for the estimation step alone.
+//!
+//! A cycle is **busy** when something new reaches the executive — a command was issued in the
+//! previous cycle, the observation differs from the previous cycle's, or (for a scenario) the
+//! cycle reported an event; every other cycle is **quiet**. The two cost very different amounts
+//! (a quiet estimation step replays cached work), so a single median would hide the busy tail
+//! a deadline has to cover. Times are wall clock on this machine: run on the target, or on an
+//! idle machine, and prefer the medians.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use kairos::estimation::log::{LogRecord, parse_log, replay_with};
+use kairos::estimation::{TimedMe, TimedMeOptions};
+use kairos::executive::NamedValue;
+use kairos::simulation::{self, RunOptions};
+use serde_json::{Value, json};
+
+use super::output::emit;
+use super::{Failure, load_plant, read_source};
+
+/// What to benchmark.
+pub enum BenchTarget<'a> {
+    /// A scenario, run whole.
+    Scenario(&'a Path),
+    /// Estimation alone over a replay log, once per κ.
+    Log {
+        /// The plant model.
+        plant: &'a Path,
+        /// The replay log.
+        log: &'a Path,
+        /// The κ values to measure.
+        kappas: &'a [usize],
+    },
+}
+
+/// Runs the benchmark and prints its table (or JSON).
+pub fn run(target: &BenchTarget, json: bool) -> Result<(), Failure> {
+    let report = match target {
+        BenchTarget::Scenario(path) => bench_scenario(path)?,
+        BenchTarget::Log { plant, log, kappas } => bench_log(plant, log, kappas)?,
+    };
+    let text = if json {
+        format!("{}\n", report.to_json())
+    } else {
+        report.to_text()
+    };
+    emit(&text).map(|_| ())
+}
+
+/// The phases a cycle's time is split into, in the order the report shows them.
+const PHASES: [&str; 4] = ["estimation", "sequencer", "reconfiguration", "cycle"];
+
+/// The times of one kind of cycle (quiet or busy), per phase, in nanoseconds.
+#[derive(Default)]
+struct Samples {
+    phases: [Vec<u64>; 4],
+}
+
+impl Samples {
+    fn push(&mut self, times: [Duration; 4]) {
+        for (samples, time) in self.phases.iter_mut().zip(times) {
+            samples.push(u64::try_from(time.as_nanos()).unwrap_or(u64::MAX));
+        }
+    }
+
+    fn count(&self) -> usize {
+        self.phases[0].len()
+    }
+}
+
+/// Minimum, median, 99th percentile and maximum of some durations, in nanoseconds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Summary {
+    min: u64,
+    median: u64,
+    p99: u64,
+    max: u64,
+}
+
+impl Summary {
+    /// The summary of `samples` (nearest-rank percentiles); `None` when there are none.
+    fn of(samples: &[u64]) -> Option<Summary> {
+        let mut sorted = samples.to_vec();
+        sorted.sort_unstable();
+        let rank = |q: f64| {
+            let n = sorted.len();
+            let index = ((q * n as f64).ceil() as usize).clamp(1, n) - 1;
+            sorted[index]
+        };
+        Some(Summary {
+            min: *sorted.first()?,
+            median: rank(0.5),
+            p99: rank(0.99),
+            max: *sorted.last()?,
+        })
+    }
+}
+
+/// One measured configuration: a scenario, or a log at one κ.
+struct Section {
+    title: String,
+    quiet: Samples,
+    busy: Samples,
+    /// Phases that do not apply (estimation alone has no sequencer), left out of the report.
+    phases: Vec<usize>,
+}
+
+/// Everything measured, ready to print.
+struct Report {
+    subject: String,
+    wall: Duration,
+    sections: Vec<Section>,
+}
+
+fn bench_scenario(path: &Path) -> Result<Report, Failure> {
+    let scenario = simulation::load(path).map_err(Failure::bad_input)?;
+    let mut section = Section {
+        title: format!("scenario `{}`, κ = {}", scenario.name, scenario.kappa),
+        quiet: Samples::default(),
+        busy: Samples::default(),
+        phases: vec![0, 1, 2, 3],
+    };
+    let mut previous: Option<Vec<NamedValue>> = None;
+    let mut commanded = false;
+    let started = Instant::now();
+    let outcome = simulation::run(&scenario, RunOptions::default(), &mut |record| {
+        let step = record.step;
+        let busy =
+            commanded || previous.as_deref() != Some(record.observation) || !step.events.is_empty();
+        let times = step.times;
+        let samples = [
+            times.estimation,
+            times.sequencer,
+            times.reconfiguration,
+            times.total,
+        ];
+        if busy {
+            section.busy.push(samples);
+        } else {
+            section.quiet.push(samples);
+        }
+        commanded = !step.command.is_empty();
+        if previous.as_deref() != Some(record.observation) {
+            previous = Some(record.observation.to_vec());
+        }
+    })
+    .map_err(|e| Failure::failed(format!("error: {e}")))?;
+    Ok(Report {
+        subject: format!("{} ({} cycles)", path.display(), outcome.cycles),
+        wall: started.elapsed(),
+        sections: vec![section],
+    })
+}
+
+fn bench_log(plant_path: &Path, log: &Path, kappas: &[usize]) -> Result<Report, Failure> {
+    let plant = load_plant(plant_path)?;
+    let source = read_source(log)?;
+    let records = parse_log(&source, &plant).map_err(Failure::bad_input)?;
+    let started = Instant::now();
+    let mut sections = Vec::new();
+    for &kappa in kappas {
+        let mut theory = plant
+            .theory()
+            .map_err(|e| Failure::bad_input(format!("error: {e}")))?;
+        let mut estimator = TimedMe::new(TimedMeOptions::kappa(kappa));
+        let mut section = Section {
+            title: format!("estimation, TimedME κ = {kappa}"),
+            quiet: Samples::default(),
+            busy: Samples::default(),
+            phases: vec![0],
+        };
+        replay_timed(&plant, &mut theory, &mut estimator, &records, &mut section)?;
+        sections.push(section);
+    }
+    Ok(Report {
+        subject: format!(
+            "{} on {} ({} cycles)",
+            log.display(),
+            plant_path.display(),
+            records.len()
+        ),
+        wall: started.elapsed(),
+        sections,
+    })
+}
+
+/// Replays `records` as `kairos estimate` does, sorting each update's time into quiet or busy.
+fn replay_timed(
+    plant: &kairos::plant::Plant,
+    theory: &mut kairos::opsat::Theory,
+    estimator: &mut TimedMe,
+    records: &[LogRecord],
+    section: &mut Section,
+) -> Result<(), Failure> {
+    replay_with(
+        plant,
+        theory,
+        estimator,
+        records,
+        &mut |index, _, elapsed| {
+            // Record i's update uses record i−1's commands; the initial belief is not a cycle.
+            let Some(before) = index.checked_sub(1).map(|i| &records[i]) else {
+                return;
+            };
+            let now = &records[index];
+            let busy = before.commands.issued(plant).next().is_some()
+                || before.observation != now.observation;
+            let samples = [elapsed, Duration::ZERO, Duration::ZERO, elapsed];
+            if busy {
+                section.busy.push(samples);
+            } else {
+                section.quiet.push(samples);
+            }
+        },
+    )
+    .map_err(|e| Failure::failed(format!("error: estimation stopped: {e}")))
+}
+
+/// A duration in nanoseconds, for a person: `812 ns`, `18.4 µs`, `1.27 ms`, `2.10 s`.
+fn human(nanos: u64) -> String {
+    let n = nanos as f64;
+    if n < 1e3 {
+        format!("{nanos} ns")
+    } else if n < 1e6 {
+        format!("{:.1} µs", n / 1e3)
+    } else if n < 1e9 {
+        format!("{:.2} ms", n / 1e6)
+    } else {
+        format!("{:.2} s", n / 1e9)
+    }
+}
+
+impl Report {
+    fn to_text(&self) -> String {
+        let mut out = format!(
+            "kairos bench: {} — {:.2} s wall\n",
+            self.subject,
+            self.wall.as_secs_f64()
+        );
+        for section in &self.sections {
+            out.push_str(&format!("\n{}\n", section.title));
+            out.push_str(&format!(
+                "  {:<7} {:<16} {:>8} {:>10} {:>10} {:>10} {:>10}\n",
+                "cycles", "phase", "count", "min", "median", "p99", "max"
+            ));
+            for (kind, samples) in [("quiet", &section.quiet), ("busy", &section.busy)] {
+                for &phase in &section.phases {
+                    let Some(s) = Summary::of(&samples.phases[phase]) else {
+                        continue;
+                    };
+                    out.push_str(&format!(
+                        "  {:<7} {:<16} {:>8} {:>10} {:>10} {:>10} {:>10}\n",
+                        kind,
+                        PHASES[phase],
+                        samples.count(),
+                        human(s.min),
+                        human(s.median),
+                        human(s.p99),
+                        human(s.max)
+                    ));
+                }
+            }
+        }
+        out
+    }
+
+    fn to_json(&self) -> Value {
+        let sections: Vec<Value> = self
+            .sections
+            .iter()
+            .map(|section| {
+                let kinds =
+                    [("quiet", &section.quiet), ("busy", &section.busy)].map(|(kind, samples)| {
+                        let mut phases = serde_json::Map::new();
+                        for &phase in &section.phases {
+                            if let Some(s) = Summary::of(&samples.phases[phase]) {
+                                phases.insert(
+                                    PHASES[phase].to_string(),
+                                    json!({"min_ns": s.min, "median_ns": s.median,
+                                           "p99_ns": s.p99, "max_ns": s.max}),
+                                );
+                            }
+                        }
+                        (kind, json!({"count": samples.count(), "phases": phases}))
+                    });
+                json!({
+                    "title": section.title,
+                    kinds[0].0: kinds[0].1,
+                    kinds[1].0: kinds[1].1,
+                })
+            })
+            .collect();
+        json!({
+            "subject": self.subject,
+            "wall_s": self.wall.as_secs_f64(),
+            "sections": sections,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Summary, human};
+
+    #[test]
+    fn percentiles_are_nearest_rank() {
+        let samples: Vec<u64> = (1..=200).collect();
+        let s = Summary::of(&samples).expect("a summary");
+        assert_eq!((s.min, s.median, s.p99, s.max), (1, 100, 198, 200));
+        assert_eq!(Summary::of(&[]), None);
+        let one = Summary::of(&[7]).expect("a summary");
+        assert_eq!((one.min, one.median, one.p99, one.max), (7, 7, 7, 7));
+    }
+
+    #[test]
+    fn durations_read_in_their_unit() {
+        assert_eq!(human(812), "812 ns");
+        assert_eq!(human(18_400), "18.4 µs");
+        assert_eq!(human(1_270_000), "1.27 ms");
+        assert_eq!(human(2_100_000_000), "2.10 s");
+    }
+}
