@@ -1,0 +1,434 @@
+//! The thermostat of the MDS goal-network seed (Appendix A; DESIGN.md §15.5, issue 13 item 6):
+//! `models/thermostat.ron` loads with the components, modes and numbers its header documents,
+//! `programs/thermostat_stay_warm.rmpl` (StayWarm, tactic 1) links against it, every RMPL scenario
+//! of `scenarios/thermostat/` passes through `kairos run`, and mode estimation diagnoses a stuck
+//! switch from the temperature alone: a warming that does not end by its window's upper bound
+//! is a switch stuck open (the timed transition that does not happen, thesis §7.2.5), a warm
+//! device that turns cold or hot is a switch stuck open or closed.
+
+mod support;
+
+#[path = "support/cli.rs"]
+mod cli;
+#[path = "support/seeded.rs"]
+mod seeded;
+
+use std::path::Path;
+
+use cli::kairos;
+use kairos::estimation::log::replay;
+use kairos::estimation::{TimedMe, TimedMeOptions, Update};
+use kairos::plant::{ModeKind, Plant, Timing, TransitionLaw};
+use proptest::prelude::*;
+use support::plants::{log, mode_in, model};
+
+const MODEL: &str = "models/thermostat.ron";
+const PROGRAM: &str = "programs/thermostat_stay_warm.rmpl";
+const DIR: &str = "scenarios/thermostat";
+
+/// The RMPL scenarios this file runs, one test each. (Goal-network missions on the same plant,
+/// issue 13, have tests of their own.)
+const SCENARIOS: [&str; 5] = [
+    "stay_warm.ron",
+    "switch1_sticks_open.ron",
+    "switch2_sticks_closed.ron",
+    "sensor_fails.ron",
+    "switch1_stuck_open_from_start.ron",
+];
+
+fn thermostat() -> Plant {
+    model("thermostat")
+}
+
+fn modes_of(plant: &Plant, component: &str) -> Vec<(String, ModeKind, f64)> {
+    let id = plant.component_named(component).expect(component);
+    plant
+        .component(id)
+        .modes()
+        .iter()
+        .map(|m| (m.name.clone(), m.kind, m.reward))
+        .collect()
+}
+
+/// DESIGN.md §15.5: two switches with both stuck faults, a qualitative temperature with no
+/// fault, a sensor whose health is estimated; flat nominal rewards, permanent faults at −20
+/// (the model's header; ARCHITECTURE.md "the Mars lander" for the flat rewards).
+#[test]
+fn the_model_has_the_seeds_components_modes_and_rewards() {
+    let plant = thermostat();
+    let names: Vec<&str> = plant.components().iter().map(|c| c.name()).collect();
+    assert_eq!(names, ["temperature", "switch1", "switch2", "sensor"]);
+    let nominal = |names: &[&str]| -> Vec<(String, ModeKind, f64)> {
+        names
+            .iter()
+            .map(|n| (n.to_string(), ModeKind::Nominal, 0.0))
+            .collect()
+    };
+    let fault = |name: &str| (name.to_string(), ModeKind::Fault, -20.0);
+    assert_eq!(
+        modes_of(&plant, "temperature"),
+        nominal(&[
+            "cold",
+            "warming",
+            "warm",
+            "cooling",
+            "overheating",
+            "too-hot"
+        ])
+    );
+    for switch in ["switch1", "switch2"] {
+        let mut expected = nominal(&["open", "closed"]);
+        expected.extend([fault("stuck-open"), fault("stuck-closed")]);
+        assert_eq!(modes_of(&plant, switch), expected, "{switch}");
+    }
+    let mut sensor = nominal(&["healthy"]);
+    sensor.push(fault("failed"));
+    assert_eq!(modes_of(&plant, "sensor"), sensor);
+
+    let table = plant.table();
+    let observables: Vec<&str> = plant
+        .observables()
+        .iter()
+        .map(|&x| table.variable(x).name())
+        .collect();
+    assert_eq!(
+        observables,
+        ["sensor.reading"],
+        "the switch positions are not observed (seed: no switch sensor)"
+    );
+    let controls: Vec<&str> = plant
+        .controls()
+        .iter()
+        .map(|c| table.variable(c.var).name())
+        .collect();
+    assert_eq!(controls, ["switch1.cmd", "switch2.cmd"]);
+}
+
+/// The numbers the header documents: warming windows of 75 s (one heater) and 30 s (two),
+/// memoryless cooling and overheating at 0.04/s, faults at 1e-5/s.
+#[test]
+fn the_timings_and_rates_are_the_documented_ones() {
+    let plant = thermostat();
+    let temperature = plant.component_named("temperature").expect("temperature");
+    let component = plant.component(temperature);
+    let mut windows = Vec::new();
+    let mut exponentials = 0;
+    for t in component.transitions() {
+        match t.law {
+            TransitionLaw::Timed {
+                probability,
+                timing: Timing::Uniform { lower, upper },
+            } => {
+                assert_eq!((probability, lower), (1.0, 0.0));
+                windows.push(upper);
+            }
+            TransitionLaw::Timed {
+                timing: Timing::Exponential { rate },
+                ..
+            } => {
+                assert_eq!(rate, 0.04);
+                exponentials += 1;
+            }
+            TransitionLaw::PerCycle { probability } => assert_eq!(probability, 1.0),
+            ref other => panic!("unexpected law {other:?}"),
+        }
+    }
+    assert_eq!(windows, [75.0, 75.0, 30.0]);
+    assert_eq!(exponentials, 3);
+    for name in ["switch1", "switch2", "sensor"] {
+        let id = plant.component_named(name).expect(name);
+        for t in plant.component(id).transitions() {
+            match t.law {
+                TransitionLaw::Rate { per_second } => assert_eq!(per_second, 1e-5, "{name}"),
+                TransitionLaw::PerCycle { probability } => assert_eq!(probability, 1.0),
+                ref other => panic!("{name}: unexpected law {other:?}"),
+            }
+        }
+    }
+}
+
+/// `kairos check` validates the model and links StayWarm against it (DESIGN.md §12).
+#[test]
+fn kairos_check_links_the_stay_warm_program() {
+    let (code, stdout, stderr) = kairos(&["check", MODEL, PROGRAM]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    assert!(
+        stdout.contains("plant thermostat (4 components, 16 modes"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("program StayWarm")
+            && stdout.contains("linked against models/thermostat.ron"),
+        "{stdout}"
+    );
+}
+
+/// Tactic 1 as a configuration goal (§6.3.3): one command, then the planner waits through the
+/// heater's warming; the goal network of issue 13 relies on this plan.
+#[test]
+fn tactic_1_is_one_command_and_two_waits() {
+    let (code, stdout, stderr) = kairos(&[
+        "plan",
+        "--plant",
+        MODEL,
+        "--goal",
+        "switch1 = closed, switch2 = open, sensor = healthy, temperature = warm",
+    ]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    let steps: Vec<String> = stdout
+        .lines()
+        .filter(|l| l.starts_with("   "))
+        .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+        .collect();
+    assert_eq!(
+        steps,
+        [
+            "1. command switch1.cmd = close switch1: open -> closed",
+            "2. wait, p 1 temperature: cold -> warming",
+            "3. wait, after Uniform(0, 75) s temperature: warming -> warm",
+        ],
+        "{stdout}"
+    );
+}
+
+/// Runs a scenario and returns its mission log, failing with the log if it does not pass.
+fn run_scenario(name: &str) -> String {
+    let path = format!("{DIR}/{name}");
+    let (code, stdout, stderr) = kairos(&["run", &path]);
+    assert_eq!(code, 0, "{path} failed:\n{stdout}\n{stderr}");
+    assert!(stdout.contains("PASS: "), "{stdout}");
+    stdout
+}
+
+/// The log has each line (whitespace squeezed), in this order.
+fn assert_in_order(log: &str, lines: &[&str]) {
+    let squeezed: Vec<String> = log
+        .lines()
+        .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+        .collect();
+    let mut from = 0;
+    for line in lines {
+        let wanted = line.split_whitespace().collect::<Vec<_>>().join(" ");
+        match squeezed[from..].iter().position(|l| l.contains(&wanted)) {
+            Some(i) => from += i + 1,
+            None => panic!("`{line}` not found (in order) in the mission log:\n{log}"),
+        }
+    }
+}
+
+/// Every RMPL scenario in the directory is one of ours (a mission scenario — `mission:` instead
+/// of `program:` — belongs to the goal-network tests).
+#[test]
+fn every_rmpl_scenario_of_the_directory_is_run() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join(DIR);
+    for entry in std::fs::read_dir(&dir).expect("the scenario directory exists") {
+        let path = entry.expect("an entry").path();
+        let name = path.file_name().expect("a name").to_string_lossy();
+        let text = std::fs::read_to_string(&path).expect("readable");
+        if name.ends_with(".ron") && text.contains("\n    program:") {
+            assert!(
+                SCENARIOS.contains(&name.as_ref()),
+                "{DIR}/{name} has no test in tests/thermostat_model.rs"
+            );
+        }
+    }
+}
+
+/// The seed's system test 4 run as RMPL: one command, warm read at 66 s, held 200 s.
+#[test]
+fn stay_warm_closes_switch_1_once_and_holds_warm() {
+    let log = run_scenario("stay_warm.ron");
+    assert_in_order(
+        &log,
+        &[
+            "command switch1.cmd = close (switch1: open -> closed)",
+            "[ 2.000 s] #2",
+            "believed temperature: cold -> warming",
+            "[ 66.000 s] #66",
+            "believed temperature: warming -> warm",
+            "goal achieved switch1 = closed and switch2 = open and sensor = healthy and temperature = warm",
+            "[ 267.000 s] #267",
+            "completed the program has completed",
+        ],
+    );
+    assert_eq!(log.matches("command ").count(), 1, "{log}");
+}
+
+/// The seed's system test 7's fault, diagnosed from the temperature alone 25 s after it struck.
+#[test]
+fn switch_1_sticking_open_is_diagnosed_when_the_device_reads_cold() {
+    let log = run_scenario("switch1_sticks_open.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 181.000 s] #181",
+            "rule `switch 1 sticks open` takes effect: sw1 = stuck-open (FAULT)",
+            "[ 206.000 s] #206",
+            "believed temperature: warm -> cold",
+            "believed switch1: closed -> stuck-open",
+            "DIAGNOSIS switch1 = stuck-open",
+            "GOAL FAILED",
+        ],
+    );
+}
+
+/// The seed's system test 8's fault: the device overheats, switch 2 is diagnosed stuck closed.
+#[test]
+fn switch_2_sticking_closed_is_diagnosed_when_the_device_reads_hot() {
+    let log = run_scenario("switch2_sticks_closed.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 206.000 s] #206",
+            "believed temperature: warm -> too-hot",
+            "believed switch2: open -> stuck-closed",
+            "DIAGNOSIS switch2 = stuck-closed",
+        ],
+    );
+}
+
+/// The seed's system test 9's fault: the first invalid reading is a failed sensor.
+#[test]
+fn the_sensor_failure_is_diagnosed_at_the_first_invalid_reading() {
+    let log = run_scenario("sensor_fails.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 181.000 s] #181",
+            "believed sensor: healthy -> failed",
+            "DIAGNOSIS sensor = failed",
+            "GOAL FAILED",
+        ],
+    );
+}
+
+/// The plant of the seed's test 5 without its initialised estimate: the warming window closes
+/// at 77 s (75 s after warming was believed to begin) and refutes the closed switch.
+#[test]
+fn a_switch_stuck_open_from_the_start_is_diagnosed_when_the_warming_window_closes() {
+    let log = run_scenario("switch1_stuck_open_from_start.ron");
+    assert_in_order(
+        &log,
+        &[
+            "believed temperature: cold -> warming",
+            "[ 77.000 s] #77",
+            "believed temperature: warming -> cold",
+            "believed switch1: closed -> stuck-open",
+            "DIAGNOSIS switch1 = stuck-open",
+        ],
+    );
+}
+
+/// One replay-log line (the format of `kairos estimate`, src/estimation/log.rs).
+fn line(time: u32, reading: &str, command: Option<&str>) -> String {
+    let command = command.map_or(String::new(), |c| format!(", \"commands\": {{{c}}}"));
+    format!(
+        "{{\"time\": {time}.0, \"observations\": {{\"sensor.reading\": \"{reading}\"}}{command}}}\n"
+    )
+}
+
+/// Replays a log through TimedME at the executive's κ = 10; no update may set an observation
+/// aside or fall back.
+fn replay_log(plant: &Plant, text: &str) -> Vec<Update> {
+    let records = log(plant, text);
+    let mut theory = plant.theory().expect("theory");
+    let mut estimator = TimedMe::new(TimedMeOptions::kappa(10));
+    let updates = replay(plant, &mut theory, &mut estimator, &records).expect("replay");
+    for (record, update) in records.iter().zip(&updates) {
+        assert!(
+            update.events.is_empty(),
+            "line {}: {:?}",
+            record.line,
+            update.events
+        );
+    }
+    updates
+}
+
+/// The most likely mode of each component at update `index`, as `temperature/switch1/...`.
+fn believed(plant: &Plant, updates: &[Update], index: usize) -> String {
+    let estimate = updates[index].belief.most_likely_plant_state();
+    ["temperature", "switch1", "switch2", "sensor"]
+        .map(|c| mode_in(plant, &estimate, c))
+        .join("/")
+}
+
+/// Cold readings from 0 to `end`, switch 1 commanded closed at `close`.
+fn close_switch_1(close: u32, end: u32, reading: impl Fn(u32) -> &'static str) -> String {
+    (0..=end)
+        .map(|t| {
+            let command = (t == close).then_some("\"switch1.cmd\": \"close\"");
+            line(t, reading(t), command)
+        })
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(seeded::config(12))]
+
+    /// Thesis §7.2.5's timed diagnosis on a switch (DESIGN.md §15.5, test 7's "a timed
+    /// transition that does not happen"): switch 1 commanded closed at `close`, the device still
+    /// cold. Believed closed and warming while the Uniform(0, 75) s window is open (warming is
+    /// believed from close + 2); once it has closed, at close + 77, the only explanation of the
+    /// cold device is switch 1 stuck open, and it stays so.
+    #[test]
+    fn a_warming_that_does_not_come_is_switch_1_stuck_open(close in 0u32..30) {
+        let plant = thermostat();
+        let end = close + 90;
+        let updates = replay_log(&plant, &close_switch_1(close, end, |_| "cold"));
+        let t = |time: u32| time as usize;
+        prop_assert_eq!(believed(&plant, &updates, t(close + 1)), "cold/closed/open/healthy");
+        for time in close + 2..=close + 76 {
+            prop_assert_eq!(believed(&plant, &updates, t(time)), "warming/closed/open/healthy", "at {}", time);
+        }
+        for time in close + 77..=end {
+            prop_assert_eq!(believed(&plant, &updates, t(time)), "cold/stuck-open/open/healthy", "at {}", time);
+        }
+    }
+
+    /// The converse: a warm reading anywhere in the window (from the first cycle the warming can
+    /// end, close + 3, to its upper bound, close + 77) is the nominal warming ending: no fault is
+    /// ever the most likely explanation.
+    #[test]
+    fn a_warming_that_ends_within_its_window_is_nominal(close in 0u32..30, after in 3u32..=77) {
+        let plant = thermostat();
+        let warm_at = close + after;
+        let end = warm_at + 20;
+        let reading = |time: u32| if time >= warm_at { "warm" } else { "cold" };
+        let updates = replay_log(&plant, &close_switch_1(close, end, reading));
+        for time in close + 2..warm_at {
+            prop_assert_eq!(believed(&plant, &updates, time as usize), "warming/closed/open/healthy", "at {}", time);
+        }
+        for time in warm_at..=end {
+            prop_assert_eq!(believed(&plant, &updates, time as usize), "warm/closed/open/healthy", "at {}", time);
+        }
+    }
+
+    /// During the hold (heater 1 on, the device warm), a cold reading at any time is switch 1
+    /// stuck open and a hot one switch 2 stuck closed — in the cycle of the reading, since a
+    /// warm device with one heater on stays warm and the memoryless cooling or overheating has
+    /// no window to wait out.
+    #[test]
+    fn a_held_device_that_leaves_warm_names_its_switch(
+        leaves in 70u32..200,
+        cold in any::<bool>(),
+    ) {
+        let plant = thermostat();
+        let end = leaves + 5;
+        let (symptom, explanation) = if cold {
+            ("cold", "cold/stuck-open/open/healthy")
+        } else {
+            ("hot", "too-hot/closed/stuck-closed/healthy")
+        };
+        let reading = |time: u32| match time {
+            t if t >= leaves => symptom,
+            t if t >= 66 => "warm",
+            _ => "cold",
+        };
+        let updates = replay_log(&plant, &close_switch_1(0, end, reading));
+        prop_assert_eq!(believed(&plant, &updates, leaves as usize - 1), "warm/closed/open/healthy");
+        for time in leaves..=end {
+            prop_assert_eq!(believed(&plant, &updates, time as usize), explanation, "at {}", time);
+        }
+    }
+}
