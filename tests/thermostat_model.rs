@@ -25,18 +25,22 @@ use support::plants::{log, mode_in, model};
 
 const MODEL: &str = "models/thermostat.ron";
 const PROGRAM: &str = "programs/thermostat_stay_warm.rmpl";
+/// StayWarm with both tactics written out (the response of the seed's tests 7 and 8).
+const TACTICS: &str = "programs/thermostat_stay_warm_tactics.rmpl";
 const DIR: &str = "scenarios/thermostat";
 /// The seed's WARM, 20-40 °C, in the model's bands.
 const WARM: &str = "(temperature = warm-low or temperature = warm or temperature = warm-high)";
 
 /// The RMPL scenarios this file runs, one test each. (Goal-network missions on the same plant,
 /// issue 13, have tests of their own.)
-const SCENARIOS: [&str; 5] = [
+const SCENARIOS: [&str; 7] = [
     "stay_warm.ron",
     "switch1_sticks_open.ron",
     "switch2_sticks_closed.ron",
     "sensor_fails.ron",
     "switch1_stuck_open_from_start.ron",
+    "switch1_sticks_open_tactic_2.ron",
+    "switch2_sticks_closed_tactic_2.ron",
 ];
 
 fn thermostat() -> Plant {
@@ -152,18 +156,27 @@ fn the_timings_and_rates_are_the_documented_ones() {
     }
 }
 
-/// `kairos check` validates the model and links StayWarm against it (DESIGN.md §12).
+/// `kairos check` validates the model and links both StayWarm programs against it (DESIGN.md
+/// §12).
 #[test]
-fn kairos_check_links_the_stay_warm_program() {
-    let (code, stdout, stderr) = kairos(&["check", MODEL, PROGRAM]);
+fn kairos_check_links_the_stay_warm_programs() {
+    let (code, stdout, stderr) = kairos(&["check", MODEL, PROGRAM, TACTICS]);
     assert_eq!(code, 0, "{stdout}\n{stderr}");
     assert!(
         stdout.contains("plant thermostat (4 components, 16 modes"),
         "{stdout}"
     );
-    assert!(
-        stdout.contains("program StayWarm")
-            && stdout.contains("linked against models/thermostat.ron"),
+    for program in [PROGRAM, TACTICS] {
+        assert!(
+            stdout.contains(&format!("ok: {program}: program StayWarm")),
+            "{stdout}"
+        );
+    }
+    assert_eq!(
+        stdout
+            .matches("linked against models/thermostat.ron")
+            .count(),
+        2,
         "{stdout}"
     );
 }
@@ -331,6 +344,44 @@ fn a_switch_stuck_open_from_the_start_is_diagnosed_when_the_warming_window_close
             "DIAGNOSIS switch1 = stuck-open",
         ],
     );
+}
+
+/// The seed's system test 7 verdict: diagnosed while WARM, tactic 2 (heater 2) commanded in the
+/// next cycle, the device never leaves WARM and the held goal never fails.
+#[test]
+fn with_tactic_2_a_switch_stuck_open_never_costs_warm() {
+    let log = run_scenario("switch1_sticks_open_tactic_2.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 187.000 s] #187",
+            "DIAGNOSIS switch1 = stuck-open",
+            "[ 188.000 s] #188",
+            "command switch2.cmd = close (switch2: open -> closed)",
+            "[ 218.000 s] #218",
+            "believed temperature: warm-low -> warm",
+        ],
+    );
+    assert!(!log.contains("GOAL FAILED"), "{log}");
+}
+
+/// The seed's system test 8 verdict, the roles swapped: switch 1 opened in the cycle after the
+/// diagnosis, heater 2 (stuck on) the one heater, WARM throughout.
+#[test]
+fn with_tactic_2_a_switch_stuck_closed_never_costs_warm() {
+    let log = run_scenario("switch2_sticks_closed_tactic_2.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 187.000 s] #187",
+            "DIAGNOSIS switch2 = stuck-closed",
+            "[ 188.000 s] #188",
+            "command switch1.cmd = open (switch1: closed -> open)",
+            "[ 218.000 s] #218",
+            "believed temperature: warm-high -> warm",
+        ],
+    );
+    assert!(!log.contains("GOAL FAILED"), "{log}");
 }
 
 /// One replay-log line (the format of `kairos estimate`, src/estimation/log.rs).
