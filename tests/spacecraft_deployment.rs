@@ -9,9 +9,14 @@
 mod cli;
 #[path = "support/scenario_run.rs"]
 mod scenario_run;
+mod support;
 
 use cli::kairos;
+use kairos::logic::{Formula, ValueId};
+use kairos::opsat::Literal;
+use kairos::plant::ModeKind;
 use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
+use support::plants::model;
 
 const DIR: &str = "scenarios/spacecraft_deployment";
 const PROGRAM: &str = "programs/spacecraft_deployment.rmpl";
@@ -64,6 +69,99 @@ fn kairos_check_links_the_program_against_the_model() {
         )),
         "{stdout}"
     );
+}
+
+/// Issue 20 item 1: one component per state variable Figure 5-1 names, in the order the program
+/// first names them (lines 3-55).
+#[test]
+fn the_components_are_the_programs_state_variables() {
+    let plant = model("spacecraft_deployment");
+    let names: Vec<&str> = plant.components().iter().map(|c| c.name()).collect();
+    assert_eq!(
+        names,
+        [
+            "shuttle",
+            "IMU_1",
+            "IMU_2",
+            "RCS",
+            "LGA_deploy_flag",
+            "SA_deploy_flag",
+            "SSR_A",
+            "SSR_B",
+            "downlink",
+            "LGA",
+            "SA_1",
+            "SA_2",
+            "ACS",
+            "power_switch",
+            "IUS",
+            "spacecraft_deployment",
+        ]
+    );
+    // The faults the issue names: IMU failure, solar-array deployment failure, SSR failures.
+    for (component, fault) in [
+        ("IMU_1", "failed"),
+        ("IMU_2", "failed"),
+        ("SA_1", "failed"),
+        ("SA_2", "failed"),
+        ("SSR_A", "failed"),
+        ("SSR_B", "failed"),
+    ] {
+        let c = plant.component(plant.component_named(component).expect(component));
+        let mode = c.mode_named(fault).expect(fault);
+        assert_eq!(c.modes()[mode.index()].kind, ModeKind::Fault, "{component}");
+    }
+}
+
+/// The model's conventions (its header; ARCHITECTURE.md, the Mars lander and the spacecraft
+/// deployment): nominal rewards are flat (the program asserts goals once and moves on, §6.3.1
+/// would otherwise undo them), faults are -10 (repairable) or -20 (permanent), and every nominal
+/// mode determines each observable of its component, so an unconstrained fault mode pays the
+/// observation factor 1/m (DESIGN.md §8) every cycle.
+#[test]
+fn rewards_are_flat_and_every_nominal_mode_determines_its_observables() {
+    let plant = model("spacecraft_deployment");
+    let mut theory = plant.theory().expect("theory");
+    for component in plant.components() {
+        for mode in component.modes() {
+            let allowed: &[f64] = match mode.kind {
+                ModeKind::Nominal => &[0.0],
+                ModeKind::Fault => &[-10.0, -20.0],
+            };
+            assert!(
+                allowed.contains(&mode.reward),
+                "{}.{}",
+                component.name(),
+                mode.name
+            );
+        }
+        let observables = plant
+            .observables()
+            .iter()
+            .filter(|x| component.attributes().contains(x));
+        for &x in observables {
+            let nominal = component
+                .modes()
+                .iter()
+                .enumerate()
+                .filter(|(_, m)| m.kind == ModeKind::Nominal);
+            for (m, mode) in nominal {
+                let assumption = [Literal::Is(component.mode_var(), ValueId(m as u32))];
+                let determined = plant
+                    .table()
+                    .variable(x)
+                    .value_ids()
+                    .any(|v| theory.entails(&assumption, &Formula::is(x, v)).expect("ok"));
+                let name = plant.table().variable(x).name();
+                assert!(
+                    determined,
+                    "{}.{} leaves {name} open",
+                    component.name(),
+                    mode.name
+                );
+            }
+        }
+    }
 }
 
 /// §5.1.2 nominal: separation (line 3), warm-ups (lines 4-8), the LGA flag and DeployLGA steps
