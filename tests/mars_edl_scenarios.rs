@@ -5,10 +5,13 @@
 
 #[path = "support/cli.rs"]
 mod cli;
+#[path = "support/scenario_run.rs"]
+mod scenario_run;
 
 use std::path::Path;
 
 use cli::kairos;
+use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 
 const DIR: &str = "scenarios/mars_edl";
 
@@ -24,42 +27,20 @@ const SCENARIOS: [&str; 6] = [
 /// The other files there: the scripts the scenarios include, and the requirement mapping.
 const NOT_SCENARIOS: [&str; 3] = ["plant.ron", "descent.ron", "README.md"];
 
-/// Runs a scenario and returns its mission log, failing with the log if it does not pass.
+/// Runs a scenario of this directory and returns its mission log, failing with the log if it
+/// does not pass.
 fn run(name: &str) -> String {
-    let path = format!("{DIR}/{name}");
-    let (code, stdout, stderr) = kairos(&["run", &path]);
-    assert_eq!(code, 0, "{path} failed:\n{stdout}\n{stderr}");
-    assert!(stdout.contains("PASS: "), "{stdout}");
-    stdout
-}
-
-/// The log has each line (trimmed of the column padding), in this order.
-fn assert_in_order(log: &str, lines: &[&str]) {
-    let squeezed: Vec<String> = log
-        .lines()
-        .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
-        .collect();
-    let mut from = 0;
-    for line in lines {
-        let wanted = line.split_whitespace().collect::<Vec<_>>().join(" ");
-        match squeezed[from..].iter().position(|l| l.contains(&wanted)) {
-            Some(i) => from += i + 1,
-            None => panic!("`{line}` not found (in order) in the mission log:\n{log}"),
-        }
-    }
+    run_passing(&format!("{DIR}/{name}"))
 }
 
 #[test]
 fn every_scenario_file_is_run() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join(DIR);
-    for entry in std::fs::read_dir(&dir).expect("the scenario directory exists") {
-        let name = entry.expect("an entry").file_name();
-        let name = name.to_string_lossy();
-        assert!(
-            SCENARIOS.contains(&name.as_ref()) || NOT_SCENARIOS.contains(&name.as_ref()),
-            "{DIR}/{name} has no test in tests/mars_edl_scenarios.rs"
-        );
-    }
+    assert_every_file_is_tested(
+        DIR,
+        &SCENARIOS,
+        &NOT_SCENARIOS,
+        "tests/mars_edl_scenarios.rs",
+    );
 }
 
 /// §7.2.2, the whole EDL at the 0.1 s cycle: nominal validation requirements 1-7 of §7.2.1.

@@ -23,9 +23,9 @@
 
 use std::fmt;
 
-use super::Reconfiguration;
 use super::feasible::{Feasible, feasible};
 use super::reachability::members;
+use super::{ConcurrentPolicy, Reconfiguration};
 use crate::logic::{Atom, Formula, ValueId, VarId};
 use crate::opsat::{Consistency, Literal, Ocsp, SearchOptions, Theory};
 use crate::plant::{ComponentId, ModeKind, Plant, describe_modes};
@@ -71,19 +71,23 @@ impl GoalState {
     }
 
     /// The goal state to keep once the plant is in `current`: every transient mode the goal
-    /// named that the component has reached is replaced by the mode it leaves it for by itself
-    /// (see [`Reconfiguration::settle`]).
+    /// named that the component has reached is replaced by the mode it leaves it for by itself,
+    /// and every mode merely kept that the component has left for good by nominal transitions
+    /// is replaced by where it is (see [`Reconfiguration::settle`]).
     pub(crate) fn settled(
         &self,
         reconfiguration: &Reconfiguration,
         current: &[ValueId],
     ) -> GoalState {
         let mut modes = self.modes.clone();
+        let plant = reconfiguration.plant();
         let policies = reconfiguration.policies();
         let goals = modes.iter_mut().zip(&self.named).zip(current).zip(policies);
         for (((goal, &named), &here), policy) in goals {
             if named && *goal == here {
                 *goal = policy.settles_in(here).unwrap_or(here);
+            } else if !named && left_for_good(plant, policy, *goal, here) {
+                *goal = here;
             }
         }
         GoalState {
@@ -121,6 +125,17 @@ impl GoalState {
     pub fn describe(&self, plant: &Plant) -> String {
         describe_modes(plant, &self.modes)
     }
+}
+
+/// True when a component kept in `kept` (not named by the goal) is now in `here`, a nominal
+/// mode it cannot be brought back from: it got there by itself (an environment event such as an
+/// IUS signal setting a flag, a timed transition out of a transient mode), and nobody asked for
+/// `kept`, so the intention follows the plant instead of asking the planner for the impossible
+/// every cycle. A fault is not followed: losing a kept mode to a fault is reported (no plan).
+fn left_for_good(plant: &Plant, policy: &ConcurrentPolicy, kept: ValueId, here: ValueId) -> bool {
+    let nominal =
+        plant.component(policy.component()).modes()[here.index()].kind == ModeKind::Nominal;
+    kept != here && nominal && !policy.reachability().is_reversible(here, kept)
 }
 
 /// The summed reward of one mode per component.
@@ -682,6 +697,49 @@ mod tests {
             .interpret(&mut theory, &current, &not_e)
             .expect("a goal state");
         assert_eq!(goal.mode(gadget), mode(&plant, "gadget", "b"));
+    }
+
+    /// Issue 20 (the spacecraft deployment): a mode merely kept that the component has left for
+    /// good by nominal transitions (an IUS signal setting a flag) is not pursued: before, the
+    /// planner reported "no plannable path" for it every cycle no goal was asserted. A kept mode
+    /// still reachable (a repairable fault) or lost to a fault without repair stays.
+    #[test]
+    fn kept_modes_left_for_good_follow_the_plant() {
+        let plant = load(SWITCH_GADGET);
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let mut theory = plant.theory().expect("theory");
+        let gadget = component(&plant, "gadget");
+        let switch = component(&plant, "switch");
+        let off = parse_formula("switch = off", plant.table()).expect("formula");
+        let kept = reconfiguration
+            .interpret(&mut theory, &state(&plant, &["off", "b"]), &off)
+            .expect("a goal state");
+        assert_eq!(kept.mode(gadget), mode(&plant, "gadget", "b"));
+        assert!(!kept.is_named(gadget));
+        // The gadget went on to c (b -> c is irreversible): the goal follows it.
+        let moved_on = state(&plant, &["off", "c"]);
+        let settled = reconfiguration.settle(&kept, &moved_on);
+        assert_eq!(settled.mode(gadget), mode(&plant, "gadget", "c"));
+        assert_eq!(
+            reconfiguration.next_action(&moved_on, &settled),
+            Action::Achieved
+        );
+        // Broken, the gadget can be repaired back to b: kept, and repaired.
+        let broken = state(&plant, &["off", "broken"]);
+        let settled = reconfiguration.settle(&kept, &broken);
+        assert_eq!(settled.mode(gadget), mode(&plant, "gadget", "b"));
+        assert!(matches!(
+            reconfiguration.next_action(&broken, &settled),
+            Action::Command(_)
+        ));
+        // A stuck switch has no repair: kept off, and the planner says it cannot.
+        let stuck = state(&plant, &["stuck", "b"]);
+        let settled = reconfiguration.settle(&kept, &stuck);
+        assert_eq!(settled.mode(switch), mode(&plant, "switch", "off"));
+        assert!(matches!(
+            reconfiguration.next_action(&stuck, &settled),
+            Action::Failure(_)
+        ));
     }
 
     #[test]

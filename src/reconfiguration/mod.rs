@@ -184,8 +184,12 @@ impl Reconfiguration {
     /// mode it leaves it for by itself. A goal on a transient mode is achieved once, not held:
     /// kept as it is, the planner would command the picture again as soon as the camera
     /// returned to idle, and keep doing so once the program has completed. Modes the goal did
-    /// not name are left as they are: a component merely kept where it is (the EDL's `entry =
-    /// not-initiated`, left by itself at atmospheric entry) is not asked to move on. When the
+    /// not name are not moved on: a component merely kept where it is (the EDL's `entry =
+    /// not-initiated`, left by itself at atmospheric entry) is not asked to go anywhere. But
+    /// once it has left such a mode for good — for a nominal mode from which the kept one
+    /// cannot be reached again (a flag the IUS set, entry initiated, a wing that latched) — the
+    /// goal keeps it where it is, rather than asking the planner every cycle for a move no plan
+    /// makes. A kept mode lost to a fault stays in the goal (no plan is then the news). When the
     /// model leaves a transient mode for several modes, the goal keeps it (the model does not
     /// say where the component settles).
     pub fn settle(&self, goal: &GoalState, current: &[ValueId]) -> GoalState {
