@@ -192,15 +192,24 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
         }
     };
     let deadline = file.deadline.and_then(|d| {
-        let valid = d.is_finite() && d > 0.0;
-        if !valid {
+        // `try_from_secs_f64`, not `from_secs_f64`: a deadline past `Duration::MAX` (1e20 s)
+        // panics in the latter (issue 12).
+        let duration = Duration::try_from_secs_f64(d).ok().filter(|d| !d.is_zero());
+        if duration.is_none() {
+            let problem = if !(d.is_finite() && d > 0.0) {
+                format!("{d} is not a positive number of seconds")
+            } else if d < 1.0 {
+                format!("{d:e} s is shorter than a nanosecond")
+            } else {
+                format!("{d:e} s is longer than any duration (at most about 1.8e19 s)")
+            };
             ctx.error(
                 &[Step::Field("deadline")],
-                format!("cycle deadline {d} is not a positive number of seconds"),
+                format!("cycle deadline {problem}"),
                 "a wall-time budget per cycle in seconds, such as 0.05",
             );
         }
-        valid.then(|| Duration::from_secs_f64(d))
+        duration
     });
     Settings {
         cycle,
