@@ -1,0 +1,63 @@
+//! No panic, no abort, no hang on any input (DESIGN.md §13; issue 12 item 3): each finding of the
+//! black-box campaign against the release binary, run through `kairos` as a user would, must end
+//! with a located error or a bounded run.
+
+#[path = "support/cli.rs"]
+mod cli;
+
+use std::path::PathBuf;
+
+use cli::kairos;
+
+/// Writes `bytes` to a file of this test binary's scratch directory and returns its path.
+fn scratch(name: &str, bytes: impl AsRef<[u8]>) -> String {
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::write(&path, bytes).expect("the scratch directory is writable");
+    path.display().to_string()
+}
+
+/// Invalid UTF-8 in a file named on the command line: the first invalid byte's line:column and
+/// byte offset, with the line shown, by the one reader every subcommand uses.
+#[test]
+fn invalid_utf8_is_located_at_its_first_byte() {
+    let mut bytes = b"Main() :: {\n    x = on\xff;\n}\n".to_vec();
+    bytes.extend_from_slice(b"\xfe more\n");
+    let path = scratch("not_utf8.rmpl", &bytes);
+    for args in [
+        vec!["check", path.as_str()],
+        vec!["compile", path.as_str()],
+        vec!["graph", path.as_str()],
+        vec!["solve", path.as_str()],
+        vec!["run", path.as_str()],
+    ] {
+        let (code, _, stderr) = kairos(&args);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains("not_utf8.rmpl:2:11"), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("byte 0xff at byte offset 22"),
+            "{args:?}: {stderr}"
+        );
+        assert!(
+            stderr.contains("text encoded in UTF-8"),
+            "{args:?}: {stderr}"
+        );
+    }
+}
+
+/// A file a scenario names (here its plant model) that is not UTF-8 is located in that file.
+#[test]
+fn invalid_utf8_in_a_file_a_scenario_names_is_located_in_that_file() {
+    let plant = scratch("not_utf8_plant.ron", b"(components: [\xc3(]\n");
+    let root = env!("CARGO_MANIFEST_DIR");
+    let scenario = scratch(
+        "names_a_bad_plant.ron",
+        format!(
+            "Scenario(program: \"{root}/programs/propulsion_fire.rmpl\", plant: \"{plant}\", \
+             cycle: 1.0, end: 10.0)"
+        ),
+    );
+    let (code, _, stderr) = kairos(&["run", &scenario]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("not_utf8_plant.ron:1:15"), "{stderr}");
+    assert!(stderr.contains("byte 0xc3 at byte offset 14"), "{stderr}");
+}
