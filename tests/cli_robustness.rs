@@ -61,3 +61,38 @@ fn invalid_utf8_in_a_file_a_scenario_names_is_located_in_that_file() {
     assert!(stderr.contains("not_utf8_plant.ron:1:15"), "{stderr}");
     assert!(stderr.contains("byte 0xc3 at byte offset 14"), "{stderr}");
 }
+
+/// An estimation log with a repeated time is refused at the repeated time, as a decreasing one
+/// is: each line is one cycle (`src/estimation/log.rs`), so three lines at t = 1.0 were three
+/// estimation steps of length zero.
+#[test]
+fn an_estimation_log_with_a_repeated_time_is_refused() {
+    let line = |t: &str| {
+        format!("{{\"time\": {t}, \"observations\": {{\"valve.flow_out\": \"zero\"}}}}\n")
+    };
+    let log = scratch(
+        "repeated_time.jsonl",
+        [line("0.0"), line("1.0"), line("1.0"), line("1.0")].concat(),
+    );
+    let (code, stdout, stderr) = kairos(&[
+        "estimate",
+        "--plant",
+        "models/driver_valve.ron",
+        "--log",
+        &log,
+    ]);
+    assert_eq!(code, 2, "{stdout}");
+    assert!(stdout.is_empty(), "{stdout}");
+    for expected in [
+        "repeated_time.jsonl:3:3",
+        "time 1 s repeats the time of line 2",
+        "repeated_time.jsonl:4:3",
+        "time 1 s repeats the time of line 3",
+        "one cycle per line",
+    ] {
+        assert!(
+            stderr.contains(expected),
+            "missing `{expected}` in\n{stderr}"
+        );
+    }
+}
