@@ -96,3 +96,46 @@ fn an_estimation_log_with_a_repeated_time_is_refused() {
         );
     }
 }
+
+/// The three stack overflows of the campaign, through the binary: each is a located error and
+/// exit code 2, not an abort (the limits and the library-level tests: `tests/deep_input.rs`).
+#[test]
+fn deep_programs_are_located_errors_not_aborts() {
+    let maintaining = format!(
+        "Main() :: {{ x = on{} }}\n",
+        " maintaining y = on".repeat(10_000)
+    );
+    let implications = format!("Main() :: {{ x = on{} }}\n", " => x = on".repeat(10_000));
+    let mut chain: String = (0..10_000)
+        .map(|i| format!("P{i}() :: {{ P{}() }}\n", i + 1))
+        .collect();
+    chain.push_str("P10000() :: { x = on }\n");
+    for (name, text, message, at) in [
+        (
+            "maintaining.rmpl",
+            maintaining,
+            "blocks and combinators are nested too deeply",
+            "maintaining.rmpl:1:1901",
+        ),
+        (
+            "implications.rmpl",
+            implications,
+            "formula nested too deeply",
+            "implications.rmpl:1:2013",
+        ),
+        (
+            "chain.rmpl",
+            chain,
+            "program nested too deeply once its invocations are inlined",
+            "chain.rmpl:1:11",
+        ),
+    ] {
+        let path = scratch(name, text);
+        for command in ["check", "compile"] {
+            let (code, _, stderr) = kairos(&[command, &path]);
+            assert_eq!(code, 2, "{command} {name}: {stderr}");
+            assert!(stderr.contains(message), "{command} {name}: {stderr}");
+            assert!(stderr.contains(at), "{command} {name}: {stderr}");
+        }
+    }
+}
