@@ -8,7 +8,9 @@ use super::format::{ScenarioFile, ScriptFile, ScriptParts};
 use super::script::Script;
 use super::{Scenario, ScenarioErrors};
 use crate::diagnostic::locate::{Locator, Step};
-use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean, ron_error};
+use crate::diagnostic::{
+    Diagnostic, ReadError, Source, SourceErrors, Span, did_you_mean, ron_error,
+};
 use crate::logic::{self, Formula, VarId, VarTable};
 use crate::plant::Plant;
 use crate::rmpl::{self, LinkOptions};
@@ -17,8 +19,16 @@ use crate::sequencer::Thca;
 /// κ when the scenario does not say.
 pub const DEFAULT_KAPPA: usize = 10;
 
-/// More cycles than this is certainly a mistake in `cycle` or `end`.
-const MAX_CYCLES: f64 = 1e9;
+/// The most cycles a scenario may run (`end / cycle`): ten million, 58 times the nominal Mars
+/// EDL (171,577 cycles) and about five minutes at its pace. A longer run ran silently for hours
+/// (issue 12: `cycle: 1e-8, end: 10` is 10⁹ cycles); it is refused at `end` with the count and
+/// the time it would take.
+pub const MAX_CYCLES: u64 = 10_000_000;
+
+/// The wall time of a cycle used to say how long a refused run would take: the nominal Mars EDL's
+/// (5.4 s for 171,577 cycles of a release build on the benchmark machine, BENCHMARKS.md). A
+/// rough figure: it depends on the plant and the program.
+const CYCLE_PACE_SECONDS: f64 = 31e-6;
 
 /// One file being read: its text, its outline and the problems found in it.
 pub(super) struct FileCtx {
@@ -75,10 +85,10 @@ pub(super) enum Vars {
 
 /// Reads the scenario at `path`.
 pub fn load(path: &Path) -> Result<Scenario, ScenarioErrors> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        ScenarioErrors::Unreadable(format!("error: cannot read {}: {e}", path.display()))
+    let source = Source::read(path).map_err(|e| match e {
+        ReadError::Io { .. } => ScenarioErrors::Unreadable(e.to_string()),
+        ReadError::NotUtf8(errors) => ScenarioErrors::Invalid(vec![*errors]),
     })?;
-    let source = Source::new(path.display().to_string(), text);
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     load_source(&source, &dir)
 }
@@ -172,12 +182,8 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
             "the time the run stops, in seconds (0 or more)",
         );
         end = 0.0;
-    } else if end / cycle > MAX_CYCLES {
-        ctx.error(
-            &[Step::Field("end")],
-            format!("{end} s at {cycle} s per cycle is more than {MAX_CYCLES:e} cycles",),
-            "an end time and a cycle period giving at most a billion cycles",
-        );
+    } else if super::cycle_count(end, cycle) > MAX_CYCLES as f64 {
+        too_many_cycles(ctx, end, cycle);
     }
     let kappa = match file.kappa {
         None => DEFAULT_KAPPA,
@@ -192,21 +198,72 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
         }
     };
     let deadline = file.deadline.and_then(|d| {
-        let valid = d.is_finite() && d > 0.0;
-        if !valid {
+        // `try_from_secs_f64`, not `from_secs_f64`: a deadline past `Duration::MAX` (1e20 s)
+        // panics in the latter (issue 12).
+        let duration = Duration::try_from_secs_f64(d).ok().filter(|d| !d.is_zero());
+        if duration.is_none() {
+            let problem = if !(d.is_finite() && d > 0.0) {
+                format!("{d} is not a positive number of seconds")
+            } else if d < 1.0 {
+                format!("{d:e} s is shorter than a nanosecond")
+            } else {
+                format!("{d:e} s is longer than any duration (at most about 1.8e19 s)")
+            };
             ctx.error(
                 &[Step::Field("deadline")],
-                format!("cycle deadline {d} is not a positive number of seconds"),
+                format!("cycle deadline {problem}"),
                 "a wall-time budget per cycle in seconds, such as 0.05",
             );
         }
-        valid.then(|| Duration::from_secs_f64(d))
+        duration
     });
     Settings {
         cycle,
         end,
         kappa,
         deadline,
+    }
+}
+
+/// The error for a run of more than [`MAX_CYCLES`] cycles, at `end`, with where `cycle` is.
+fn too_many_cycles(ctx: &mut FileCtx, end: f64, cycle: f64) {
+    let cycles = super::cycle_count(end, cycle);
+    let (line, col) = ctx.source.line_col(ctx.span(&[Step::Field("cycle")]).start);
+    let diagnostic = Diagnostic::new(
+        format!(
+            "{end} s at {cycle} s per cycle is {cycles:.3e} cycles, more than the {MAX_CYCLES} a \
+             scenario may run: about {} at the Mars EDL's pace",
+            rough_duration(cycles * CYCLE_PACE_SECONDS)
+        ),
+        ctx.span(&[Step::Field("end")]),
+    )
+    .expected(format!(
+        "an end time and a cycle period giving at most {MAX_CYCLES} cycles"
+    ))
+    .note(format!(
+        "the cycle period is set at line {line}, column {col}"
+    ));
+    ctx.push(diagnostic);
+}
+
+/// A duration in the largest unit that keeps it at least 1 (`8.6 hours`, `12 days`).
+fn rough_duration(seconds: f64) -> String {
+    const UNITS: [(f64, &str); 5] = [
+        (365.25 * 86_400.0, "years"),
+        (86_400.0, "days"),
+        (3_600.0, "hours"),
+        (60.0, "minutes"),
+        (1.0, "seconds"),
+    ];
+    let (size, name) = UNITS
+        .into_iter()
+        .find(|&(size, _)| seconds >= size)
+        .unwrap_or(UNITS[4]);
+    let amount = seconds / size;
+    if amount >= 1e6 {
+        format!("{amount:.1e} {name}")
+    } else {
+        format!("{amount:.1} {name}")
     }
 }
 
@@ -226,17 +283,28 @@ pub(crate) fn resolve_path(dir: &Path, relative: &str) -> PathBuf {
     out.iter().collect()
 }
 
-/// Reads a file named at `path` in the scenario; an unreadable file is an error there.
-fn read_named(ctx: &mut FileCtx, path: &[Step], dir: &Path, name: &str) -> Option<Source> {
+/// Reads a file named at `path` in the scenario; an unreadable file is an error there, one that
+/// is not UTF-8 an error in that file (at its first invalid byte).
+fn read_named(
+    ctx: &mut FileCtx,
+    path: &[Step],
+    dir: &Path,
+    name: &str,
+    all: &mut Vec<SourceErrors>,
+) -> Option<Source> {
     let resolved = resolve_path(dir, name);
-    match std::fs::read_to_string(&resolved) {
-        Ok(text) => Some(Source::new(resolved.display().to_string(), text)),
-        Err(e) => {
+    match Source::read(&resolved) {
+        Ok(source) => Some(source),
+        Err(ReadError::Io { error, .. }) => {
             ctx.error(
                 path,
-                format!("cannot read `{}`: {e}", resolved.display()),
+                format!("cannot read `{}`: {error}", resolved.display()),
                 "a path relative to the scenario file",
             );
+            None
+        }
+        Err(ReadError::NotUtf8(errors)) => {
+            all.push(*errors);
             None
         }
     }
@@ -251,8 +319,8 @@ fn model_and_program(
     dir: &Path,
     all: &mut Vec<SourceErrors>,
 ) -> Option<Loaded> {
-    let plant_source = read_named(ctx, &[Step::Field("plant")], dir, &file.plant);
-    let program_source = read_named(ctx, &[Step::Field("program")], dir, &file.program);
+    let plant_source = read_named(ctx, &[Step::Field("plant")], dir, &file.plant, all);
+    let program_source = read_named(ctx, &[Step::Field("program")], dir, &file.program, all);
     let plant = match Plant::load(&plant_source?) {
         Ok(plant) => plant,
         Err(errors) => {
@@ -290,7 +358,7 @@ fn read_includes(
     let mut out = Vec::new();
     for (i, name) in file.include.iter().enumerate() {
         let path = [Step::Field("include"), Step::Index(i)];
-        let Some(source) = read_named(ctx, &path, dir, name) else {
+        let Some(source) = read_named(ctx, &path, dir, name, all) else {
             continue;
         };
         match options.from_str::<ScriptFile>(&source.text) {
