@@ -76,6 +76,9 @@ enum Command {
         /// Print one JSON object per cycle instead of text.
         #[arg(long)]
         json: bool,
+        /// Print every cycle (default: only those where something changed).
+        #[arg(long)]
+        full: bool,
     },
     /// Show a plant model's component automata: a text listing, or a Graphviz drawing with one
     /// cluster per component.
@@ -96,9 +99,13 @@ enum Command {
     Run {
         /// The scenario file.
         scenario: PathBuf,
-        /// Write every cycle as a line of JSON to this file (format: `src/report/trace.rs`).
+        /// Write every cycle as a line of JSON to this file (format: `src/report/trace.rs`); a
+        /// line holds only what changed since the previous lines, unless `--trace-full`.
         #[arg(long)]
         trace: Option<PathBuf>,
+        /// Write every field of the trace on every line.
+        #[arg(long, requires = "trace")]
+        trace_full: bool,
         /// Draw the run as an SVG picture in this file: a swimlane per state variable, goals,
         /// commands and diagnoses, long idle stretches compressed (`src/report/timeline.rs`).
         #[arg(long, value_name = "FILE.svg")]
@@ -155,6 +162,7 @@ fn main() -> ExitCode {
             exact,
             top,
             json,
+            full,
         } => cli::estimate::run(&cli::estimate::EstimateArgs {
             plant: &plant,
             log: &log,
@@ -162,16 +170,19 @@ fn main() -> ExitCode {
             exact,
             top,
             json,
+            full,
         }),
         Command::Plan(args) => cli::plan::run(&args),
         Command::Run {
             scenario,
             trace,
+            trace_full,
             timeline,
             quiet,
         } => cli::run::run(&cli::run::RunArgs {
             scenario: &scenario,
             trace: trace.as_deref(),
+            trace_full,
             timeline: timeline.as_deref(),
             quiet,
         }),

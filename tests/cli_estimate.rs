@@ -98,3 +98,29 @@ fn a_bad_log_exits_2_with_every_error_located() {
     }
     insta::assert_snapshot!(stderr);
 }
+
+/// Issue 19 item 5: by default `kairos estimate` prints the cycles where something changed and
+/// says how many it left out; `--full` prints every cycle.
+#[test]
+fn estimate_prints_changes_unless_full() {
+    let args = [
+        "estimate",
+        "--plant",
+        "models/mars_lander.ron",
+        "--log",
+        "tests/logs/mars_lander_first_minutes.jsonl",
+    ];
+    let (code, changes, stderr) = kairos(&args);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, full, stderr) = kairos(&[&args[..], &["--full"]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    let cycles = |text: &str| text.lines().filter(|l| l.starts_with("t = ")).count();
+    let left_out: usize = changes
+        .lines()
+        .filter_map(|l| l.trim_start().strip_prefix("... "))
+        .filter_map(|l| l.split(' ').next()?.parse::<usize>().ok())
+        .sum();
+    assert_eq!(cycles(&full), 16, "{full}");
+    assert!(cycles(&changes) < 16 && left_out > 0, "{changes}");
+    assert_eq!(cycles(&changes) + left_out, 16, "{changes}");
+}

@@ -144,10 +144,12 @@ fn propulsion_repairs_a_resettable_pde_and_the_trace_shows_the_diagnosis() {
         .expect("a cycle with the diagnosis");
     assert_eq!(diagnosis["estimate"]["PDE"], "resettable");
     assert_eq!(diagnosis["command"][0], "PDE.cmd = reset");
-    assert_eq!(
-        lines.last().expect("cycles")["estimate"]["engine"],
-        "firing"
-    );
+    let last_estimate = lines
+        .iter()
+        .rev()
+        .find_map(|l| l.get("estimate"))
+        .expect("an estimate");
+    assert_eq!(last_estimate["engine"], "firing");
 }
 
 /// Issue 6 acceptance: unknown names and values, a missing observable and a contradictory
@@ -243,6 +245,80 @@ fn bad_input_exits_2() {
         "no/such/dir/trace.jsonl",
     ]);
     assert_eq!(code, 2, "{stderr}");
+}
+
+/// Runs `scenario` with `--trace` (and `extra` options); the trace's lines as JSON.
+fn trace_of(scenario: &str, name: &str, extra: &[&str]) -> Vec<serde_json::Value> {
+    let path = std::env::temp_dir().join(format!("kairos-{name}-{}.jsonl", std::process::id()));
+    let path_arg = path.display().to_string();
+    let mut args = vec!["run", "--quiet", scenario, "--trace", &path_arg];
+    args.extend(extra);
+    let (code, _, stderr) = kairos(&args);
+    assert_eq!(code, 0, "{stderr}");
+    let text = std::fs::read_to_string(&path).expect("the trace is written");
+    let _ = std::fs::remove_file(&path);
+    text.lines()
+        .map(|l| serde_json::from_str(l).expect("each line is JSON"))
+        .collect()
+}
+
+/// Two traced beliefs: the same states in the same order, probabilities within the trace's
+/// resolution (1e-3).
+fn same_belief(a: Option<&serde_json::Value>, b: Option<&serde_json::Value>) -> bool {
+    let (Some(a), Some(b)) = (a.and_then(|a| a.as_array()), b.and_then(|b| b.as_array())) else {
+        return false;
+    };
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            let (p, q) = (x["p"].as_f64(), y["p"].as_f64());
+            x["modes"] == y["modes"] && p.zip(q).is_some_and(|(p, q)| (p - q).abs() < 1e-3)
+        })
+}
+
+/// Issue 19 item 5: by default the trace says only what changed — a quiet cycle is a short
+/// line — and carrying each field forward from the last line that had it gives back the full
+/// trace (`--trace-full`), field for field (the belief within the trace's 1e-3 resolution).
+#[test]
+fn the_trace_holds_changes_only_and_they_add_up_to_the_full_trace() {
+    let scenario = "scenarios/propulsion/pde_resettable.ron";
+    let changes = trace_of(scenario, "changes", &[]);
+    let full = trace_of(scenario, "full", &["--trace-full"]);
+    assert_eq!(changes.len(), full.len());
+    let carried = ["observation", "estimate", "belief"];
+    let per_cycle = ["command", "events", "plant"];
+    let mut known = serde_json::Map::new();
+    let mut quiet = 0;
+    for (short, long) in changes.iter().zip(&full) {
+        for field in carried {
+            if let Some(value) = short.get(field) {
+                known.insert(field.to_string(), value.clone());
+            }
+            let (said, truth) = (known.get(field), long.get(field));
+            if field == "belief" {
+                assert!(same_belief(said, truth), "{said:?} for {truth:?}");
+            } else {
+                assert_eq!(said, truth, "{field} at {short}");
+            }
+        }
+        for field in per_cycle {
+            let said = short.get(field).cloned().unwrap_or(serde_json::json!([]));
+            assert_eq!(Some(&said), long.get(field), "{field} at {short}");
+        }
+        assert_eq!(short["cycle"], long["cycle"]);
+        if carried
+            .iter()
+            .chain(&per_cycle)
+            .all(|f| short.get(f).is_none())
+        {
+            quiet += 1;
+            assert!(short.to_string().len() <= 200, "a quiet line: {short}");
+        }
+    }
+    assert!(
+        2 * quiet > changes.len(),
+        "most cycles of the run are quiet: {quiet} of {}",
+        changes.len()
+    );
 }
 
 /// Issue 7 item 4: `kairos run --timeline FILE.svg` draws the run — one lane per state variable

@@ -1,15 +1,21 @@
-//! `kairos estimate --plant MODEL --log LOG [--kappa K] [--exact] [--top N] [--json]`: replay a
-//! command/observation log (format: `kairos::estimation::log`) through mode estimation and print,
-//! per cycle, the most likely plant states with their probabilities.
+//! `kairos estimate --plant MODEL --log LOG [--kappa K] [--exact] [--top N] [--json] [--full]`:
+//! replay a command/observation log (format: `kairos::estimation::log`) through mode estimation
+//! and print, per cycle, the most likely plant states with their probabilities. Without
+//! `--full`, a cycle is printed only when something changed — its observation, a command before
+//! or after it, an estimation event, or the top states (another state, another order, or a
+//! probability moved by 0.001 or more since last printed) — and the first and last cycles; the
+//! text says how many cycles it left out.
 
 use std::path::Path;
 
+use kairos::estimation::PlantEstimate;
 use kairos::estimation::log::{LogRecord, parse_log, replay};
 use kairos::estimation::{
     BeliefUpdate, EstimationEvent, Fallback, ModeEstimator, TimedMe, TimedMeOptions, Update,
 };
 use kairos::logic::{ValueId, VarId};
 use kairos::plant::{Plant, describe_modes};
+use kairos::report::trace::BELIEF_RESOLUTION;
 use serde_json::{Map, Value, json};
 
 use super::load_plant;
@@ -30,6 +36,8 @@ pub struct EstimateArgs<'a> {
     pub top: usize,
     /// JSON lines instead of text.
     pub json: bool,
+    /// Every cycle, not only those where something changed.
+    pub full: bool,
 }
 
 /// Replays the log and prints the estimates.
@@ -65,17 +73,56 @@ pub fn run(args: &EstimateArgs) -> Result<(), Failure> {
             return Ok(());
         }
     }
-    for (record, update) in records.iter().zip(&updates) {
-        let text = if args.json {
+    let mut shown: Option<Vec<PlantEstimate>> = None;
+    let mut skipped: Vec<f64> = Vec::new();
+    for (i, (record, update)) in records.iter().zip(&updates).enumerate() {
+        let top: Vec<PlantEstimate> = update
+            .belief
+            .plant_states()
+            .into_iter()
+            .take(args.top)
+            .collect();
+        let news = args.full
+            || i == 0
+            || i + 1 == records.len()
+            || !update.events.is_empty()
+            || record.commands.issued(&plant).next().is_some()
+            || records[i - 1].commands.issued(&plant).next().is_some()
+            || records[i - 1].observation != record.observation
+            || !shown.as_deref().is_some_and(|s| same_estimates(s, &top));
+        if !news {
+            skipped.push(record.time);
+            continue;
+        }
+        let mut text = String::new();
+        if let (Some(first), Some(last), false) = (skipped.first(), skipped.last(), args.json) {
+            text += &format!(
+                "  ... {} cycle{} without change (t = {first:.3} to {last:.3} s)\n",
+                skipped.len(),
+                if skipped.len() == 1 { "" } else { "s" }
+            );
+        }
+        skipped.clear();
+        text += &if args.json {
             format!("{}\n", as_json(&plant, record, update, args.top))
         } else {
             as_text(&plant, record, update, args.top)
         };
+        shown = Some(top);
         if !emit(&text)? {
             break;
         }
     }
     Ok(())
+}
+
+/// The same plant states in the same order, each probability within the trace's resolution
+/// (`report::trace::BELIEF_RESOLUTION`) of what was last shown: nothing worth a line.
+fn same_estimates(last: &[PlantEstimate], now: &[PlantEstimate]) -> bool {
+    last.len() == now.len()
+        && last.iter().zip(now).all(|(a, b)| {
+            a.modes == b.modes && (a.probability - b.probability).abs() < BELIEF_RESOLUTION
+        })
 }
 
 fn assignments(plant: &Plant, values: impl IntoIterator<Item = (VarId, ValueId)>) -> String {

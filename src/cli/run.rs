@@ -12,7 +12,7 @@ use std::path::Path;
 
 use kairos::report::log::MissionLog;
 use kairos::report::timeline::{self, TimelineInput};
-use kairos::report::trace;
+use kairos::report::trace::Trace;
 use kairos::simulation::{self, RunError, RunOptions, RunOutcome, Scenario};
 
 use super::Failure;
@@ -24,6 +24,8 @@ pub struct RunArgs<'a> {
     pub scenario: &'a Path,
     /// Where to write the JSON-lines trace.
     pub trace: Option<&'a Path>,
+    /// Every field of the trace on every line, not only what changed.
+    pub trace_full: bool,
     /// Where to write the SVG timeline of the run.
     pub timeline: Option<&'a Path>,
     /// Print only the summary and the verdicts, not the log of cycles.
@@ -64,6 +66,11 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
 /// timelines and events a drawing of the run needs (the seam for `--timeline`).
 fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
     let mut trace = args.trace.map(create).transpose()?;
+    let mut tracer = if args.trace_full {
+        Trace::full()
+    } else {
+        Trace::changes()
+    };
     let mut log = MissionLog::new(scenario);
     let mut printing = !args.quiet && emit(&log.header())?;
     let progress = progress_bar(scenario, args.quiet);
@@ -89,7 +96,7 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
             }
         }
         if let Some(writer) = trace.as_mut()
-            && let Err(e) = writeln!(writer, "{}", trace::line(scenario, record))
+            && let Err(e) = writeln!(writer, "{}", tracer.line(scenario, record))
         {
             problem.get_or_insert(Failure::failed(format!(
                 "error: cannot write the trace: {e}"

@@ -1,5 +1,14 @@
 //! The JSON-lines trace of `kairos run --trace FILE` (DESIGN.md §12): one object per cycle, every
-//! cycle, for tools. Fields:
+//! cycle, for tools.
+//!
+//! By default a line holds only what changed (issue 19: a long run's trace stays small — a quiet
+//! cycle is its number, time and phase times, about 100 bytes): `observation`, `estimate` and
+//! `belief` appear on the first line and then only when they differ from the last line that had
+//! them (the belief: other tracked states, another order, or a probability that moved by
+//! [`BELIEF_RESOLUTION`] or more since it was written); `command`, `events` and `plant` only when
+//! the cycle has some. An absent field therefore
+//! means "as before" (or "none this cycle" for the last three). `kairos run --trace-full` writes
+//! every field on every line ([`Trace::full`]). Fields:
 //!
 //! - `cycle`, `time`: the cycle number (from 0) and its time in seconds;
 //! - `observation`: what the plant reported, `[{"variable": .., "value": ..}]`, verbatim;
@@ -12,6 +21,8 @@
 //!   "fired" | "applied", "fault": bool}]`;
 //! - `micros`: wall time of estimation, the sequencer, reconfiguration and the whole cycle.
 
+use std::borrow::Borrow;
+
 use serde::Serialize;
 
 use super::log::describe_event;
@@ -22,16 +33,24 @@ use crate::simulation::{CycleRecord, EventName, PlantEventKind, Scenario};
 struct Line<'a> {
     cycle: u64,
     time: f64,
-    observation: &'a [NamedValue],
-    command: Vec<String>,
-    estimate: serde_json::Map<String, serde_json::Value>,
-    belief: Vec<Belief>,
-    events: Vec<TraceEvent>,
-    plant: Vec<PlantLine<'a>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    observation: Option<&'a [NamedValue]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    command: Option<Vec<String>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    estimate: Option<Modes>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    belief: Option<Vec<Belief>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    events: Option<Vec<TraceEvent>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    plant: Option<Vec<PlantLine<'a>>>,
     micros: Micros,
 }
 
-#[derive(Serialize)]
+type Modes = serde_json::Map<String, serde_json::Value>;
+
+#[derive(Serialize, Clone, PartialEq)]
 struct Belief {
     p: f64,
     modes: serde_json::Map<String, serde_json::Value>,
@@ -58,8 +77,90 @@ struct Micros {
     total: u128,
 }
 
-/// The trace line (JSON, without the newline) of one cycle of `scenario`.
-pub fn line(scenario: &Scenario, record: &CycleRecord<'_>) -> String {
+/// Writes trace lines, remembering what the last lines said so that unchanged fields can be
+/// left out (see the module documentation).
+#[derive(Default)]
+pub struct Trace {
+    full: bool,
+    observation: Option<Vec<NamedValue>>,
+    estimate: Option<Modes>,
+    belief: Option<Vec<Belief>>,
+}
+
+impl Trace {
+    /// A trace that writes only what changed.
+    pub fn changes() -> Trace {
+        Trace::default()
+    }
+
+    /// A trace that writes every field on every line.
+    pub fn full() -> Trace {
+        Trace {
+            full: true,
+            ..Trace::default()
+        }
+    }
+
+    /// The trace line (JSON, without the newline) of one cycle of `scenario`.
+    pub fn line(&mut self, scenario: &Scenario, record: &CycleRecord<'_>) -> String {
+        let all = line(scenario, record);
+        let full = self.full;
+        let some = |v: &Vec<_>| full || !v.is_empty();
+        let line = Line {
+            observation: all
+                .observation
+                .filter(|o| !repeats(full, &mut self.observation, *o, |a, b| a == b)),
+            estimate: all
+                .estimate
+                .filter(|e| !repeats(full, &mut self.estimate, e, |a, b| a == b)),
+            belief: all
+                .belief
+                .filter(|b| !repeats(full, &mut self.belief, b.as_slice(), same_belief)),
+            command: all.command.filter(some),
+            events: all.events.filter(|v| full || !v.is_empty()),
+            plant: all.plant.filter(|v| full || !v.is_empty()),
+            ..all
+        };
+        // Every field is a string, a number or a map with string keys: serialisation cannot
+        // fail, but a trace line is not worth a panic either.
+        serde_json::to_string(&line).unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"))
+    }
+}
+
+/// True when a changes-only trace has already said `value` (`last` holds something `same` to
+/// it); otherwise `last` takes it and the line must say it.
+fn repeats<B>(
+    full: bool,
+    last: &mut Option<B::Owned>,
+    value: &B,
+    same: impl Fn(&B, &B) -> bool,
+) -> bool
+where
+    B: ?Sized + ToOwned,
+{
+    if !full && last.as_ref().is_some_and(|l| same(l.borrow(), value)) {
+        return true;
+    }
+    *last = Some(value.to_owned());
+    false
+}
+
+/// How far a tracked state's probability may drift before a changes-only trace says the belief
+/// again: fault hazards move the tail of the belief a little every cycle, which is not news.
+pub const BELIEF_RESOLUTION: f64 = 1e-3;
+
+/// The same tracked plant states in the same order, each probability within
+/// [`BELIEF_RESOLUTION`] of what was last written.
+fn same_belief(last: &[Belief], now: &[Belief]) -> bool {
+    last.len() == now.len()
+        && last
+            .iter()
+            .zip(now)
+            .all(|(a, b)| a.modes == b.modes && (a.p - b.p).abs() < BELIEF_RESOLUTION)
+}
+
+/// Every field of one cycle's line.
+fn line<'a>(scenario: &'a Scenario, record: &CycleRecord<'a>) -> Line<'a> {
     let plant = &scenario.plant;
     let step = record.step;
     let modes = |values: &[crate::logic::ValueId]| {
@@ -70,55 +171,57 @@ pub fn line(scenario: &Scenario, record: &CycleRecord<'_>) -> String {
             .map(|(c, &v)| (c.name().to_string(), c.mode(v).name.clone().into()))
             .collect()
     };
-    let line = Line {
+    Line {
         cycle: step.cycle,
         time: step.time,
-        observation: record.observation,
-        command: step
-            .command
-            .iter()
-            .map(|&(x, v)| plant.table().assignment(x, v).to_string())
-            .collect(),
-        estimate: modes(&step.most_likely),
-        belief: step
-            .estimates
-            .iter()
-            .map(|e| Belief {
-                p: e.probability,
-                modes: modes(&e.modes),
-            })
-            .collect(),
-        events: step
-            .events
-            .iter()
-            .map(|e| TraceEvent {
-                kind: format!("{:?}", EventName::of(&e.kind)),
-                text: describe_event(plant, &scenario.program_source, &e.kind).1,
-            })
-            .collect(),
-        plant: record
-            .plant_events
-            .iter()
-            .map(|e| {
-                let rule = &scenario.script.rules()[e.rule];
-                PlantLine {
-                    rule: &rule.name,
-                    kind: match e.kind {
-                        PlantEventKind::Fired => "fired",
-                        PlantEventKind::Applied => "applied",
-                    },
-                    fault: rule.fault,
-                }
-            })
-            .collect(),
+        observation: Some(record.observation),
+        command: Some(
+            step.command
+                .iter()
+                .map(|&(x, v)| plant.table().assignment(x, v).to_string())
+                .collect(),
+        ),
+        estimate: Some(modes(&step.most_likely)),
+        belief: Some(
+            step.estimates
+                .iter()
+                .map(|e| Belief {
+                    p: e.probability,
+                    modes: modes(&e.modes),
+                })
+                .collect(),
+        ),
+        events: Some(
+            step.events
+                .iter()
+                .map(|e| TraceEvent {
+                    kind: format!("{:?}", EventName::of(&e.kind)),
+                    text: describe_event(plant, &scenario.program_source, &e.kind).1,
+                })
+                .collect(),
+        ),
+        plant: Some(
+            record
+                .plant_events
+                .iter()
+                .map(|e| {
+                    let rule = &scenario.script.rules()[e.rule];
+                    PlantLine {
+                        rule: &rule.name,
+                        kind: match e.kind {
+                            PlantEventKind::Fired => "fired",
+                            PlantEventKind::Applied => "applied",
+                        },
+                        fault: rule.fault,
+                    }
+                })
+                .collect(),
+        ),
         micros: Micros {
             estimation: step.times.estimation.as_micros(),
             sequencer: step.times.sequencer.as_micros(),
             reconfiguration: step.times.reconfiguration.as_micros(),
             total: step.times.total.as_micros(),
         },
-    };
-    // Every field is a string, a number or a map with string keys: serialisation cannot fail,
-    // but a trace line is not worth a panic either.
-    serde_json::to_string(&line).unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"))
+    }
 }
