@@ -203,9 +203,8 @@ impl Reconfiguration {
         planner::next_action(self, current, goal)
     }
 
-    /// The planner's measure of progress from `current` toward `goal`: every cycle in which
-    /// the planner acts for the first goal not yet reached, it strictly decreases, and no other
-    /// cycle increases it (see [`Progress`]).
+    /// The planner's measure of progress from `current` toward `goal`: under nominal
+    /// execution it strictly decreases every cycle (see [`Progress`]).
     pub fn progress(&self, current: &[ValueId], goal: &GoalState) -> Progress {
         planner::progress(self, current, goal)
     }

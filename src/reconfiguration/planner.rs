@@ -135,15 +135,16 @@ impl Action {
 
 /// The reactive planner; see [`Reconfiguration::next_action`].
 ///
-/// Goals are served in the causal graph's downstream-first order. The first goal not yet
-/// reached is the *focus*; each cycle its descent (the chain of steps and sub-goals down to
-/// the component that acts, see [`Progress`]) makes progress, and nothing else may undo it:
-/// while the focus (or any goal before the current one) waits on a transition that happens by
-/// itself, later goals are served only with commands that touch none of the components and
-/// controls the waiting descents rely on ([`Reservation`]). Serving a later goal with a
-/// component the waiting descent had already moved — a helper it needs in a sub-goal mode —
-/// made the planner undo and redo the same step forever (issue 12's livelock: `c1` commanded
-/// `m3 → m1` for the focus, then back `m1 → m3` toward its own goal during the wait).
+/// Goals are served in the causal graph's downstream-first order; each cycle the first goal
+/// not yet reached that can act, acts. A goal's *descent* (the chain of steps and sub-goals
+/// down to the component that acts, see [`Progress`]) makes progress when it acts, and nothing
+/// else may undo it: a descent that waits on a transition that happens by itself, or whose
+/// command is held back, *reserves* for the rest of the cycle every component and control it
+/// relies on ([`Reservation`]), and a later goal is served only with a command that touches
+/// none of them. Serving a later goal with a component a held-back descent had already moved —
+/// a helper it needs in a sub-goal mode — made the planner undo and redo the same step forever
+/// (issue 12's livelock: `c1` commanded `m3 → m1` for the first goal, then back `m1 → m3`
+/// toward its own goal during the first goal's wait).
 pub(crate) fn next_action(
     reconfiguration: &Reconfiguration,
     current: &[ValueId],
@@ -158,7 +159,7 @@ pub(crate) fn next_action(
         });
     }
     let mut planner = Planner::new(reconfiguration, current, goal);
-    // The first wait met, and what the waiting descents rely on.
+    // The first wait met, and what the held-back descents rely on.
     let mut wait: Option<Wait> = None;
     let mut reserved = Reservation::default();
     for &c in reconfiguration.causal_graph().downstream_first() {
@@ -166,18 +167,18 @@ pub(crate) fn next_action(
         if current[c.index()] == target {
             continue;
         }
-        let action = planner.descend(c, target);
-        match action {
+        match planner.descend(c, target) {
             Action::Idle(next) => {
-                reserved.add_descent(reconfiguration, &planner.trail, &next);
+                reserved.add(reconfiguration, &planner.trail, Some(&next));
                 wait.get_or_insert(next);
             }
             // While a transition that happens by itself is awaited, goals that need none of
-            // what the waiting descents rely on go on (the program's concurrent threads, e.g.
-            // §7.2.3's landing slew and gravity turn); anything else waits, as do failures.
+            // what the held-back descents rely on go on (the program's concurrent threads, e.g.
+            // §7.2.3's landing slew and gravity turn); anything else is held back too.
             Action::Command(command) if wait.is_none() || reserved.allows(&command) => {
                 return Action::Command(command);
             }
+            Action::Command(_) => reserved.add(reconfiguration, &planner.trail, None),
             action if wait.is_none() => return action,
             _ => {}
         }
@@ -187,54 +188,31 @@ pub(crate) fn next_action(
 
 /// The planner's measure of progress toward a goal state, smaller is closer (issue 12).
 ///
-/// `reached` counts the components, in the causal graph's downstream-first order, that are
-/// in their goal mode before the first one that is not (the *focus*). `descent` is the focus's
-/// chain as the planner walks it: the focus's distance along its compiled policy to its
-/// target, then the number of its next step's sub-goals still to achieve (from the first unmet
-/// one, in the planner's order), then that sub-goal's component's distance to the sub-goal
-/// mode, and so on down to the component that acts or waits.
+/// One *descent* per component, in the causal graph's downstream-first order: empty when the
+/// component is in its goal mode; otherwise the descent the planner walks for it — the
+/// component's distance along its compiled policy to its goal mode, then the number of its next
+/// step's sub-goals still to achieve (from the first unmet one, in the planner's order), then
+/// that sub-goal's component's distance to the sub-goal mode, and so on down to the component
+/// that acts or waits. Descents compare lexicographically, and the list of them too.
 ///
-/// Every cycle in which the focus's descent acts, the measure strictly decreases: the acting
-/// component moves one step along a shortest policy path (its distance drops by one); a
-/// sub-goal reached leaves the earlier ones of its step in place (they are downstream of it,
-/// so achieving it cannot move them) and the pending count drops; a focus reached raises
-/// `reached`, which nothing undoes (later goals move only their own component and what is
-/// upstream of it, never a component earlier in the order). In other cycles (the focus waits
-/// and a later goal is served) the measure stays as it is, because the later goal may touch
-/// nothing the waiting descent relies on. With a finite measure, the planner cannot livelock.
-#[derive(Debug, Clone)]
+/// Under nominal execution the measure strictly decreases every cycle, so the planner cannot
+/// livelock:
+/// - the goal that acts is the first one whose command is not held back, so every descent
+///   before it waits or is held back, and reserves what it reads: those stay as they are;
+/// - its own descent decreases: the acting component moves one step along a shortest policy
+///   path (its distance drops by one), and when it reaches a sub-goal the earlier sub-goals of
+///   the same step stay met (they are more downstream, so achieving it cannot move them) and
+///   the pending count drops;
+/// - a cycle that only waits lets the first awaited transition happen, which is the first
+///   descent's own next step.
+///
+/// Goals reached stay reached: a descent moves only its component and what is upstream of it,
+/// never a component earlier in the order.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Progress {
-    /// Components at their goal mode before the focus, in downstream-first order.
-    pub reached: usize,
-    /// The focus's descent: distance, pending sub-goals, distance, pending, ..., distance.
-    pub descent: Vec<usize>,
-    /// The component at the bottom of the focus's descent: the one the focus's next action
-    /// (a command or a wait) is for. Not part of the measure.
-    pub acting: Option<ComponentId>,
-}
-
-impl PartialEq for Progress {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == std::cmp::Ordering::Equal
-    }
-}
-
-impl Eq for Progress {}
-
-impl Ord for Progress {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        // More components reached is closer; then a lexicographically smaller descent.
-        other
-            .reached
-            .cmp(&self.reached)
-            .then_with(|| self.descent.cmp(&other.descent))
-    }
-}
-
-impl PartialOrd for Progress {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
+    /// Per component in downstream-first order: distance, pending sub-goals, distance, pending,
+    /// ..., distance; empty when the component is in its goal mode.
+    pub descents: Vec<Vec<usize>>,
 }
 
 /// The measure of progress of `current` toward `goal`; see [`Progress`].
@@ -243,32 +221,31 @@ pub(crate) fn progress(
     current: &[ValueId],
     goal: &GoalState,
 ) -> Progress {
-    let order = reconfiguration.causal_graph().downstream_first();
-    let reached = order
+    let mut planner = Planner::new(reconfiguration, current, goal);
+    let descents = reconfiguration
+        .causal_graph()
+        .downstream_first()
         .iter()
-        .take_while(|c| current[c.index()] == goal.mode(**c))
-        .count();
-    let mut descent = Vec::new();
-    let mut acting = None;
-    if let Some(&focus) = order.get(reached) {
-        let mut planner = Planner::new(reconfiguration, current, goal);
-        planner.descend(focus, goal.mode(focus));
-        for link in &planner.trail {
-            descent.push(link.distance);
-            descent.extend(link.pending);
-        }
-        acting = planner.trail.last().map(|link| link.component);
-    }
-    Progress {
-        reached,
-        descent,
-        acting,
-    }
+        .map(|&c| {
+            let target = goal.mode(c);
+            if current[c.index()] == target {
+                return Vec::new();
+            }
+            planner.descend(c, target);
+            planner
+                .trail
+                .iter()
+                .flat_map(|link| std::iter::once(link.distance).chain(link.pending))
+                .collect()
+        })
+        .collect();
+    Progress { descents }
 }
 
-/// What the descents waiting on a transition rely on: the components on their chains, the
-/// sub-goal components of every step on them (met or not), and whatever the awaited guard
-/// reads. A later goal is served meanwhile only by a command that touches none of it.
+/// What the held-back descents of a cycle rely on: the components on their chains, the
+/// sub-goal components of every step on them (met or not), and, for a wait, whatever the
+/// awaited guard reads. A later goal is served meanwhile only by a command that touches none
+/// of it.
 #[derive(Debug, Default)]
 struct Reservation {
     components: Vec<ComponentId>,
@@ -276,16 +253,18 @@ struct Reservation {
 }
 
 impl Reservation {
-    fn add_descent(&mut self, reconfiguration: &Reconfiguration, trail: &[Link], wait: &Wait) {
+    fn add(&mut self, reconfiguration: &Reconfiguration, trail: &[Link], wait: Option<&Wait>) {
         for link in trail {
             self.components.push(link.component);
             self.components
                 .extend(link.sub_goals.iter().map(|&(u, _)| u));
         }
-        self.components.push(wait.component);
-        let guard = reconfiguration.guard_dependencies(wait.component, wait.transition);
-        self.components.extend(&guard.modes);
-        self.controls.extend(&guard.controls);
+        if let Some(wait) = wait {
+            self.components.push(wait.component);
+            let guard = reconfiguration.guard_dependencies(wait.component, wait.transition);
+            self.components.extend(&guard.modes);
+            self.controls.extend(&guard.controls);
+        }
     }
 
     /// True when `command` moves no reserved component and sets no reserved control.
