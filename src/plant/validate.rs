@@ -24,8 +24,8 @@ pub(super) fn check(plant: &Plant, locate: &Locator) -> Vec<Diagnostic> {
     let guards_hold = guards_can_hold(&mut theory, plant, &modes_hold);
     let mut errors = Vec::new();
     for (c, component) in plant.components().iter().enumerate() {
-        for m in 0..component.modes().len() {
-            if !modes_hold[c][m] {
+        for (m, &holds) in modes_hold[c].iter().enumerate() {
+            if !holds {
                 errors.push(unsatisfiable_mode(component, c, m, locate));
                 continue;
             }
