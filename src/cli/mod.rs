@@ -77,10 +77,12 @@ pub fn announce_large_plant(path: &Path, plant: &kairos::plant::Plant, what: &st
         .max()
         .unwrap_or(0);
     eprintln!(
-        "note: {}: {} components, {variables} variables, {transitions} transitions, up to \
-         {largest} modes in a component; {what} grows faster than linearly with the plant and \
-         may take minutes",
+        "note: {}: {}, {}, {}, up to {} in a component; {what} grows faster than linearly \
+         with the plant and may take minutes",
         path.display(),
-        components.len()
+        check::count(components.len(), "component"),
+        check::count(variables, "variable"),
+        check::count(transitions, "transition"),
+        check::count(largest, "mode"),
     );
 }
