@@ -82,3 +82,19 @@ bad_scenario!(
     "time_after_end.ron:8:41",
     "after the run ends at 100 s"
 );
+bad_scenario!(
+    model_bad_faults,
+    "model_bad_faults.ron:11:14",
+    "is not a component of the plant",
+    "did you mean `stuck-closed`?",
+    "is not a time in seconds",
+    "after the end",
+    "is not `component = mode @ time`",
+    "noise 1.5 is not a probability"
+);
+bad_scenario!(
+    model_with_rules,
+    "model_with_rules.ron:7:14",
+    "model_with_rules.ron:8:14",
+    "this scenario's plant is its model"
+);
