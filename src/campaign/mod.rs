@@ -10,6 +10,7 @@
 //! time and cycle times.
 
 mod histogram;
+pub mod plot;
 mod summary;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use kairos::campaign::{self, RunRecord, RunVerdict, Summary};
+use kairos::campaign::{self, RunRecord, RunVerdict, Summary, plot};
 use kairos::simulation;
 
 use super::Failure;
@@ -109,7 +109,7 @@ pub fn run(args: &CampaignArgs) -> Result<(), Failure> {
         args.seed,
         records.len() as f64 / wall.max(1e-9),
     );
-    report(&records, &header, args.out.as_deref())
+    report(&records, &scenario.name, &header, args.out.as_deref())
 }
 
 /// A progress bar with rate and ETA on standard error, drawn only when it is a terminal.
@@ -130,7 +130,12 @@ fn progress_bar(len: u64) -> ProgressBar {
 
 /// Prints the summary; writes the records, the summary and the plot under `out`. Exit 1 when a
 /// run did not pass.
-fn report(records: &[RunRecord], header: &str, out: Option<&Path>) -> Result<(), Failure> {
+fn report(
+    records: &[RunRecord],
+    title: &str,
+    header: &str,
+    out: Option<&Path>,
+) -> Result<(), Failure> {
     let summary = Summary::of(records);
     let text = format!("{header}{summary}");
     if let Some(dir) = out {
@@ -143,6 +148,7 @@ fn report(records: &[RunRecord], header: &str, out: Option<&Path>) -> Result<(),
         }
         write(&dir.join("runs.jsonl"), &lines)?;
         write(&dir.join("summary.txt"), &text)?;
+        write(&dir.join("campaign.svg"), &plot::render(&summary, title))?;
     }
     emit(&text)?;
     if records.iter().all(|r| r.verdict == RunVerdict::Pass) {
@@ -198,5 +204,5 @@ fn merge(dirs: &[PathBuf], out: Option<&Path>) -> Result<(), Failure> {
         })?;
     }
     let header = format!("campaign merged from {} shards\n", dirs.len());
-    report(&records, &header, out)
+    report(&records, "campaign", &header, out)
 }
