@@ -92,9 +92,3 @@ bad_scenario!(
     "is not `component = mode @ time`",
     "noise 1.5 is not a probability"
 );
-bad_scenario!(
-    model_with_rules,
-    "model_with_rules.ron:7:14",
-    "model_with_rules.ron:8:14",
-    "this scenario's plant is its model"
-);

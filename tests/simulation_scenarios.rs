@@ -16,6 +16,7 @@ const SCENARIOS: &[&str] = &[
     "scenarios/engine_camera/confidence.ron",
     "scenarios/propulsion/nominal.ron",
     "scenarios/propulsion/pde_resettable.ron",
+    "scenarios/propulsion/campaign.ron",
 ];
 
 /// The Mars EDL's directory, whose scenarios `tests/mars_edl_scenarios.rs` runs.

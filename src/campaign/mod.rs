@@ -75,6 +75,9 @@ pub struct RunRecord {
     pub first_failure: Option<String>,
     /// The faults, oldest first.
     pub faults: Vec<FaultRecord>,
+    /// True when the executive reported a failure it could not recover from (a `GoalFailed` or
+    /// `PlanFailed` event): a run that failed without it failed silently.
+    pub failure_reported: bool,
     /// Cycles run.
     pub cycles: u64,
     /// Machine-dependent measurements, apart so that records compare across machines.
@@ -117,6 +120,7 @@ pub fn run_one(scenario: &Scenario, index: u64, seed: u64) -> RunRecord {
     let started = Instant::now();
     let mut cycles = Histogram::default();
     let mut diagnoses: Vec<(ComponentId, String, f64)> = Vec::new();
+    let mut failure_reported = false;
     let options = RunOptions {
         seed: Some(seed),
         events: 0,
@@ -126,11 +130,14 @@ pub fn run_one(scenario: &Scenario, index: u64, seed: u64) -> RunRecord {
         simulation::run(scenario, options, &mut |record| {
             cycles.add(record.step.times.total.as_secs_f64() * 1e6);
             for event in &record.step.events {
-                if let EventKind::Diagnosis {
-                    component, mode, ..
-                } = &event.kind
-                {
-                    diagnoses.push((*component, mode.clone(), record.step.time));
+                match &event.kind {
+                    EventKind::Diagnosis {
+                        component, mode, ..
+                    } => diagnoses.push((*component, mode.clone(), record.step.time)),
+                    EventKind::GoalFailed { .. } | EventKind::PlanFailed { .. } => {
+                        failure_reported = true;
+                    }
+                    _ => {}
                 }
             }
         })
@@ -174,6 +181,7 @@ pub fn run_one(scenario: &Scenario, index: u64, seed: u64) -> RunRecord {
         verdict,
         first_failure,
         faults,
+        failure_reported,
         cycles: count,
         timing: Timing {
             wall: started.elapsed().as_secs_f64(),

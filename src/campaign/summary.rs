@@ -48,6 +48,9 @@ pub struct Summary {
     pub passed: u64,
     /// Runs that stopped on an error or a panic.
     pub errors: u64,
+    /// Runs that did not pass and in which the executive reported no failure (`GoalFailed`,
+    /// `PlanFailed`) and did not stop on an error: silent failures.
+    pub silent: u64,
     /// Failures by first failing expectation, most frequent first.
     pub groups: Vec<FailureGroup>,
     /// Runs in which the plant entered a fault mode.
@@ -90,6 +93,10 @@ impl Summary {
             runs: records.len() as u64,
             passed: count(RunVerdict::Pass),
             errors: count(RunVerdict::Error),
+            silent: records
+                .iter()
+                .filter(|r| r.verdict == RunVerdict::Fail && !r.failure_reported)
+                .count() as u64,
             groups,
             runs_with_faults: records.iter().filter(|r| !r.faults.is_empty()).count() as u64,
             faults: records.iter().map(|r| r.faults.len() as u64).sum(),
@@ -128,9 +135,11 @@ impl fmt::Display for Summary {
         )?;
         writeln!(
             f,
-            "failed: {}   of which errors (run stopped or panicked): {}",
+            "failed: {}   of which errors (run stopped or panicked): {}, silent (no failure \
+             reported by the executive): {}",
             self.runs - self.passed,
-            self.errors
+            self.errors,
+            self.silent
         )?;
         for group in &self.groups {
             let shown: Vec<String> = group

@@ -20,7 +20,6 @@ pub(super) fn model_config(
         faults,
         noise,
     } = file.simulator.as_ref()?;
-    refuse_script(ctx, file);
     let noise = if (0.0..=1.0).contains(noise) {
         *noise
     } else {
@@ -76,27 +75,6 @@ fn forced_fault(
                 "`component = mode @ time`, such as \"valve1 = stuck-closed @ 120 s\"",
             );
             None
-        }
-    }
-}
-
-/// A model-driven plant plays the model alone: a script beside it would never run, so each of
-/// its parts is an error where it is written.
-fn refuse_script(ctx: &mut FileCtx, file: &ScenarioFile) {
-    let expected = "no script with a model-driven plant: remove it, or remove `simulator`";
-    let parts = [
-        ("include", file.include.is_empty()),
-        ("hidden", file.hidden.0.is_empty()),
-        ("initial", file.initial.0.is_empty()),
-        ("rules", file.rules.is_empty()),
-    ];
-    for (field, empty) in parts {
-        if !empty {
-            ctx.error(
-                &[Step::Field(field)],
-                format!("`{field}` is part of a script, and this scenario's plant is its model"),
-                expected,
-            );
         }
     }
 }

@@ -106,10 +106,13 @@
 //!                                                    // observation is a random value instead
 //! ),
 //! ```
-//! Such a scenario has no script: `include`, `hidden`, `initial` and `rules` are errors, and so
-//! is a `Diagnosed(..., of: "rule")` (there is no rule). `kairos run SCENARIO --seed S` replays
-//! the run of seed `S`; `kairos campaign` runs many seeds. A forced fault after `end`, a name
-//! that is not a component or mode, and a noise outside `[0, 1]` are located errors.
+//! A script beside the model (`include`, `hidden`, `initial`, `rules`) plays what the model does
+//! not predict — the environment's events, such as the EDL's altitude triggers
+//! (`scenarios/mars_edl/descent.ron`): every cycle, a value the script reports replaces the
+//! model's for that observable, and its rules fire as in a scripted run. `kairos run SCENARIO
+//! --seed S` replays the run of seed `S`; `kairos campaign` runs many seeds
+//! (`docs/campaigns.md`). A forced fault after `end`, a name that is not a component or mode,
+//! and a noise outside `[0, 1]` are located errors.
 //!
 //! ## Expectations
 //!

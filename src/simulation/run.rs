@@ -209,8 +209,9 @@ pub fn run(
     })
 }
 
-/// The plant a run drives: the scenario's script, or its model sampled. A model-driven run has
-/// no rules (the loader refuses them), so its rule history is the empty script's, never fired.
+/// The plant a run drives: the scenario's script, or its model sampled with the script beside
+/// it playing what the model does not predict (the environment's events): each cycle a value
+/// the script reports replaces the model's for that observable.
 enum Simulator<'s> {
     Script(ScriptedPlant<'s>),
     Model {
@@ -239,34 +240,48 @@ impl<'s> Simulator<'s> {
     fn observe(&mut self, time: f64) -> Vec<NamedValue> {
         match self {
             Simulator::Script(plant) => plant.observe(time),
-            Simulator::Model { plant, .. } => plant.observe(time),
+            Simulator::Model { plant, rules } => {
+                let mut observation = plant.observe(time);
+                for scripted in rules.observe(time) {
+                    match observation
+                        .iter_mut()
+                        .find(|o| o.variable == scripted.variable)
+                    {
+                        Some(value) => *value = scripted,
+                        None => observation.push(scripted),
+                    }
+                }
+                observation
+            }
         }
     }
 
     fn send(&mut self, time: f64, command: &[NamedValue]) -> Result<(), String> {
         match self {
             Simulator::Script(plant) => plant.send(time, command),
-            Simulator::Model { plant, .. } => plant.send(time, command),
+            Simulator::Model { plant, rules } => {
+                rules.send(time, command)?;
+                plant.send(time, command)
+            }
         }
     }
 
     fn estimated(&mut self, modes: &[ValueId]) {
-        if let Simulator::Script(plant) = self {
-            plant.estimated(modes);
+        match self {
+            Simulator::Script(rules) | Simulator::Model { rules, .. } => rules.estimated(modes),
         }
     }
 
     fn take_events(&mut self) -> Vec<PlantEvent> {
         match self {
-            Simulator::Script(plant) => plant.take_events(),
-            Simulator::Model { .. } => Vec::new(),
+            Simulator::Script(rules) | Simulator::Model { rules, .. } => rules.take_events(),
         }
     }
 
     fn is_quiet(&self, end: f64) -> bool {
         match self {
-            Simulator::Script(plant) => plant.is_quiet(end),
-            Simulator::Model { plant, .. } => plant.is_quiet(end),
+            Simulator::Script(rules) => rules.is_quiet(end),
+            Simulator::Model { plant, rules } => plant.is_quiet(end) && rules.is_quiet(end),
         }
     }
 
