@@ -113,7 +113,8 @@ fn latencies(mut doc: Document, summary: &Summary) -> Document {
     };
     // Whole seconds per bin, so that bins line up with 1 s cycles.
     let width = (max / BINS as f64).ceil().max(1.0);
-    let bins = ((max / width).floor() as usize + 1).min(BINS + 1);
+    // At least ten bins, so that a histogram of small latencies still reads as one.
+    let bins = ((max / width).floor() as usize + 1).clamp(10, BINS + 1);
     let mut counts = vec![0u64; bins];
     for &latency in &summary.latencies {
         counts[((latency / width).floor() as usize).min(bins - 1)] += 1;
