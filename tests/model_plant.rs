@@ -214,3 +214,67 @@ fn the_same_seed_replays_the_same_run() {
     assert_ne!(first.0, play(Some(2)).0, "another seed, another run");
     assert!(first.1.iter().any(|f| f.forced && f.time == 30.0));
 }
+
+/// Issue 18: with noise q an observation is replaced by a value drawn from its domain, so on the
+/// cycler held in `a` (which shows `bright`) a 3-value observable reads something else with
+/// probability q · 2/3. q = 0.3 over 20,000 cycles: 0.2 expected; the bound ±0.0142 is 5
+/// standard deviations of the binomial proportion (√(0.2 · 0.8 / 20,000) = 0.00283), exceeded by
+/// a correct sampler with probability below 10⁻⁶.
+#[test]
+fn noise_replaces_observations_at_its_rate() {
+    let held = CYCLER
+        .replace("probability: 0.2", "probability: 0.0")
+        .replace(
+            "(from: \"a\", to: \"c\", probability: 0.1)",
+            "(from: \"a\", to: \"c\", probability: 0.0)",
+        );
+    let plant = plant_from("held.ron", &held);
+    let mut config = config(9);
+    config.noise = 0.3;
+    let mut model = ModelPlant::new(&plant, &config).expect("encodes");
+    let mut wrong = 0u32;
+    for i in 0..20_000u32 {
+        let observation = model.observe(f64::from(i));
+        assert_eq!(model.modes().expect("started")[0], ValueId(0), "held in a");
+        if observation[0].value != "bright" {
+            wrong += 1;
+        }
+        model.send(f64::from(i), &[]).expect("idle");
+    }
+    let rate = f64::from(wrong) / 20_000.0;
+    assert!((rate - 0.2).abs() < 0.0142, "{rate}");
+}
+
+/// A script beside the model plays what the model does not predict: from the cycle its rule
+/// fires, the value it sets replaces the model's (here the engine's temperature, which the
+/// sampled plant would report `low` while the engine is off).
+#[test]
+fn a_script_beside_the_model_overrides_its_observables() {
+    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
+    let scenario = simulation::load_source(
+        &Source::new(
+            "hybrid.ron",
+            r#"Scenario(program: "programs/propulsion_fire.rmpl", plant: "models/propulsion.ron",
+                cycle: 1.0, end: 20.0, kappa: 5,
+                rules: [Rule(name: "sensor", on: Time(10.0), set: { "engine.temp": "nominal" })],
+                simulator: Model(seed: 4))"#,
+        ),
+        std::path::Path::new("."),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let mut temps = Vec::new();
+    simulation::run(&scenario, RunOptions::default(), &mut |record| {
+        let temp = record
+            .observation
+            .iter()
+            .find(|o| o.variable == "engine.temp")
+            .map(|o| o.value.clone());
+        temps.push((record.step.time, temp));
+    })
+    .expect("runs");
+    for (time, temp) in temps {
+        let temp = temp.expect("the model reports every observable");
+        let expected = if time >= 10.0 { "nominal" } else { "low" };
+        assert_eq!(temp, expected, "at {time} s");
+    }
+}
