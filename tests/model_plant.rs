@@ -64,7 +64,7 @@ fn chi_square(counts: &[u64], probabilities: &[f64]) -> f64 {
 /// rest. 20,000 steps from a seeded run; the outcomes from `a` are tested against (0.7, 0.2,
 /// 0.1) with Pearson's χ² on 2 degrees of freedom. The bound 27.6 is the 1 − 10⁻⁶ quantile: a
 /// correct sampler exceeds it for one seed in a million, a sampler off by a few points of
-/// probability exceeds it at once (with ~12,000 steps from `a`, 0.2 read as 0.22 gives χ² ≈ 24
+/// probability exceeds it at once (with ≈ 12,500 steps from `a`, 0.2 read as 0.22 gives χ² ≈ 25
 /// on that cell alone, plus the others'). The seed is fixed, so the test is deterministic.
 #[test]
 fn sampled_transition_frequencies_match_the_models_probabilities() {
