@@ -114,7 +114,14 @@ enum Command {
         /// shows on standard error only when it is a terminal).
         #[arg(long)]
         quiet: bool,
+        /// The model-driven plant's seed, in place of the scenario's: replays a campaign's run.
+        #[arg(long)]
+        seed: Option<u64>,
     },
+    /// A Monte Carlo campaign: many seeded runs of a scenario with a model-driven plant, in
+    /// parallel, tabulated (pass rate, failures with the seeds that replay them, diagnosis
+    /// latencies, cycle times); or `campaign merge DIR...` to join shards.
+    Campaign(cli::campaign::CampaignArgs),
     /// Measure cycle times per phase (estimation, sequencer, reconfiguration, whole cycle):
     /// min / median / p99 / max of quiet and busy cycles separately, for sizing a flight
     /// computer. Either run a scenario, or replay an estimation log with `--plant` and `--log`
@@ -179,13 +186,16 @@ fn main() -> ExitCode {
             trace_full,
             timeline,
             quiet,
+            seed,
         } => cli::run::run(&cli::run::RunArgs {
             scenario: &scenario,
             trace: trace.as_deref(),
             trace_full,
             timeline: timeline.as_deref(),
             quiet,
+            seed,
         }),
+        Command::Campaign(args) => cli::campaign::run(&args),
         Command::Bench {
             scenario,
             plant,

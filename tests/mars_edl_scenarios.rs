@@ -24,8 +24,10 @@ const SCENARIOS: [&str; 6] = [
     "lander_pyro_misfire.ron",
     "mars_polar_lander.ron",
 ];
-/// The other files there: the scripts the scenarios include, and the requirement mapping.
-const NOT_SCENARIOS: [&str; 3] = ["plant.ron", "descent.ron", "README.md"];
+/// The other files there: the scripts the scenarios include, the requirement mapping, and the
+/// campaign scenario, whose runs `kairos campaign` judges one by one (docs/campaigns.md; at
+/// ≈ 17,200 cycles a run it is measured in BENCHMARKS.md, not run here).
+const NOT_SCENARIOS: [&str; 4] = ["plant.ron", "descent.ron", "README.md", "campaign.ron"];
 
 /// Runs a scenario of this directory and returns its mission log, failing with the log if it
 /// does not pass.

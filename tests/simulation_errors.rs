@@ -100,3 +100,13 @@ bad_scenario!(
     "1.000e9 cycles, more than the 10000000",
     "line 6, column 12"
 );
+bad_scenario!(
+    model_bad_faults,
+    "model_bad_faults.ron:11:14",
+    "is not a component of the plant",
+    "did you mean `stuck-closed`?",
+    "is not a time in seconds",
+    "after the end",
+    "is not `component = mode @ time`",
+    "noise 1.5 is not a probability"
+);

@@ -16,6 +16,7 @@ const SCENARIOS: &[&str] = &[
     "scenarios/engine_camera/confidence.ron",
     "scenarios/propulsion/nominal.ron",
     "scenarios/propulsion/pde_resettable.ron",
+    "scenarios/propulsion/campaign.ron",
 ];
 
 /// The directories whose scenarios have their own suites: the Mars EDL's

@@ -30,11 +30,19 @@ pub struct RunArgs<'a> {
     pub timeline: Option<&'a Path>,
     /// Print only the summary and the verdicts, not the log of cycles.
     pub quiet: bool,
+    /// The model-driven plant's seed, in place of the scenario's.
+    pub seed: Option<u64>,
 }
 
 /// Loads and runs the scenario; the outcome is the exit code.
 pub fn run(args: &RunArgs) -> Result<(), Failure> {
     let scenario = simulation::load(args.scenario).map_err(Failure::bad_input)?;
+    if args.seed.is_some() && scenario.model.is_none() {
+        return Err(Failure::bad_input(format!(
+            "error: {}: --seed needs a model-driven plant (`simulator: Model(...)`)",
+            args.scenario.display()
+        )));
+    }
     // Opened before the run, so that a bad path is reported before a long run, not after.
     let picture = args
         .timeline
@@ -77,7 +85,11 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
     let shared_terminal = !progress.is_hidden() && std::io::stdout().is_terminal();
     // The callback cannot return an error; the first one is kept and reported after the run.
     let mut problem: Option<Failure> = None;
-    let outcome = simulation::run(scenario, RunOptions::default(), &mut |record| {
+    let options = RunOptions {
+        seed: args.seed,
+        ..RunOptions::default()
+    };
+    let outcome = simulation::run(scenario, options, &mut |record| {
         progress.inc(1);
         if printing && let Some(block) = log.cycle(record) {
             // On one terminal the bar is taken off while the log is written above it; a log

@@ -35,6 +35,23 @@ pub(super) struct ScenarioFile {
     pub(super) rules: Vec<RuleFile>,
     #[serde(default)]
     pub(super) expect: Vec<ExpectFile>,
+    #[serde(default)]
+    pub(super) simulator: Option<SimulatorFile>,
+}
+
+/// `Model(seed: 7, faults: ["valve1 = stuck-closed @ 17103 s"], noise: 0.01)`: the plant
+/// simulated by sampling its model rather than by a script.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) enum SimulatorFile {
+    Model {
+        #[serde(default)]
+        seed: u64,
+        #[serde(default)]
+        faults: Vec<String>,
+        #[serde(default)]
+        noise: f64,
+    },
 }
 
 /// `Script(...)`: the scripted plant's hidden state, initial observations and rules, in a file

@@ -118,6 +118,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
     parts.push((&mut ctx, file.script()));
     let script = super::load_script::script(&plant, &mut parts, settings.end);
     drop(parts);
+    let model = super::load_model::model_config(&mut ctx, &file, &plant, settings.end);
     let expectations = super::load_expect::expectations(
         &mut ctx,
         &file.expect,
@@ -152,6 +153,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
         kappa: settings.kappa,
         deadline: settings.deadline,
         script,
+        model,
         expectations,
     })
 }

@@ -93,6 +93,28 @@
 //! Rule(name: "PDE latches up", on: Cycle(1), set: { "pde": "latched" }, fault: true),
 //! ```
 //!
+//! ## A model-driven plant
+//!
+//! In place of a script, a scenario can run against its plant model itself, sampled
+//! ([`ModelPlant`]): every cycle each component takes a transition drawn with the model's
+//! per-step probabilities (those mode estimation uses), forced faults happen at their time, and
+//! the plant reports an assignment of every observable drawn among those its modes allow.
+//! ```ron
+//! simulator: Model(
+//!     seed: 7,                                       // optional (default 0): the ChaCha8 seed
+//!     faults: ["valve1 = stuck-closed @ 120 s"],     // optional: forced, `component = mode @ T`
+//!     noise: 0.01,                                   // optional (default 0): the probability an
+//!                                                    // observation is a random value instead
+//! ),
+//! ```
+//! A script beside the model (`include`, `hidden`, `initial`, `rules`) plays what the model does
+//! not predict — the environment's events, such as the EDL's altitude triggers
+//! (`scenarios/mars_edl/descent.ron`): every cycle, a value the script reports replaces the
+//! model's for that observable, and its rules fire as in a scripted run. `kairos run SCENARIO
+//! --seed S` replays the run of seed `S`; `kairos campaign` runs many seeds
+//! (`docs/campaigns.md`). A forced fault after `end`, a name that is not a component or mode,
+//! and a noise outside `[0, 1]` are located errors.
+//!
 //! ## Expectations
 //!
 //! Times are seconds. *Eventual* expectations take an optional window `after:`/`by:` and hold
@@ -144,7 +166,9 @@ mod expect;
 mod format;
 mod load;
 mod load_expect;
+mod load_model;
 mod load_script;
+mod model_plant;
 mod run;
 mod script;
 
@@ -154,6 +178,7 @@ use std::time::Duration;
 pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
 pub use format::EventName;
 pub use load::{DEFAULT_KAPPA, MAX_CYCLES, load, load_source};
+pub use model_plant::{FaultDrawn, ForcedFault, ModelPlant, ModelPlantConfig};
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
 pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
 
@@ -190,6 +215,9 @@ pub struct Scenario {
     pub deadline: Option<Duration>,
     /// The scripted plant.
     pub script: Script,
+    /// The model-driven plant's settings, when the scenario runs against its model sampled
+    /// (`simulator: Model(...)`) rather than its script.
+    pub model: Option<ModelPlantConfig>,
     /// What must happen.
     pub expectations: Vec<Expectation>,
 }

@@ -6,11 +6,13 @@ use std::time::{Duration, Instant};
 
 use super::Scenario;
 use super::expect::{Checker, Names, Verdict};
+use super::model_plant::{FaultDrawn, ModelPlant};
 use super::script::{PlantEvent, ScriptedPlant, TIME_EPSILON};
 use crate::executive::adapters::{Clock, ControlAdapter, MonitorAdapter, SimulatedClock};
 use crate::executive::{
     BuildError, Event, EventKind, Executive, NamedValue, Retention, Step, StepError, Timelines,
 };
+use crate::logic::ValueId;
 
 /// What one cycle of a run showed: for the mission log, the trace and benchmarks.
 #[derive(Debug)]
@@ -63,6 +65,9 @@ pub struct RunOutcome {
     /// The executive's state timelines and command and observation histories at the end
     /// (bounded by the retention).
     pub timelines: Timelines,
+    /// The faults the model-driven plant drew or was forced into, oldest first (empty for a
+    /// scripted plant, whose faults are its rules).
+    pub faults: Vec<FaultDrawn>,
 }
 
 impl RunOutcome {
@@ -81,7 +86,10 @@ pub enum RunError {
     /// The executive refused a cycle.
     #[error("the executive stopped: {0}")]
     Step(#[from] StepError),
-    /// The scripted plant refused a command.
+    /// The model-driven plant cannot be built (its theory does not encode).
+    #[error("the model-driven plant cannot be built: {0}")]
+    Model(String),
+    /// The plant refused a command.
     #[error("the plant refused the command of the cycle at {time} s: {message}")]
     Control {
         /// The cycle's time.
@@ -99,6 +107,9 @@ pub struct RunOptions {
     /// How many of the latest events the outcome keeps, so that a run of any length uses
     /// bounded memory (the log and the trace see every event as it happens).
     pub events: usize,
+    /// The model-driven plant's seed, in place of the scenario's (`kairos run --seed`, campaign
+    /// runs); a scripted plant has none.
+    pub seed: Option<u64>,
 }
 
 impl Default for RunOptions {
@@ -106,6 +117,7 @@ impl Default for RunOptions {
         RunOptions {
             retention: None,
             events: 16384,
+            seed: None,
         }
     }
 }
@@ -119,7 +131,7 @@ pub fn run(
 ) -> Result<RunOutcome, RunError> {
     let started = Instant::now();
     let mut executive = build(scenario, options)?;
-    let mut plant = ScriptedPlant::new(&scenario.script);
+    let mut plant = Simulator::new(scenario, options)?;
     let mut checker = Checker::new(
         &scenario.expectations,
         Names {
@@ -149,7 +161,7 @@ pub fn run(
             .map_err(|message| RunError::Control { time, message })?;
         plant.estimated(&step.most_likely);
         let plant_events = plant.take_events();
-        checker.observe(&step, &plant);
+        checker.observe(&step, plant.rules());
         observe(&CycleRecord {
             step: &step,
             observation: &observation,
@@ -182,7 +194,7 @@ pub fn run(
     };
     Ok(RunOutcome {
         start,
-        verdicts: checker.finish(&plant),
+        verdicts: checker.finish(plant.rules()),
         cycles,
         last_time,
         stop,
@@ -193,7 +205,98 @@ pub fn run(
         events: events.into(),
         events_dropped,
         timelines: executive.timelines().clone(),
+        faults: plant.faults().to_vec(),
     })
+}
+
+/// The plant a run drives: the scenario's script, or its model sampled with the script beside
+/// it playing what the model does not predict (the environment's events): each cycle a value
+/// the script reports replaces the model's for that observable.
+enum Simulator<'s> {
+    Script(ScriptedPlant<'s>),
+    Model {
+        // Boxed: the sampler (theory, generator) is much larger than a script's state.
+        plant: Box<ModelPlant<'s>>,
+        rules: ScriptedPlant<'s>,
+    },
+}
+
+impl<'s> Simulator<'s> {
+    fn new(scenario: &'s Scenario, options: RunOptions) -> Result<Self, RunError> {
+        let rules = ScriptedPlant::new(&scenario.script);
+        let Some(config) = &scenario.model else {
+            return Ok(Simulator::Script(rules));
+        };
+        let mut config = config.clone();
+        config.seed = options.seed.unwrap_or(config.seed);
+        let plant = ModelPlant::new(&scenario.plant, &config)
+            .map_err(|e| RunError::Model(e.to_string()))?;
+        Ok(Simulator::Model {
+            plant: Box::new(plant),
+            rules,
+        })
+    }
+
+    fn observe(&mut self, time: f64) -> Vec<NamedValue> {
+        match self {
+            Simulator::Script(plant) => plant.observe(time),
+            Simulator::Model { plant, rules } => {
+                let mut observation = plant.observe(time);
+                for scripted in rules.observe(time) {
+                    match observation
+                        .iter_mut()
+                        .find(|o| o.variable == scripted.variable)
+                    {
+                        Some(value) => *value = scripted,
+                        None => observation.push(scripted),
+                    }
+                }
+                observation
+            }
+        }
+    }
+
+    fn send(&mut self, time: f64, command: &[NamedValue]) -> Result<(), String> {
+        match self {
+            Simulator::Script(plant) => plant.send(time, command),
+            Simulator::Model { plant, rules } => {
+                rules.send(time, command)?;
+                plant.send(time, command)
+            }
+        }
+    }
+
+    fn estimated(&mut self, modes: &[ValueId]) {
+        match self {
+            Simulator::Script(rules) | Simulator::Model { rules, .. } => rules.estimated(modes),
+        }
+    }
+
+    fn take_events(&mut self) -> Vec<PlantEvent> {
+        match self {
+            Simulator::Script(rules) | Simulator::Model { rules, .. } => rules.take_events(),
+        }
+    }
+
+    fn is_quiet(&self, end: f64) -> bool {
+        match self {
+            Simulator::Script(rules) => rules.is_quiet(end),
+            Simulator::Model { plant, rules } => plant.is_quiet(end) && rules.is_quiet(end),
+        }
+    }
+
+    fn rules(&self) -> &ScriptedPlant<'s> {
+        match self {
+            Simulator::Script(rules) | Simulator::Model { rules, .. } => rules,
+        }
+    }
+
+    fn faults(&self) -> &[FaultDrawn] {
+        match self {
+            Simulator::Script(_) => &[],
+            Simulator::Model { plant, .. } => plant.faults(),
+        }
+    }
 }
 
 fn build(scenario: &Scenario, options: RunOptions) -> Result<Executive, BuildError> {

@@ -1,0 +1,371 @@
+//! A model-driven plant (issue 18; DESIGN.md §11): the plant model itself, sampled, standing in
+//! for the hardware. Where a scripted plant plays one story, this one plays the model's own
+//! probabilities, so that a Monte Carlo campaign of seeded runs sees faults as often as the
+//! model says they happen.
+//!
+//! Each cycle, from the state of the previous cycle under the command it sent:
+//! 1. every component takes one transition, drawn from the distribution Step_TCCA (Figure 6-6)
+//!    gives it — the enabled transitions' per-step probabilities of §6.2.2, timed transitions on
+//!    the component clock, exactly the numbers mode estimation uses ([`step_tcca`]);
+//! 2. a forced fault due by then puts its component in its mode;
+//! 3. the observation is drawn among the assignments of the observables that the modes, the
+//!    interconnections and the command allow: observables in random order, each given a value
+//!    drawn among those keeping the partial assignment consistent with the plant's [`Theory`];
+//! 4. with probability `noise`, an observation is replaced by a value drawn from its domain.
+//!
+//! The generator is ChaCha8 (`chacha20::ChaCha8Rng`), a named portable algorithm: a seed replays
+//! the same run on every machine.
+
+use chacha20::ChaCha8Rng;
+use rand::seq::SliceRandom;
+use rand::{RngExt, SeedableRng};
+
+use crate::executive::NamedValue;
+use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
+use crate::logic::{ValueId, VarId};
+use crate::opsat::{Consistency, Literal, Theory, TheoryError};
+use crate::plant::{Commands, ComponentId, ModeKind, Plant, SystemState, mode_literals, step_tcca};
+
+/// How often a drawn combination of modes may contradict the plant's constraints before the
+/// plant gives up the step and keeps its modes (see [`ModelPlant::step`]).
+const DRAWS: usize = 100;
+
+/// The settings of a model-driven plant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelPlantConfig {
+    /// The generator's seed.
+    pub seed: u64,
+    /// Faults forced at given times, whatever the model's probabilities.
+    pub faults: Vec<ForcedFault>,
+    /// The probability that an observation is replaced by a random value of its domain.
+    pub noise: f64,
+}
+
+/// `component = mode @ T s`: the component is put in the mode at the first cycle at or after
+/// `T`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ForcedFault {
+    /// The component.
+    pub component: ComponentId,
+    /// Its mode from then on.
+    pub mode: ValueId,
+    /// When, seconds.
+    pub time: f64,
+}
+
+impl ForcedFault {
+    /// Reads `component = mode @ T` (`T` in seconds, an optional trailing `s`) against `plant`;
+    /// the error says what is wrong, for the caller to locate.
+    pub fn parse(plant: &Plant, text: &str) -> Result<ForcedFault, String> {
+        let shape = || format!("`{text}` is not `component = mode @ time`");
+        let (assignment, time) = text.split_once('@').ok_or_else(shape)?;
+        let (component, mode) = assignment.split_once('=').ok_or_else(shape)?;
+        let (component, mode) = (component.trim(), mode.trim());
+        let time = time.trim();
+        let time = time.strip_suffix('s').unwrap_or(time).trim();
+        let time: f64 = time
+            .parse()
+            .ok()
+            .filter(|t: &f64| t.is_finite() && *t >= 0.0)
+            .ok_or_else(|| format!("`{time}` is not a time in seconds"))?;
+        let id = plant.component_named(component).ok_or_else(|| {
+            let names = plant.components().iter().map(|c| c.name());
+            let hint = crate::diagnostic::did_you_mean(component, names)
+                .map_or_else(String::new, |n| format!(" (did you mean `{n}`?)"));
+            format!("`{component}` is not a component of the plant{hint}")
+        })?;
+        let value = plant.component(id).mode_named(mode).ok_or_else(|| {
+            let names = plant.component(id).modes().iter().map(|m| m.name.as_str());
+            let hint = crate::diagnostic::did_you_mean(mode, names)
+                .map_or_else(String::new, |n| format!(" (did you mean `{n}`?)"));
+            format!("`{mode}` is not a mode of `{component}`{hint}")
+        })?;
+        Ok(ForcedFault {
+            component: id,
+            mode: value,
+            time,
+        })
+    }
+}
+
+/// A component entering a fault mode during a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaultDrawn {
+    /// The component.
+    pub component: ComponentId,
+    /// The fault mode.
+    pub mode: ValueId,
+    /// The first cycle at which the plant was in it, seconds.
+    pub time: f64,
+    /// True when it was forced rather than drawn.
+    pub forced: bool,
+}
+
+/// The model-driven plant: a [`MonitorAdapter`] and a [`ControlAdapter`] over a [`Plant`].
+pub struct ModelPlant<'p> {
+    plant: &'p Plant,
+    theory: Theory,
+    rng: ChaCha8Rng,
+    noise: f64,
+    /// Forced faults, by time; those before `next_forced` have been applied.
+    forced: Vec<ForcedFault>,
+    next_forced: usize,
+    state: Option<SystemState>,
+    last_time: f64,
+    commands: Commands,
+    faults: Vec<FaultDrawn>,
+    /// Why the last step could not be taken, reported by the next [`ControlAdapter::send`].
+    failure: Option<String>,
+}
+
+impl<'p> ModelPlant<'p> {
+    /// A plant playing `plant`'s model with `config`.
+    pub fn new(plant: &'p Plant, config: &ModelPlantConfig) -> Result<Self, TheoryError> {
+        let mut forced = config.faults.clone();
+        forced.sort_by(|a, b| a.time.total_cmp(&b.time));
+        Ok(ModelPlant {
+            theory: plant.theory()?,
+            rng: ChaCha8Rng::seed_from_u64(config.seed),
+            noise: config.noise,
+            forced,
+            next_forced: 0,
+            state: None,
+            last_time: 0.0,
+            commands: Commands::idle(plant),
+            faults: Vec::new(),
+            failure: None,
+            plant,
+        })
+    }
+
+    /// Every component's mode now (`None` before the first observation).
+    pub fn modes(&self) -> Option<&[ValueId]> {
+        self.state.as_ref().map(|s| s.modes.as_slice())
+    }
+
+    /// The faults so far, oldest first.
+    pub fn faults(&self) -> &[FaultDrawn] {
+        &self.faults
+    }
+
+    /// True when no forced fault is still to come before `end`: what the plant does from then
+    /// on is the model's alone.
+    pub fn is_quiet(&self, end: f64) -> bool {
+        self.forced[self.next_forced..]
+            .iter()
+            .all(|f| f.time > end + super::script::TIME_EPSILON)
+    }
+
+    /// The state at `time`: drawn from the initial distributions at the first cycle, then by one
+    /// step of the TCCA from the previous cycle's.
+    fn advance(&mut self, time: f64) -> SystemState {
+        let Some(state) = self.state.take() else {
+            let modes = self.draw_consistent(|plant, rng| {
+                plant
+                    .components()
+                    .iter()
+                    .map(|c| initial_mode(c.initial(), rng))
+                    .collect()
+            });
+            return SystemState::entered_at(self.plant, modes.unwrap_or_default(), time);
+        };
+        match self.step(&state, time) {
+            Ok(Some(next)) => next,
+            Ok(None) => state,
+            Err(message) => {
+                self.failure = Some(message);
+                state
+            }
+        }
+    }
+
+    /// One step of the TCCA (Figure 6-6) from the previous cycle to `time`, each component's
+    /// transition drawn from its distribution. Figure 6-7 allows only next states whose modes
+    /// are consistent together; a draw that is not is drawn again (rejection sampling, which
+    /// conditions the step's distribution on consistency), and after [`DRAWS`] failures the
+    /// plant keeps its modes (`None`).
+    fn step(&mut self, state: &SystemState, time: f64) -> Result<Option<SystemState>, String> {
+        for _ in 0..DRAWS {
+            let rng = &mut self.rng;
+            let next = step_tcca(
+                self.plant,
+                &mut self.theory,
+                state,
+                &self.commands,
+                self.last_time,
+                time,
+                |_, distribution| draw(distribution.iter().map(|&(_, p)| p), rng),
+            )
+            .map_err(|e| e.to_string())?;
+            if self.consistent(&mode_literals(self.plant, &next.modes)) {
+                return Ok(Some(next));
+            }
+        }
+        Ok(None)
+    }
+
+    /// Modes drawn by `draw_modes` until they are consistent, at most [`DRAWS`] times.
+    fn draw_consistent(
+        &mut self,
+        draw_modes: impl Fn(&Plant, &mut ChaCha8Rng) -> Vec<ValueId>,
+    ) -> Option<Vec<ValueId>> {
+        let mut last = None;
+        for _ in 0..DRAWS {
+            let modes = draw_modes(self.plant, &mut self.rng);
+            if self.consistent(&mode_literals(self.plant, &modes)) {
+                return Some(modes);
+            }
+            last = Some(modes);
+        }
+        last
+    }
+
+    fn consistent(&mut self, literals: &[Literal]) -> bool {
+        self.theory.consistent(literals) == Consistency::Consistent
+    }
+
+    /// Puts the components of the forced faults due at `time` in their modes; their clocks
+    /// start now.
+    fn force(&mut self, state: &mut SystemState, time: f64) {
+        while let Some(fault) = self.forced.get(self.next_forced) {
+            if fault.time > time + super::script::TIME_EPSILON {
+                break;
+            }
+            let c = fault.component.index();
+            if state.modes[c] != fault.mode {
+                state.modes[c] = fault.mode;
+                state.clock_starts[c] = Some(time);
+            }
+            self.next_forced += 1;
+        }
+    }
+
+    /// Records the components that entered a fault mode between `before` and `after`.
+    fn record_faults(&mut self, before: Option<&[ValueId]>, after: &[ValueId], time: f64) {
+        for (id, component) in self.plant.component_ids() {
+            let mode = after[id.index()];
+            let entered = before.is_none_or(|b| b[id.index()] != mode);
+            if entered && component.mode(mode).kind == ModeKind::Fault {
+                let forced = self.forced[..self.next_forced]
+                    .iter()
+                    .any(|f| f.component == id && f.mode == mode && f.time <= time);
+                self.faults.push(FaultDrawn {
+                    component: id,
+                    mode,
+                    time,
+                    forced,
+                });
+            }
+        }
+    }
+
+    /// Step 3 of the module documentation: a consistent assignment of every observable, drawn.
+    /// The command of the previous cycle is assumed too when it fits the modes (a mode may say
+    /// nothing about it, or contradict it, as a stuck valve does).
+    fn draw_observation(&mut self, modes: &[ValueId]) -> Vec<(VarId, ValueId)> {
+        let mut assumed = mode_literals(self.plant, modes);
+        let commands: Vec<Literal> = self
+            .commands
+            .values()
+            .iter()
+            .map(|&(x, v)| Literal::Is(x, v))
+            .collect();
+        let with_commands = [assumed.as_slice(), &commands].concat();
+        if self.consistent(&with_commands) {
+            assumed = with_commands;
+        }
+        let mut order = self.plant.observables().to_vec();
+        order.shuffle(&mut self.rng);
+        let mut drawn = Vec::with_capacity(order.len());
+        for var in order {
+            let size = self.plant.table().variable(var).domain_size() as u32;
+            let mut values: Vec<ValueId> = (0..size).map(ValueId).collect();
+            values.shuffle(&mut self.rng);
+            for value in values {
+                assumed.push(Literal::Is(var, value));
+                if self.consistent(&assumed) {
+                    drawn.push((var, value));
+                    break;
+                }
+                assumed.pop();
+            }
+        }
+        drawn
+    }
+
+    /// Step 4: each observation replaced, with probability `noise`, by a value of its domain.
+    fn add_noise(&mut self, observation: &mut [(VarId, ValueId)]) {
+        if self.noise <= 0.0 {
+            return;
+        }
+        for (var, value) in observation {
+            if self.rng.random_bool(self.noise.min(1.0)) {
+                let size = self.plant.table().variable(*var).domain_size() as u32;
+                *value = ValueId(self.rng.random_range(0..size));
+            }
+        }
+    }
+}
+
+/// A mode drawn from a component's initial distribution (one probability per mode).
+fn initial_mode(initial: &[f64], rng: &mut ChaCha8Rng) -> ValueId {
+    ValueId(draw(initial.iter().copied(), rng) as u32)
+}
+
+/// An index drawn with probability proportional to its weight (the last one should rounding
+/// leave the draw past the total).
+fn draw(weights: impl Iterator<Item = f64> + Clone, rng: &mut ChaCha8Rng) -> usize {
+    let total: f64 = weights.clone().sum();
+    let mut u = rng.random::<f64>() * total;
+    let mut last = 0;
+    for (i, w) in weights.enumerate() {
+        if u < w {
+            return i;
+        }
+        u -= w;
+        last = i;
+    }
+    last
+}
+
+impl MonitorAdapter for ModelPlant<'_> {
+    fn observe(&mut self, time: f64) -> Vec<NamedValue> {
+        let before = self.state.as_ref().map(|s| s.modes.clone());
+        let mut state = self.advance(time);
+        self.force(&mut state, time);
+        self.record_faults(before.as_deref(), &state.modes, time);
+        let mut observation = self.draw_observation(&state.modes);
+        self.add_noise(&mut observation);
+        self.state = Some(state);
+        self.last_time = time;
+        observation.sort_unstable();
+        observation
+            .into_iter()
+            .map(|(x, v)| NamedValue::of(self.plant, x, v))
+            .collect()
+    }
+}
+
+impl ControlAdapter for ModelPlant<'_> {
+    fn send(&mut self, _time: f64, command: &[NamedValue]) -> Result<(), String> {
+        if let Some(failure) = self.failure.take() {
+            return Err(failure);
+        }
+        let table = self.plant.table();
+        let issued = command
+            .iter()
+            .map(|c| {
+                let var = table
+                    .variable_id(&c.variable)
+                    .ok_or_else(|| format!("`{}` is not a variable of the plant", c.variable))?;
+                let value = table
+                    .variable(var)
+                    .value(&c.value)
+                    .ok_or_else(|| format!("`{c}`: no such value"))?;
+                Ok((var, value))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        self.commands = Commands::new(self.plant, &issued).map_err(|e| e.to_string())?;
+        Ok(())
+    }
+}
