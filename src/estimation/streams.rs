@@ -114,6 +114,30 @@ impl Possible {
     }
 }
 
+impl SolutionCache {
+    /// Σ p over the next modes in `choices` that a solution consistent with the observation of
+    /// the last [`Streams::take`] may take, multiplied over the components: a bound on the
+    /// probability of a source's feasible targets tighter than 1 when the observation refutes
+    /// some next modes on their own (a fault whose mode constraint contradicts a reading).
+    pub(crate) fn possible_mass(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        choices: &Choices,
+    ) -> f64 {
+        choices
+            .iter()
+            .enumerate()
+            .map(|(c, next)| {
+                next.iter()
+                    .filter(|n| self.possible.allows(plant, theory, c, n.mode))
+                    .map(|n| n.probability)
+                    .sum::<f64>()
+            })
+            .product()
+    }
+}
+
 /// One source's stream during an expansion.
 struct Stream {
     /// Index into [`Streams::known`].
