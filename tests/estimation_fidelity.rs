@@ -20,10 +20,16 @@ use kairos::estimation::{Belief, BeliefUpdate, ModeEstimator, TimedMe, TimedMeOp
 use kairos::opsat::Theory;
 use kairos::plant::{Observation, Plant};
 use proptest::prelude::*;
-use support::random_plant::{RandomPlant, RandomRun, consistent_with, random_plant, random_run};
+use support::random_plant::{
+    RandomPlant, RandomRun, broad_plant, consistent_with, random_plant, random_run, runs,
+};
 
 const MAX_COMPONENTS: usize = 4;
 const MAX_STEPS: usize = 12;
+
+/// The broad generator (issue 16 item 3): plants of up to this many components, 10–30 steps.
+const BROAD_COMPONENTS: usize = 5;
+const BROAD_STEPS: usize = 30;
 
 /// κ for the exactness property: small enough that κ² candidates (κ sources with at most κ
 /// targets each, which is all there can be while the exact belief holds ≤ κ states) stay within
@@ -175,6 +181,28 @@ proptest! {
         prop_assert!(
             findings.inconsistent.is_empty(),
             "{}\nmodel: {}",
+            findings.inconsistent.join("\n"),
+            spec.ron()
+        );
+    }
+}
+
+proptest! {
+    // The broad plants are slower (up to 80 system states, 30 steps): a few cases by default.
+    #![proptest_config(seeded::config(12))]
+
+    /// Issue 16 items 1 and 2 on the broad generator, whose powered modes can violate the
+    /// connections when a step observes too little to rule them out.
+    #[test]
+    fn on_broad_plants_timed_me_is_exact_within_kappa_and_every_kept_state_is_consistent(
+        spec in broad_plant(BROAD_COMPONENTS),
+        run in runs(BROAD_COMPONENTS, 10, BROAD_STEPS),
+    ) {
+        let findings = run_case(&spec, &run);
+        prop_assert!(
+            findings.inexact.is_empty() && findings.inconsistent.is_empty(),
+            "{}\n{}\nmodel: {}",
+            findings.inexact.join("\n"),
             findings.inconsistent.join("\n"),
             spec.ron()
         );
