@@ -134,6 +134,8 @@ pub(crate) struct Expander {
     solutions: SolutionCache,
     pub(crate) observe: ObservationModel,
     scratch: Vec<u32>,
+    /// The unseen-mass bounds, reused from one expansion to the next.
+    unseen: Unseen,
 }
 
 /// Next-mode distributions already computed. Certified: a component's distribution is
@@ -311,7 +313,8 @@ impl Expander {
             streams.cost(k, i, plant, sources, observation, theory)
         };
         let source_cost: Vec<f64> = sources.iter().map(|s| -s.probability.ln()).collect();
-        let mut unseen = Unseen::new(sources);
+        let mut unseen = std::mem::take(&mut self.unseen);
+        unseen.reset(sources.len());
         let mut frontier = BinaryHeap::new();
         for (k, source) in sources.iter().enumerate() {
             let first = (source.probability > 0.0)
@@ -352,16 +355,17 @@ impl Expander {
             if merged.states.len() > limits.kappa && merged.kth_weight(limits.kappa) >= next_weight
             {
                 let limit = MASS_TOLERANCE * merged.total * (-best).exp();
+                unseen.bound(sources);
                 while unseen.mass() > limit
-                    && unseen.tighten_heaviest(sources, |choices| {
-                        self.solutions.possible_mass(plant, theory, choices)
-                    })
-                {}
+                    && unseen.tighten_heaviest(sources, |k| streams.possible_mass(k, plant, theory))
+                {
+                }
                 if unseen.mass() <= limit {
                     break;
                 }
             }
         }
+        self.unseen = unseen;
         let cut = streams.cut;
         streams.put_back(&mut self.solutions);
         Ok(Expansion {
@@ -382,76 +386,87 @@ fn order(cost: f64) -> u64 {
 /// targets are a subset of its next-mode combinations, whose probabilities sum to
 /// p(source) · Π_components Σ p(next mode) (p(source) but for the fallback's extra jumps), so
 /// that sum less what was served bounds every target still to come, feasible or not. Once
-/// [tightened](Unseen::tighten), the sums run over the next modes the observation does not
+/// [tightened](Unseen::tighten_heaviest), the sums run over the next modes the observation does not
 /// refute on their own, which leaves out the mass of refuted faults that no stream will ever
 /// hand out. An exhausted stream has nothing left.
+#[derive(Default)]
 struct Unseen {
-    /// Per source, the bound on its targets' total probability (0 once exhausted).
-    mass: Vec<f64>,
-    /// Per source, the probability of the targets served.
-    served: Vec<f64>,
-    /// Per source, whether its bound was tightened.
-    tightened: Vec<bool>,
+    /// Per source of the current expansion (the vector is reused from one to the next).
+    bounds: Vec<Bound>,
+}
+
+/// One source's unseen mass.
+#[derive(Clone, Copy, Default)]
+struct Bound {
+    /// The bound on its targets' total probability: `None` until needed, 0 once exhausted.
+    mass: Option<f64>,
+    /// The probability of the targets served.
+    served: f64,
+    /// Whether the bound was tightened.
+    tightened: bool,
 }
 
 impl Unseen {
-    fn new(sources: &[SourceChoices]) -> Unseen {
-        let mass = sources
-            .iter()
-            .map(|source| {
+    /// Starts an expansion of `sources` sources.
+    fn reset(&mut self, sources: usize) {
+        self.bounds.clear();
+        self.bounds.resize(sources, Bound::default());
+    }
+
+    /// Computes the bounds not known yet (only expansions that get past κ states need them).
+    fn bound(&mut self, sources: &[SourceChoices]) {
+        for (bound, source) in self.bounds.iter_mut().zip(sources) {
+            bound.mass.get_or_insert_with(|| {
                 let combinations: f64 = source
                     .choices
                     .iter()
                     .map(|next| next.iter().map(|n| n.probability).sum::<f64>())
                     .product();
                 source.probability * combinations
-            })
-            .collect();
-        Unseen {
-            mass,
-            served: vec![0.0; sources.len()],
-            tightened: vec![false; sources.len()],
+            });
         }
     }
 
     /// Replaces the bound of the source with the most unseen mass not yet tightened by
-    /// `p(source) · possible(its choices)` (see
-    /// [`SolutionCache::possible_mass`](super::streams::SolutionCache::possible_mass)); false
-    /// when no source is left to tighten.
+    /// `p(source) · possible(source)` (see [`Streams::possible_mass`]); false when no source
+    /// is left to tighten.
     fn tighten_heaviest(
         &mut self,
         sources: &[SourceChoices],
-        possible: impl FnOnce(&Choices) -> f64,
+        possible: impl FnOnce(usize) -> f64,
     ) -> bool {
-        let heaviest = (0..self.mass.len())
-            .filter(|&k| !self.tightened[k] && self.left(k) > 0.0)
+        let heaviest = (0..self.bounds.len())
+            .filter(|&k| !self.bounds[k].tightened && self.left(k) > 0.0)
             .max_by(|&a, &b| self.left(a).total_cmp(&self.left(b)));
         let Some(k) = heaviest else {
             return false;
         };
-        self.tightened[k] = true;
-        let source = &sources[k];
-        self.mass[k] = self.mass[k].min(source.probability * possible(&source.choices));
+        let bound = &mut self.bounds[k];
+        bound.tightened = true;
+        let tightened = sources[k].probability * possible(k);
+        bound.mass = Some(bound.mass.map_or(tightened, |mass| mass.min(tightened)));
         true
     }
 
-    /// What source `k` may still hand out (rounding can leave it slightly below 0).
+    /// What source `k` may still hand out (rounding can leave it slightly below 0; a bound not
+    /// computed yet counts as nothing, [`Unseen::bound`] comes first).
     fn left(&self, k: usize) -> f64 {
-        (self.mass[k] - self.served[k]).max(0.0)
+        let bound = &self.bounds[k];
+        (bound.mass.unwrap_or(0.0) - bound.served).max(0.0)
     }
 
     /// Source `k` handed out a target of trajectory cost `cost` (−ln of its prior probability).
     fn served(&mut self, k: usize, cost: f64) {
-        self.served[k] += (-cost).exp();
+        self.bounds[k].served += (-cost).exp();
     }
 
     fn exhausted(&mut self, k: usize) {
-        self.mass[k] = 0.0;
+        self.bounds[k].mass = Some(0.0);
     }
 
     /// The bound on everything still to come.
     fn mass(&self) -> f64 {
-        (0..self.mass.len()).map(|k| self.left(k)).sum()
+        (0..self.bounds.len()).map(|k| self.left(k)).sum()
     }
 }
 
