@@ -123,4 +123,57 @@ fn estimate_prints_changes_unless_full() {
     assert_eq!(cycles(&full), 16, "{full}");
     assert!(cycles(&changes) < 16 && left_out > 0, "{changes}");
     assert_eq!(cycles(&changes) + left_out, 16, "{changes}");
+/// Issue 16, item 1 (DESIGN.md §6.2 "Expected behaviour", §8 "merge ... summing their
+/// probabilities"): the engine alone heating in Uniform(30, 60) s, nothing observed. The exact
+/// update never holds more than 3 system states (heating, standby, failed), so TimedME at κ = 3
+/// must be the exact update — and flip to standby in the second half of the window (§7.1.2).
+/// It once kept heating (0.856) at 46 s: the trickle from heating into standby, each cycle
+/// lighter than the `failed` state, was dropped instead of merged into standby.
+#[test]
+fn timed_me_at_kappa_3_is_the_exact_update_of_the_heating_engine() {
+    let run = |extra: &[&str]| -> Vec<serde_json::Value> {
+        let mut args = vec![
+            "estimate",
+            "--plant",
+            "tests/models/engine_heating.ron",
+            "--log",
+            "tests/logs/engine_heating.jsonl",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let (code, stdout, stderr) = kairos(&args);
+        assert_eq!(code, 0, "{stderr}");
+        stdout
+            .lines()
+            .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+            .collect()
+    };
+    let timed = run(&["--kappa", "3"]);
+    let exact = run(&["--exact"]);
+    assert_eq!(timed.len(), exact.len());
+    for (t, e) in timed.iter().zip(&exact) {
+        assert!(e["system_states"].as_u64().unwrap_or(99) <= 3, "{e}");
+        let estimates = |c: &serde_json::Value| -> Vec<(String, f64)> {
+            c["estimates"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .map(|x| {
+                    (
+                        x["modes"]["engine"].as_str().unwrap_or("?").to_string(),
+                        x["probability"].as_f64().unwrap_or(f64::NAN),
+                    )
+                })
+                .collect()
+        };
+        let (t, e) = (estimates(t), estimates(e));
+        assert_eq!(t.len(), e.len(), "{t:?} vs {e:?}");
+        for ((tm, tp), (em, ep)) in t.iter().zip(&e) {
+            assert_eq!(tm, em, "{t:?} vs {e:?}");
+            assert!((tp - ep).abs() < 1e-9, "{t:?} vs {e:?}");
+        }
+    }
+    let last = &timed[timed.len() - 1];
+    assert_eq!(last["time"], 46.0);
+    assert_eq!(last["estimates"][0]["modes"]["engine"], "standby");
 }

@@ -11,9 +11,16 @@
 //! Each candidate becomes a system state (clocks restarted where the mode changed, forgotten where
 //! they cannot matter), is weighed by the observation factor (1 / 1/m, Figure 6-10; the thesis's
 //! TimedME drops it), and is merged with equal states by summing — exact, since equal states
-//! have equal futures. Enumeration stops once κ states are held and the κ-th best already
-//! outweighs anything a further candidate could bring (the factor is at most 1), or after a cap
-//! on candidates.
+//! have equal futures. Merging comes *before* the κ heaviest are kept (DESIGN.md §8), so the
+//! enumeration must not stop merely because no single further candidate outweighs the κ-th
+//! state: many light candidates that land on a state already held add up (the heating →
+//! standby flow of §7.1.2, a trickle per cycle next to a heavier `failed`, is all of standby's
+//! growth). While at most κ states are merged, every candidate is taken (up to a cap), so
+//! TimedME is the exact update whenever κ states suffice. Past κ it stops when, besides no
+//! single candidate outweighing the κ-th state, the prior mass the streams have not yet handed
+//! out ([`Unseen`]: a source's targets sum to at most its probability, the observation factor
+//! being at most 1) is at most [`MASS_TOLERANCE`] of the mass merged — or when the streams are
+//! exhausted, or after a cap on candidates.
 //!
 //! Quiet cycles repeat themselves: the same source modes under the same commands enable the
 //! same transitions, and the same OCSP shapes meet the same observation. Enabled transitions are
@@ -42,6 +49,15 @@ use crate::plant::{
 
 /// Past this many entries a cache starts afresh.
 const CACHE_LIMIT: usize = 20_000;
+
+/// Once more than κ states are merged — the belief will be truncated, an approximation by
+/// design — the expansion may stop when no single further candidate outweighs the κ-th state
+/// and the prior mass not yet enumerated is at most this fraction of the (observation-weighted)
+/// mass merged: nothing unseen can then move a kept probability by more than that. Chosen on the
+/// Mars lander, whose dozen components failing at 1e-9/s leave ~2e-9 unseen per 0.1 s cycle
+/// that no state kept at κ = 10 could absorb, so that its quiet cycles examine as many
+/// candidates as before the rule (BENCHMARKS.md, issue 16).
+pub(crate) const MASS_TOLERANCE: f64 = 1e-8;
 
 /// One next mode of a component, with its probability and its cost (−ln p).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -118,6 +134,8 @@ pub(crate) struct Expander {
     solutions: SolutionCache,
     pub(crate) observe: ObservationModel,
     scratch: Vec<u32>,
+    /// The unseen-mass bounds, reused from one expansion to the next.
+    unseen: Unseen,
 }
 
 /// Next-mode distributions already computed. Certified: a component's distribution is
@@ -295,12 +313,16 @@ impl Expander {
             streams.cost(k, i, plant, sources, observation, theory)
         };
         let source_cost: Vec<f64> = sources.iter().map(|s| -s.probability.ln()).collect();
+        let mut unseen = std::mem::take(&mut self.unseen);
+        unseen.reset(sources.len());
         let mut frontier = BinaryHeap::new();
         for (k, source) in sources.iter().enumerate() {
-            if source.probability > 0.0 {
-                if let Some(cost) = fetch(&mut streams, k, 0, theory) {
-                    frontier.push(Reverse((order(source_cost[k] + cost), k, 0usize)));
-                }
+            let first = (source.probability > 0.0)
+                .then(|| fetch(&mut streams, k, 0, theory))
+                .flatten();
+            match first {
+                Some(cost) => frontier.push(Reverse((order(source_cost[k] + cost), k, 0usize))),
+                None => unseen.exhausted(k),
             }
         }
         let mut merged = Merged::default();
@@ -310,9 +332,11 @@ impl Expander {
             let cost = f64::from_bits(cost_bits);
             let best = *best.get_or_insert(cost);
             candidates += 1;
+            unseen.served(k, cost);
             let modes = streams.modes(k, i);
-            if let Some(next) = fetch(&mut streams, k, i + 1, theory) {
-                frontier.push(Reverse((order(source_cost[k] + next), k, i + 1)));
+            match fetch(&mut streams, k, i + 1, theory) {
+                Some(next) => frontier.push(Reverse((order(source_cost[k] + next), k, i + 1))),
+                None => unseen.exhausted(k),
             }
             let factor = self.observe.factor(plant, theory, &modes, observation)?;
             let weight = (best - cost).exp() * factor;
@@ -325,10 +349,23 @@ impl Expander {
             let next_weight = frontier.peek().map_or(0.0, |Reverse((bits, _, _))| {
                 (best - f64::from_bits(*bits)).exp()
             });
-            if merged.kth_weight(limits.kappa) >= next_weight {
-                break;
+            // Past κ states, with no single candidate able to displace the κ-th, only the
+            // unseen mass keeps the expansion going: tighten the bounds of the sources holding
+            // most of it, one at a time, only as far as it lets the expansion stop.
+            if merged.states.len() > limits.kappa && merged.kth_weight(limits.kappa) >= next_weight
+            {
+                let limit = MASS_TOLERANCE * merged.total * (-best).exp();
+                unseen.bound(sources);
+                while unseen.mass() > limit
+                    && unseen.tighten_heaviest(sources, |k| streams.possible_mass(k, plant, theory))
+                {
+                }
+                if unseen.mass() <= limit {
+                    break;
+                }
             }
         }
+        self.unseen = unseen;
         let cut = streams.cut;
         streams.put_back(&mut self.solutions);
         Ok(Expansion {
@@ -345,17 +382,108 @@ fn order(cost: f64) -> u64 {
     cost.max(0.0).to_bits()
 }
 
+/// The prior probability the sources' streams have not handed out yet, per source: a source's
+/// targets are a subset of its next-mode combinations, whose probabilities sum to
+/// p(source) · Π_components Σ p(next mode) (p(source) but for the fallback's extra jumps), so
+/// that sum less what was served bounds every target still to come, feasible or not. Once
+/// [tightened](Unseen::tighten_heaviest), the sums run over the next modes the observation does not
+/// refute on their own, which leaves out the mass of refuted faults that no stream will ever
+/// hand out. An exhausted stream has nothing left.
+#[derive(Default)]
+struct Unseen {
+    /// Per source of the current expansion (the vector is reused from one to the next).
+    bounds: Vec<Bound>,
+}
+
+/// One source's unseen mass.
+#[derive(Clone, Copy, Default)]
+struct Bound {
+    /// The bound on its targets' total probability: `None` until needed, 0 once exhausted.
+    mass: Option<f64>,
+    /// The probability of the targets served.
+    served: f64,
+    /// Whether the bound was tightened.
+    tightened: bool,
+}
+
+impl Unseen {
+    /// Starts an expansion of `sources` sources.
+    fn reset(&mut self, sources: usize) {
+        self.bounds.clear();
+        self.bounds.resize(sources, Bound::default());
+    }
+
+    /// Computes the bounds not known yet (only expansions that get past κ states need them).
+    fn bound(&mut self, sources: &[SourceChoices]) {
+        for (bound, source) in self.bounds.iter_mut().zip(sources) {
+            bound.mass.get_or_insert_with(|| {
+                let combinations: f64 = source
+                    .choices
+                    .iter()
+                    .map(|next| next.iter().map(|n| n.probability).sum::<f64>())
+                    .product();
+                source.probability * combinations
+            });
+        }
+    }
+
+    /// Replaces the bound of the source with the most unseen mass not yet tightened by
+    /// `p(source) · possible(source)` (see [`Streams::possible_mass`]); false when no source
+    /// is left to tighten.
+    fn tighten_heaviest(
+        &mut self,
+        sources: &[SourceChoices],
+        possible: impl FnOnce(usize) -> f64,
+    ) -> bool {
+        let heaviest = (0..self.bounds.len())
+            .filter(|&k| !self.bounds[k].tightened && self.left(k) > 0.0)
+            .max_by(|&a, &b| self.left(a).total_cmp(&self.left(b)));
+        let Some(k) = heaviest else {
+            return false;
+        };
+        let bound = &mut self.bounds[k];
+        bound.tightened = true;
+        let tightened = sources[k].probability * possible(k);
+        bound.mass = Some(bound.mass.map_or(tightened, |mass| mass.min(tightened)));
+        true
+    }
+
+    /// What source `k` may still hand out (rounding can leave it slightly below 0; a bound not
+    /// computed yet counts as nothing, [`Unseen::bound`] comes first).
+    fn left(&self, k: usize) -> f64 {
+        let bound = &self.bounds[k];
+        (bound.mass.unwrap_or(0.0) - bound.served).max(0.0)
+    }
+
+    /// Source `k` handed out a target of trajectory cost `cost` (−ln of its prior probability).
+    fn served(&mut self, k: usize, cost: f64) {
+        self.bounds[k].served += (-cost).exp();
+    }
+
+    fn exhausted(&mut self, k: usize) {
+        self.bounds[k].mass = Some(0.0);
+    }
+
+    /// The bound on everything still to come.
+    fn mass(&self) -> f64 {
+        (0..self.bounds.len()).map(|k| self.left(k)).sum()
+    }
+}
+
 /// Next system states with summed weights, in order of first appearance. Indexed by hash, so a
 /// new state is stored once (hash collisions fall back to comparing states).
 #[derive(Default)]
 struct Merged {
     index: FxHashMap<u64, usize>,
     states: Vec<WeightedState>,
+    /// The sum of the weights.
+    total: f64,
     scratch: Vec<f64>,
 }
 
 impl Merged {
     fn add(&mut self, state: SystemState, weight: f64) {
+        self.total += weight;
         let mut hasher = FxHasher::default();
         state.hash(&mut hasher);
         let hash = hasher.finish();

@@ -2,7 +2,11 @@
 //! Probability"): each observed value counts 1 when the state's modes and the model entail it,
 //! 0 when they refute it, 1/m (m the observable's domain size) when they leave it open; the
 //! product over the observation. A state whose modes are inconsistent with the observation as a
-//! whole gets 0 even if no single value is refuted (Figure 6-7, step 7).
+//! whole gets 0 even if no single value is refuted (Figure 6-7, step 7) — and so does a state
+//! whose modes are inconsistent with the model itself (its connections), observed or not: such a
+//! combination of modes is no plant state at all (DESIGN.md §8, "the targets must be consistent
+//! with o(i+1) and the model"; issue 16 item 2, where an unobserved step once kept up to 0.73
+//! of the exact belief on mode combinations the connections forbid).
 //!
 //! The factor depends on the modes only, never on clocks, so it is cached per (modes,
 //! observation): in a quiet cycle the same few states meet the same observation again.
@@ -32,9 +36,6 @@ impl ObservationModel {
         modes: &[ValueId],
         observation: &Observation,
     ) -> Result<f64, TheoryError> {
-        if observation.values().is_empty() {
-            return Ok(1.0);
-        }
         self.key.clear();
         self.key.extend(modes.iter().map(|m| m.0));
         for &(x, v) in observation.values() {

@@ -65,6 +65,9 @@ struct Known {
     certificate: Option<(Rc<Choices>, f64)>,
     /// `solutions` holds every feasible solution.
     complete: bool,
+    /// Per next mode of the shape (components in order, each one's next modes in order), whether
+    /// the observation leaves it possible on its own (see [`Possible`]); decided once per shape.
+    possible: Option<Vec<bool>>,
 }
 
 /// Cached knowledge, per OCSP shape, across calls.
@@ -142,6 +145,8 @@ pub(crate) struct Streams<'o> {
     options: SearchOptions,
     /// Set when an OPSAT budget ran out.
     pub(crate) cut: Option<Cut>,
+    /// The cache's [`Possible`], taken out for the expansion.
+    possible: Possible,
 }
 
 /// The shape of a source's OCSP, into `key`: the allowed values per component and the
@@ -262,6 +267,7 @@ impl<'o> Streams<'o> {
             live: sources.iter().map(|_| None).collect(),
             options,
             cut: None,
+            possible: Possible::default(),
         };
         for source in sources {
             shape_key(&source.choices, observation, &mut cache.key);
@@ -293,6 +299,7 @@ impl<'o> Streams<'o> {
                 live_bound: None,
             });
         }
+        streams.possible = std::mem::take(&mut cache.possible);
         streams
     }
 
@@ -300,6 +307,7 @@ impl<'o> Streams<'o> {
     /// a certificate under this cycle's costs replaces an older one (the next cycle's costs will
     /// be compared with it), the highest bound winning among this cycle's.
     pub(crate) fn put_back(self, cache: &mut SolutionCache) {
+        cache.possible = self.possible;
         let mut renewed: Vec<Option<(Rc<Choices>, f64)>> = vec![None; self.known.len()];
         for stream in &self.streams {
             if let Some(bound) = stream.live_bound {
@@ -319,6 +327,35 @@ impl<'o> Streams<'o> {
             }
             cache.known[slot] = known;
         }
+    }
+
+    /// Σ p over the next modes of source `k` that a solution consistent with the observation may
+    /// take, multiplied over the components: a bound on the probability of the source's feasible
+    /// targets (relative to the source), tighter than 1 when the observation refutes some next
+    /// modes on their own (a fault whose mode constraint contradicts a reading).
+    pub(crate) fn possible_mass(&mut self, k: usize, plant: &Plant, theory: &mut Theory) -> f64 {
+        let stream = &self.streams[k];
+        let possible = &mut self.possible;
+        let mask = self.known[stream.shape].possible.get_or_insert_with(|| {
+            stream
+                .choices
+                .iter()
+                .enumerate()
+                .flat_map(|(c, next)| next.iter().map(move |n| (c, n.mode)))
+                .map(|(c, mode)| possible.allows(plant, theory, c, mode))
+                .collect()
+        });
+        let mut allowed = mask.iter();
+        stream
+            .choices
+            .iter()
+            .map(|next| {
+                next.iter()
+                    .filter(|_| allowed.next().copied().unwrap_or(true))
+                    .map(|n| n.probability)
+                    .sum::<f64>()
+            })
+            .product()
     }
 
     /// The next modes of solution `i` of source `k` (which [`Streams::cost`] has fetched).

@@ -10,8 +10,11 @@
 //!   §6.2.2, `p · (F(c+δ) − F(c)) / (1 − F(c))`, where `F` is the distribution's CDF on the clock.
 //!   Over several steps these compose to `p`-weighted `F`: with `p = 1`, the probability of having
 //!   fired by clock `c` is exactly `F(c)` whatever the cycle period. Once the distribution's mass
-//!   is spent (`F(c) = 1`, e.g. past a uniform window) the transition is overdue and fires with
-//!   probability `p`.
+//!   is spent (`F(c) = 1` exactly, e.g. past a uniform window) the transition is overdue and
+//!   fires with probability `p`. A Gaussian's mass is never spent: far in its upper tail the
+//!   conditional form is evaluated in log space (`1 − e^(ln S(c+δ) − ln S(c))`, with the
+//!   asymptotic Mills-ratio series where `erfc` would underflow), so an overdue Gaussian event
+//!   keeps the design's hazard rather than jumping to `p` (issue 16, item 4).
 //!
 //! A mode's transitions combine into one distribution over next modes ([`mode_distribution`]):
 //! rates are *hazards that compete with everything else* — in a step a hazard strikes with
@@ -22,8 +25,10 @@
 
 use crate::logic::ValueId;
 
-/// Below this survival the distribution's mass counts as spent: the transition is overdue.
-const SPENT: f64 = 1e-12;
+/// Past this many standard deviations above a Gaussian's mean, `ln S` comes from the asymptotic
+/// series of the Mills ratio rather than from `erfc` (which underflows near 37.5 σ); at 30 σ the
+/// series' first omitted term is below 1e-15.
+const GAUSSIAN_SERIES_FROM: f64 = 30.0;
 
 /// How close to a window bound (a uniform's `lower` and `upper`, a fixed delay) a clock reading
 /// counts as *at* the bound, seconds. Such a reading is taken as this much past the bound (see
@@ -115,15 +120,20 @@ impl Timing {
     /// The conditional probability of firing in a step from clock `before` to `before + step`,
     /// given it had not fired by `before` (§6.2.2); 1 when overdue.
     pub fn conditional(&self, before: f64, step: f64) -> f64 {
-        if let Timing::Exponential { rate } = *self {
-            return 1.0 - (-rate * step.max(0.0)).exp();
-        }
-        let (from, to) = (self.reading(before), self.reading(before + step.max(0.0)));
+        let (from, to) = match *self {
+            Timing::Exponential { rate } => return 1.0 - (-rate * step.max(0.0)).exp(),
+            Timing::Gaussian { mean, sd } => {
+                // 1 − S(to)/S(from), from the log survivals: accurate in both tails.
+                let ratio = gaussian_log_survival_ratio((before - mean) / sd, step.max(0.0) / sd);
+                return (-ratio.exp_m1()).clamp(0.0, 1.0);
+            }
+            _ => (self.reading(before), self.reading(before + step.max(0.0))),
+        };
         let survived = self.survival(from);
-        if survived <= SPENT {
+        if survived <= 0.0 {
             return 1.0;
         }
-        (self.mass_between(from, to) / survived).clamp(0.0, 1.0)
+        ((survived - self.survival(to)) / survived).clamp(0.0, 1.0)
     }
 
     /// The clock reading the window is evaluated at: a positive reading within
@@ -142,19 +152,42 @@ impl Timing {
             _ => clock,
         }
     }
+}
 
-    /// `F(to) − F(from)` for `from <= to`, from the tail where it is accurate: long before a
-    /// Gaussian's mean `1 − F` rounds to 1, and the difference of two survivals to 0, so the
-    /// probability of an early event (an atmospheric entry minutes before the predicted time)
-    /// would come out as exactly 0; the lower tail's CDF keeps it.
-    fn mass_between(&self, from: f64, to: f64) -> f64 {
-        match *self {
-            Timing::Gaussian { mean, sd } if to <= mean => {
-                let cdf = |x: f64| 0.5 * libm::erfc((mean - x) / (sd * std::f64::consts::SQRT_2));
-                cdf(to) - cdf(from)
-            }
-            _ => self.survival(from) - self.survival(to),
-        }
+/// `ln S(z)` of the standard normal, `S = 1 − Φ`, accurate everywhere: below the mean from the
+/// lower tail (`ln(1 − Φ(z))` with `Φ(z)` tiny long before the mean — an atmospheric entry
+/// minutes early keeps its small probability), above it from `erfc`, and past
+/// [`GAUSSIAN_SERIES_FROM`] from the asymptotic series.
+fn gaussian_log_survival(z: f64) -> f64 {
+    if z < 0.0 {
+        (-0.5 * libm::erfc(-z / std::f64::consts::SQRT_2)).ln_1p()
+    } else if z < GAUSSIAN_SERIES_FROM {
+        (0.5 * libm::erfc(z / std::f64::consts::SQRT_2)).ln()
+    } else {
+        -0.5 * z * z - z.ln() - 0.5 * (2.0 * std::f64::consts::PI).ln() + mills_series(z).ln()
+    }
+}
+
+/// `z·S(z)/φ(z)` for large `z`: `1 − 1/z² + 3/z⁴ − 15/z⁶ + …` (Abramowitz & Stegun 26.2.12),
+/// to the 1/z¹² term.
+fn mills_series(z: f64) -> f64 {
+    let w = 1.0 / (z * z);
+    [1.0, -1.0, 3.0, -15.0, 105.0, -945.0, 10395.0]
+        .iter()
+        .rev()
+        .fold(0.0, |acc, c| acc * w + c)
+}
+
+/// `ln S(from + step) − ln S(from)` of the standard normal (in standard deviations, `step >=
+/// 0`). Far in the upper tail both logs are large and nearly equal, so the difference is taken
+/// term by term there: `−step·(2·from + step)/2 − ln(to/from) + ln(M(to)/M(from))`.
+fn gaussian_log_survival_ratio(from: f64, step: f64) -> f64 {
+    let to = from + step;
+    if from >= GAUSSIAN_SERIES_FROM {
+        -0.5 * step * (2.0 * from + step) - (step / from).ln_1p()
+            + (mills_series(to) / mills_series(from)).ln()
+    } else {
+        gaussian_log_survival(to) - gaussian_log_survival(from)
     }
 }
 
@@ -406,6 +439,57 @@ mod tests {
         // Near and after the mean nothing changes.
         let near = entry.conditional(16790.0, 0.1);
         assert!((near - (1.0 - entry.survival(16790.1) / entry.survival(16790.0))).abs() < 1e-12);
+    }
+
+    #[test]
+    fn far_in_a_gaussians_upper_tail_the_conditional_form_still_holds() {
+        // Issue 16 item 4, DESIGN.md §6.2: p·(F(t) − F(t_prev))/(1 − F(t_prev)) however small
+        // the survival. It once fired with the nominal p as soon as the survival was ≤ 1e-12
+        // (from 7 σ on). The reference is the formula itself on `erfc`, whose ratio is accurate
+        // to ~1e-15 relative wherever it does not underflow (below ~37 σ); the log-space form
+        // switches to the asymptotic series at 30 σ, so 30–36 σ checks the series too.
+        let unit = Timing::Gaussian { mean: 0.0, sd: 1.0 };
+        let exact = |from: f64, step: f64| {
+            let s = |z: f64| libm::erfc(z / std::f64::consts::SQRT_2);
+            1.0 - s(from + step) / s(from)
+        };
+        for from in [
+            -3.0, 0.0, 5.0, 7.0, 8.0, 10.0, 20.0, 29.99, 30.0, 31.0, 33.5, 36.0,
+        ] {
+            for step in [0.001, 0.05, 0.5] {
+                let p = unit.conditional(from, step);
+                let q = exact(from, step);
+                assert!(
+                    (p - q).abs() <= 1e-12 + 1e-9 * q,
+                    "{from} σ + {step}: {p} vs {q}"
+                );
+            }
+        }
+        // At 8 σ, 0.1 s on a 1 s deviation: about 0.55, not the nominal 1.
+        let law = TransitionLaw::Timed {
+            probability: 0.989,
+            timing: Timing::Gaussian {
+                mean: 100.0,
+                sd: 1.0,
+            },
+        };
+        let p = law.step_probability(Some(108.0), 0.1);
+        assert!((p - 0.989 * exact(8.0, 0.1)).abs() < 1e-12, "{p}");
+        assert!(p < 0.6, "{p}");
+        // Beyond erfc's range the hazard keeps growing with the clock, never past 1.
+        let far: Vec<f64> = [40.0, 100.0, 1e4]
+            .iter()
+            .map(|z| unit.conditional(*z, 0.001))
+            .collect();
+        assert!(
+            far.windows(2).all(|w| w[0] < w[1] && w[1] <= 1.0),
+            "{far:?}"
+        );
+        // At 40 σ for 1e-3 σ: S(z+δ)/S(z) ≈ e^(−δ(2z+δ)/2)·z/(z+δ) (the series' ratio is
+        // 1 + O(δ/z³)), so the hazard is ≈ 0.0392.
+        let (z, d) = (40.0f64, 1e-3);
+        let approx = 1.0 - (-0.5 * d * (2.0 * z + d) - (d / z).ln_1p()).exp();
+        assert!((far[0] - approx).abs() < 1e-7, "{} vs {approx}", far[0]);
     }
 
     #[test]

@@ -28,6 +28,10 @@ pub enum Behaviour {
     Follow,
     /// unconstrained
     Free,
+    /// `in = hi and out = hi` (only with an input; else unconstrained): a mode that needs its
+    /// supply, so that it and a low upstream output violate the connection together (the broad
+    /// generator only).
+    Powered,
 }
 
 /// When a timed transition fires.
@@ -168,6 +172,9 @@ impl ComponentSpec {
                 Behaviour::Low => format!("{name}.out = lo"),
                 Behaviour::High => format!("{name}.out = hi"),
                 Behaviour::Follow if self.coupled => format!("{name}.out = {name}.in"),
+                Behaviour::Powered if self.coupled => {
+                    format!("{name}.in = hi and {name}.out = hi")
+                }
                 _ => "true".into(),
             };
             modes.push(format!(
@@ -375,6 +382,64 @@ fn component() -> impl Strategy<Value = ComponentSpec> {
         )
 }
 
+/// A component of the broad generator (issue 16, item 3): powered modes that can violate the
+/// connections, more transitions (every timing kind), faults by probability and by rate up to
+/// 0.05/s, fewer observables and more coupling, so that beliefs spread over many clock-distinct
+/// system states.
+fn broad_component() -> impl Strategy<Value = ComponentSpec> {
+    let behaviour = prop_oneof![
+        Just(Behaviour::Low),
+        Just(Behaviour::High),
+        Just(Behaviour::Follow),
+        Just(Behaviour::Free),
+        Just(Behaviour::Powered),
+    ];
+    let fault = prop::option::weighted(
+        0.9,
+        (
+            any::<bool>(),
+            prop_oneof![
+                prop::sample::select(vec![0.001, 0.005, 0.02, 0.05]).prop_map(FaultSpec::PerCycle),
+                prop::sample::select(vec![0.001, 0.01, 0.05]).prop_map(FaultSpec::Rate),
+            ],
+        ),
+    );
+    (
+        prop::collection::vec(behaviour, 2..=3),
+        fault,
+        prop::bool::weighted(0.6),
+        prop::bool::weighted(0.5),
+        prop::bool::weighted(0.8),
+        prop::collection::vec(transition(), 2..=6),
+        prop::sample::select(vec![1.0, 0.9, 0.7, 0.5]),
+    )
+        .prop_map(
+            |(behaviours, fault, commanded, observed, coupled, transitions, initial)| {
+                ComponentSpec {
+                    behaviours,
+                    fault,
+                    commanded,
+                    observed,
+                    coupled,
+                    transitions,
+                    initial,
+                }
+            },
+        )
+}
+
+/// Broad random plants of 2..=`max_components` components (see [`broad_component`]).
+pub fn broad_plant(max_components: usize) -> impl Strategy<Value = RandomPlant> {
+    prop::collection::vec(broad_component(), 2..=max_components.max(2)).prop_map(
+        |mut components| {
+            if let Some(first) = components.first_mut() {
+                first.coupled = false;
+            }
+            RandomPlant { components }
+        },
+    )
+}
+
 /// Random plants of 1..=`max_components` components (2–4 modes each).
 pub fn random_plant(max_components: usize) -> impl Strategy<Value = RandomPlant> {
     prop::collection::vec(component(), 1..=max_components).prop_map(|mut components| {
@@ -397,6 +462,15 @@ pub struct RandomRun {
 
 /// Runs of up to `max_steps` steps for plants of up to `max_components` components.
 pub fn random_run(max_components: usize, max_steps: usize) -> impl Strategy<Value = RandomRun> {
+    runs(max_components, 2, max_steps)
+}
+
+/// Runs of `min_steps..=max_steps` steps for plants of up to `max_components` components.
+pub fn runs(
+    max_components: usize,
+    min_steps: usize,
+    max_steps: usize,
+) -> impl Strategy<Value = RandomRun> {
     let uniforms = prop::collection::vec(0.0..1.0f64, 3 * max_components);
     let step = (
         prop::sample::select(vec![0.1, 0.4, 1.0, 2.5]),
@@ -407,7 +481,7 @@ pub fn random_run(max_components: usize, max_steps: usize) -> impl Strategy<Valu
         uniforms.clone(),
         prop::bool::weighted(0.1),
     );
-    (prop::collection::vec(step, 2..=max_steps), uniforms)
+    (prop::collection::vec(step, min_steps..=max_steps), uniforms)
         .prop_map(|(steps, start)| RandomRun { steps, start })
 }
 
