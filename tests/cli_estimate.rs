@@ -123,6 +123,8 @@ fn estimate_prints_changes_unless_full() {
     assert_eq!(cycles(&full), 16, "{full}");
     assert!(cycles(&changes) < 16 && left_out > 0, "{changes}");
     assert_eq!(cycles(&changes) + left_out, 16, "{changes}");
+}
+
 /// Issue 16, item 1 (DESIGN.md §6.2 "Expected behaviour", §8 "merge ... summing their
 /// probabilities"): the engine alone heating in Uniform(30, 60) s, nothing observed. The exact
 /// update never holds more than 3 system states (heating, standby, failed), so TimedME at κ = 3
@@ -139,6 +141,7 @@ fn timed_me_at_kappa_3_is_the_exact_update_of_the_heating_engine() {
             "--log",
             "tests/logs/engine_heating.jsonl",
             "--json",
+            "--full",
         ];
         args.extend_from_slice(extra);
         let (code, stdout, stderr) = kairos(&args);
