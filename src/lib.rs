@@ -11,6 +11,7 @@
 pub mod diagnostic;
 pub mod estimation;
 pub mod executive;
+pub mod goalnet;
 pub mod logic;
 pub mod opsat;
 pub mod plant;

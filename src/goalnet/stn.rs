@@ -1,0 +1,401 @@
+//! The Simple Temporal Network of a goal network (mds-goal-networks.md §1.5, DESIGN.md §15.1).
+//!
+//! Each constraint `min ≤ t(to) − t(from) ≤ max` becomes two edges of the *distance graph*:
+//! `from → to` weighted `max` and `to → from` weighted `−min` (an infinite bound gives no edge).
+//! The origin `Z` stands for absolute time 0 and every point is at or after it. The network is
+//! consistent iff the distance graph has no negative cycle, and the window of a point `p` is
+//! `[−d(p, Z), d(Z, p)]`, where `d` is the shortest-path distance.
+//!
+//! Propagation keeps the two single-source distance vectors `d(Z, ·)` (on the distance graph) and
+//! `d(·, Z)` (on the reversed graph, where every point is reachable from `Z` through its
+//! `[0, +∞)` constraint to the origin, so every negative cycle is found from there).
+//! - A full propagation runs petgraph's Bellman–Ford on both.
+//! - Adding constraints to a propagated network (grounding a fired point, a scheduler's
+//!   serialisation) re-propagates incrementally: label-correcting relaxation (FIFO, as in
+//!   Bellman–Ford's queue variant) from the new edges only, which touches only the points
+//!   whose bounds change. A point queued more often than there are points signals a negative
+//!   cycle; a full Bellman–Ford then decides, and the cycle is extracted (Bellman–Ford with
+//!   predecessor edges, walked back into the cycle) and named by its constraints.
+
+use std::collections::VecDeque;
+
+use petgraph::algo::bellman_ford;
+use petgraph::graph::{DiGraph, EdgeIndex, NodeIndex};
+use petgraph::visit::{EdgeRef, Reversed};
+
+use super::temporal_constraint::{ConstraintId, Provenance, TemporalConstraint};
+use super::time_point::TimePointId;
+
+/// The earliest and latest time a point may fire (`lb ≤ t(p) ≤ ub`; `ub` may be `+∞`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Window {
+    /// The earliest time, seconds.
+    pub lb: f64,
+    /// The latest time, seconds (`f64::INFINITY` when unbounded).
+    pub ub: f64,
+}
+
+/// The network has no solution: the constraints of a negative cycle of the distance graph, in
+/// cycle order (each at most once).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Inconsistency {
+    /// The constraints whose bounds add up to a negative cycle.
+    pub cycle: Vec<ConstraintId>,
+}
+
+/// A constraint the network refuses outright.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StnError {
+    /// A point not in this network.
+    #[error("time point {0} is not in the network")]
+    UnknownPoint(u32),
+    /// NaN bounds, `min > max`, or a bound infinite on the wrong side.
+    #[error("bounds [{min}, {max}] describe no interval")]
+    BadBounds {
+        /// The lower bound given.
+        min: f64,
+        /// The upper bound given.
+        max: f64,
+    },
+}
+
+/// Distances from and to the origin after a successful propagation.
+#[derive(Debug, Clone)]
+struct Distances {
+    /// `d(Z, p)`: the latest time of `p`.
+    from_origin: Vec<f64>,
+    /// `d(p, Z)`: minus the earliest time of `p`.
+    to_origin: Vec<f64>,
+}
+
+/// A simple temporal network over time points, with its distance graph and (once propagated)
+/// every point's window.
+#[derive(Debug, Clone)]
+pub struct Stn {
+    constraints: Vec<TemporalConstraint>,
+    graph: DiGraph<(), f64>,
+    /// The constraint each edge of `graph` comes from, by edge index.
+    edge_constraint: Vec<ConstraintId>,
+    /// `None` until propagated, and after an inconsistency.
+    distances: Option<Distances>,
+    /// Edges added since the last propagation (relaxed incrementally).
+    pending: Vec<EdgeIndex>,
+}
+
+impl Default for Stn {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Stn {
+    /// A network holding only the origin.
+    pub fn new() -> Self {
+        let mut graph = DiGraph::new();
+        graph.add_node(());
+        Stn {
+            constraints: Vec::new(),
+            graph,
+            edge_constraint: Vec::new(),
+            distances: Some(Distances {
+                from_origin: vec![0.0],
+                to_origin: vec![0.0],
+            }),
+            pending: Vec::new(),
+        }
+    }
+
+    /// Number of points, the origin included.
+    pub fn point_count(&self) -> usize {
+        self.graph.node_count()
+    }
+
+    /// Every constraint, in the order added (the `[0, +∞)` constraint of each point included).
+    pub fn constraints(&self) -> &[TemporalConstraint] {
+        &self.constraints
+    }
+
+    /// One constraint.
+    pub fn constraint(&self, id: ConstraintId) -> &TemporalConstraint {
+        &self.constraints[id.index()]
+    }
+
+    /// Adds a point, at or after the origin.
+    pub fn add_point(&mut self) -> TimePointId {
+        let node = self.graph.add_node(());
+        let point = TimePointId(node.index() as u32);
+        if let Some(distances) = &mut self.distances {
+            // Unconstrained but for [0, +∞) from the origin: the window is [0, +∞).
+            distances.from_origin.push(f64::INFINITY);
+            distances.to_origin.push(0.0);
+        }
+        let after = TemporalConstraint::before(TimePointId::ORIGIN, point, Provenance::AfterOrigin);
+        self.insert(after);
+        point
+    }
+
+    /// Adds a constraint; the windows are brought up to date by the next [`Stn::propagate`].
+    pub fn add_constraint(
+        &mut self,
+        constraint: TemporalConstraint,
+    ) -> Result<ConstraintId, StnError> {
+        for point in [constraint.from, constraint.to] {
+            if point.index() >= self.point_count() {
+                return Err(StnError::UnknownPoint(point.0));
+            }
+        }
+        if !constraint.bounds_are_valid() {
+            return Err(StnError::BadBounds {
+                min: constraint.min,
+                max: constraint.max,
+            });
+        }
+        Ok(self.insert(constraint))
+    }
+
+    fn insert(&mut self, constraint: TemporalConstraint) -> ConstraintId {
+        let id = ConstraintId(self.constraints.len() as u32);
+        let from = NodeIndex::new(constraint.from.index());
+        let to = NodeIndex::new(constraint.to.index());
+        if constraint.max.is_finite() {
+            self.add_edge(from, to, constraint.max, id);
+        }
+        if constraint.min.is_finite() {
+            self.add_edge(to, from, -constraint.min, id);
+        }
+        self.constraints.push(constraint);
+        id
+    }
+
+    fn add_edge(&mut self, from: NodeIndex, to: NodeIndex, weight: f64, id: ConstraintId) {
+        let edge = self.graph.add_edge(from, to, weight);
+        self.edge_constraint.push(id);
+        self.pending.push(edge);
+    }
+
+    /// Fixes a fired point at `time` (`Z → p ∈ [τ, τ]`, AG §1.2.7 d) and re-propagates
+    /// incrementally.
+    pub fn ground(&mut self, point: TimePointId, time: f64) -> Result<(), GroundError> {
+        let constraint =
+            TemporalConstraint::new(TimePointId::ORIGIN, point, time, time, Provenance::Fired);
+        self.add_constraint(constraint)
+            .map_err(GroundError::Refused)?;
+        self.propagate().map_err(GroundError::Inconsistent)
+    }
+
+    /// Brings every window up to date: incrementally from the constraints added since the last
+    /// successful propagation, or in full after an inconsistency.
+    pub fn propagate(&mut self) -> Result<(), Inconsistency> {
+        let pending = std::mem::take(&mut self.pending);
+        // The relaxation's cycle test is a bound on work; Bellman–Ford has the last word.
+        let incremental = self
+            .distances
+            .take()
+            .and_then(|mut distances| self.relax(&mut distances, &pending).then_some(distances))
+            .or_else(|| self.full());
+        match incremental {
+            Some(distances) => {
+                self.distances = Some(distances);
+                Ok(())
+            }
+            None => Err(Inconsistency {
+                cycle: self.negative_cycle(),
+            }),
+        }
+    }
+
+    /// Full propagation by Bellman–Ford from the origin in both directions; `None` when the
+    /// distance graph has a negative cycle.
+    fn full(&self) -> Option<Distances> {
+        let origin = NodeIndex::new(0);
+        // The reversed graph reaches every point, so any negative cycle shows here.
+        let to_origin = bellman_ford(Reversed(&self.graph), origin).ok()?.distances;
+        let from_origin = bellman_ford(&self.graph, origin).ok()?.distances;
+        Some(Distances {
+            from_origin,
+            to_origin,
+        })
+    }
+
+    /// Incremental re-propagation from new edges; false on a negative cycle.
+    fn relax(&self, distances: &mut Distances, new_edges: &[EdgeIndex]) -> bool {
+        let limit = self.point_count() + 1;
+        let mut backward = Vec::new();
+        let mut forward = Vec::new();
+        for &edge in new_edges {
+            let (from, to) = self.graph.edge_endpoints(edge).unwrap_or_default();
+            let weight = self.graph[edge];
+            forward.push((from, to, weight));
+            backward.push((to, from, weight));
+        }
+        // Backward first: the reversed graph reaches every point, so it finds every cycle.
+        relax_from(
+            Reversed(&self.graph),
+            &mut distances.to_origin,
+            &backward,
+            limit,
+        ) && relax_from(&self.graph, &mut distances.from_origin, &forward, limit)
+    }
+
+    /// The constraints of a negative cycle (empty if there is none).
+    fn negative_cycle(&self) -> Vec<ConstraintId> {
+        let Some(edges) = self.cycle_edges() else {
+            return Vec::new();
+        };
+        let mut cycle = Vec::new();
+        for edge in edges {
+            let id = self.edge_constraint[edge.index()];
+            if !cycle.contains(&id) {
+                cycle.push(id);
+            }
+        }
+        cycle
+    }
+
+    /// The edges of a negative cycle, in cycle order: Bellman–Ford on the reversed graph from
+    /// the origin (which reaches every point) with predecessor edges; a point still improved in
+    /// the n-th pass leads back, through n predecessor steps, into a cycle.
+    fn cycle_edges(&self) -> Option<Vec<EdgeIndex>> {
+        let n = self.point_count();
+        let mut dist = vec![f64::INFINITY; n];
+        let mut pred: Vec<Option<EdgeIndex>> = vec![None; n];
+        dist[0] = 0.0;
+        let mut last = None;
+        for _ in 0..n {
+            last = None;
+            for edge in self.graph.edge_references() {
+                // Reversed: the edge from → to is walked to → from.
+                let (from, to) = (edge.target().index(), edge.source().index());
+                if dist[from] + edge.weight() < dist[to] {
+                    dist[to] = dist[from] + edge.weight();
+                    pred[to] = Some(edge.id());
+                    last = Some(to);
+                }
+            }
+            last?;
+        }
+        let mut node = last?;
+        for _ in 0..n {
+            node = self.graph.edge_endpoints(pred[node]?)?.1.index();
+        }
+        let start = node;
+        let mut edges = Vec::new();
+        loop {
+            let edge = pred[node]?;
+            edges.push(edge);
+            node = self.graph.edge_endpoints(edge)?.1.index();
+            if node == start || edges.len() > n {
+                break;
+            }
+        }
+        edges.reverse();
+        Some(edges)
+    }
+
+    /// Whether the last propagation succeeded and nothing was added since.
+    pub fn is_propagated(&self) -> bool {
+        self.distances.is_some() && self.pending.is_empty()
+    }
+
+    /// The window of a point as of the last successful propagation (`None` before one, after an
+    /// inconsistency, or for a point added since).
+    pub fn window(&self, point: TimePointId) -> Option<Window> {
+        let distances = self.distances.as_ref()?;
+        let ub = *distances.from_origin.get(point.index())?;
+        let to_origin = *distances.to_origin.get(point.index())?;
+        Some(Window { lb: -to_origin, ub })
+    }
+
+    /// The shortest-path distance `d(a, b)`: the latest `t(b) − t(a)` the network allows
+    /// (`+∞` when unbounded; `None` when the network is inconsistent). Bellman–Ford from `a`:
+    /// the scheduler asks this for a handful of pairs, not for every pair.
+    pub fn distance(&self, a: TimePointId, b: TimePointId) -> Option<f64> {
+        if a.index() >= self.point_count() || b.index() >= self.point_count() {
+            return None;
+        }
+        let paths = bellman_ford(&self.graph, NodeIndex::new(a.index())).ok()?;
+        paths.distances.get(b.index()).copied()
+    }
+}
+
+/// Why grounding a point failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GroundError {
+    /// The point or the time is not acceptable (unknown point, NaN time).
+    Refused(StnError),
+    /// Firing then contradicts the network (possible only for a forced firing, §2.4).
+    Inconsistent(Inconsistency),
+}
+
+/// Label-correcting relaxation (a FIFO queue, Bellman–Ford's queue form) of single-source
+/// distances `dist` from the origin over `graph`, starting from the given new edges
+/// `(from, to, weight)`. False on a negative cycle: the origin's own distance drops below 0, or
+/// a point is queued more than `limit` times.
+fn relax_from<G>(
+    graph: G,
+    dist: &mut [f64],
+    new_edges: &[(NodeIndex, NodeIndex, f64)],
+    limit: usize,
+) -> bool
+where
+    G: petgraph::visit::IntoEdges<NodeId = NodeIndex, EdgeWeight = f64>,
+{
+    let mut relaxation = Relaxation {
+        queue: VecDeque::new(),
+        queued: vec![false; dist.len()],
+        enqueued: vec![0; dist.len()],
+        limit,
+        dist,
+    };
+    for &(from, to, weight) in new_edges {
+        let value = relaxation.dist[from.index()] + weight;
+        if !relaxation.improve(to, value) {
+            return false;
+        }
+    }
+    while let Some(node) = relaxation.queue.pop_front() {
+        relaxation.queued[node.index()] = false;
+        let base = relaxation.dist[node.index()];
+        for edge in graph.edges(node) {
+            if !relaxation.improve(edge.target(), base + *edge.weight()) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// The state of one incremental relaxation.
+struct Relaxation<'a> {
+    dist: &'a mut [f64],
+    queue: VecDeque<NodeIndex>,
+    queued: Vec<bool>,
+    enqueued: Vec<usize>,
+    limit: usize,
+}
+
+impl Relaxation<'_> {
+    /// Lowers `node`'s distance to `value` if that improves it; false on a negative cycle.
+    fn improve(&mut self, node: NodeIndex, value: f64) -> bool {
+        let i = node.index();
+        if value >= self.dist[i] {
+            return true;
+        }
+        if i == 0 {
+            // d(Z, Z) < 0: a negative cycle through the origin.
+            return false;
+        }
+        self.dist[i] = value;
+        if !self.queued[i] {
+            // FIFO order: a point is queued at most once per pass, and passes past the number of
+            // points only happen around a negative cycle.
+            self.enqueued[i] += 1;
+            if self.enqueued[i] > self.limit {
+                return false;
+            }
+            self.queued[i] = true;
+            self.queue.push_back(node);
+        }
+        true
+    }
+}
