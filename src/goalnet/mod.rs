@@ -10,10 +10,12 @@
 //!   negative cycle named by its constraints;
 //! - [`ConstraintSet`]: a constraint on one SV's values and its algebra (merge, subset);
 //! - [`Goal`] (kind [`GoalKind`]), [`XGoal`] (the merge of goals on one SV over an interval);
-//! - [`GoalNetwork`] (unscheduled) and [`ExecutableNetwork`] (scheduled, per-SV timelines).
+//! - [`GoalNetwork`] (unscheduled) and [`ExecutableNetwork`] (scheduled, per-SV timelines);
+//! - [`mission`]: the mission file (RON, `missions/`) and its loader, [`Mission`].
 
 mod constraint_set;
 mod goal;
+pub mod mission;
 mod network;
 mod stn;
 mod temporal_constraint;
@@ -22,6 +24,7 @@ mod xgoal;
 
 pub use constraint_set::ConstraintSet;
 pub use goal::{Goal, GoalId, GoalKind};
+pub use mission::{Mission, MissionErrors};
 pub use network::{ExecutableNetwork, GoalNetwork, ORIGIN_NAME, Timeline};
 pub use stn::{GroundError, Inconsistency, Stn, StnError, Window};
 pub use temporal_constraint::{ConstraintId, Provenance, TemporalConstraint};

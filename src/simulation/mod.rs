@@ -145,6 +145,7 @@ use std::time::Duration;
 
 pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
 pub use format::EventName;
+pub(crate) use load::resolve_path;
 pub use load::{DEFAULT_KAPPA, load, load_source};
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
 pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
