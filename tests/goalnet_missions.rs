@@ -36,10 +36,10 @@ bad_mission!(syntax_error, "syntax_error.ron:4:5");
 bad_mission!(missing_plant, "missing_plant.ron:3:13", "cannot read");
 bad_mission!(
     unknown_point,
-    "unknown_point.ron:6:48",
+    "unknown_point.ron:6:53",
     "`TP_E`",
-    "did you mean `TP_S`",
-    "`TP_Ed`"
+    "did you mean `TP_End`",
+    "unknown_point.ron:7:126"
 );
 bad_mission!(unknown_sv, "unknown_sv.ron:6:43", "did you mean `switch1`");
 bad_mission!(unknown_value, "unknown_value.ron:6:", "shut");
