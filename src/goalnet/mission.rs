@@ -631,6 +631,7 @@ pub(crate) fn seconds(bound: f64) -> String {
     match bound {
         f64::INFINITY => "+∞".to_string(),
         f64::NEG_INFINITY => "−∞".to_string(),
-        b => b.to_string(),
+        // `+ 0.0` turns −0 (the origin's lower bound, −d(Z, Z)) into 0.
+        b => (b + 0.0).to_string(),
     }
 }

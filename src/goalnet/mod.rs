@@ -11,12 +11,16 @@
 //! - [`ConstraintSet`]: a constraint on one SV's values and its algebra (merge, subset);
 //! - [`Goal`] (kind [`GoalKind`]), [`XGoal`] (the merge of goals on one SV over an interval);
 //! - [`GoalNetwork`] (unscheduled) and [`ExecutableNetwork`] (scheduled, per-SV timelines);
+//! - [`schedule()`]: merging and scheduling into an [`ExecutableNetwork`] or a [`ScheduleError`];
+//!   [`display`] renders both for people;
 //! - [`mission`]: the mission file (RON, `missions/`) and its loader, [`Mission`].
 
 mod constraint_set;
+pub mod display;
 mod goal;
 pub mod mission;
 mod network;
+mod schedule;
 mod stn;
 mod temporal_constraint;
 mod time_point;
@@ -26,6 +30,7 @@ pub use constraint_set::ConstraintSet;
 pub use goal::{Goal, GoalId, GoalKind};
 pub use mission::{Mission, MissionErrors};
 pub use network::{ExecutableNetwork, GoalNetwork, ORIGIN_NAME, Timeline};
+pub use schedule::{ScheduleError, schedule};
 pub use stn::{GroundError, Inconsistency, Stn, StnError, Window};
 pub use temporal_constraint::{ConstraintId, Provenance, TemporalConstraint};
 pub use time_point::{TimePoint, TimePointId};
