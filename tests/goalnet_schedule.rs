@@ -112,7 +112,10 @@ fn incompatible_goals_are_serialised() {
             _ => None,
         })
         .collect();
-    assert_eq!(reasons, ["end(close) ≤ start(open)", "end(closed) ≤ start(open)"]);
+    assert_eq!(
+        reasons,
+        ["end(close) ≤ start(open)", "end(closed) ≤ start(open)"]
+    );
     let point = |n: &str| network.point_named(n).unwrap();
     let window = network.stn().window(point("c")).unwrap();
     assert_eq!(

@@ -13,10 +13,13 @@
 //! - [`GoalNetwork`] (unscheduled) and [`ExecutableNetwork`] (scheduled, per-SV timelines);
 //! - [`schedule()`]: merging and scheduling into an [`ExecutableNetwork`] or a [`ScheduleError`];
 //!   [`display`] renders both for people;
+//! - [`Execution`]: firing, grounding, dispatch and monitoring, one cycle at a time, and the
+//!   configuration goal the active XGoals give mode reconfiguration;
 //! - [`mission`]: the mission file (RON, `missions/`) and its loader, [`Mission`].
 
 mod constraint_set;
 pub mod display;
+mod execution;
 mod goal;
 pub mod mission;
 mod network;
@@ -27,6 +30,7 @@ mod time_point;
 mod xgoal;
 
 pub use constraint_set::ConstraintSet;
+pub use execution::{EstimateView, Execution, FailureReason, GoalEvent};
 pub use goal::{Goal, GoalId, GoalKind};
 pub use mission::{Mission, MissionErrors};
 pub use network::{ExecutableNetwork, GoalNetwork, ORIGIN_NAME, Timeline};
