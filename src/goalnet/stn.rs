@@ -97,10 +97,8 @@ impl Stn {
             constraints: Vec::new(),
             graph,
             edge_constraint: Vec::new(),
-            distances: Some(Distances {
-                from_origin: vec![0.0],
-                to_origin: vec![0.0],
-            }),
+            // The first propagation is a full one (petgraph's Bellman–Ford).
+            distances: None,
             pending: Vec::new(),
         }
     }
@@ -183,8 +181,8 @@ impl Stn {
         self.propagate().map_err(GroundError::Inconsistent)
     }
 
-    /// Brings every window up to date: incrementally from the constraints added since the last
-    /// successful propagation, or in full after an inconsistency.
+    /// Brings every window up to date: in full the first time and after an inconsistency,
+    /// incrementally from the constraints added since the last successful propagation.
     pub fn propagate(&mut self) -> Result<(), Inconsistency> {
         let pending = std::mem::take(&mut self.pending);
         // The relaxation's cycle test is a bound on work; Bellman–Ford has the last word.
