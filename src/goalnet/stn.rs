@@ -14,7 +14,8 @@
 //!   serialisation) re-propagates incrementally: label-correcting relaxation (FIFO, as in
 //!   Bellman–Ford's queue variant) from the new edges only, which touches only the points
 //!   whose bounds change. A point queued more often than there are points signals a negative
-//!   cycle; a full Bellman–Ford then decides, and the cycle is extracted (Bellman–Ford with
+//!   cycle, and relaxation past a work budget (twice the graph's size) would cost more than
+//!   starting over; in both cases a full Bellman–Ford decides, and the cycle is extracted (Bellman–Ford with
 //!   predecessor edges, walked back into the cycle) and named by its constraints.
 
 use std::collections::VecDeque;
@@ -218,6 +219,9 @@ impl Stn {
     /// Incremental re-propagation from new edges; false on a negative cycle.
     fn relax(&self, distances: &mut Distances, new_edges: &[EdgeIndex]) -> bool {
         let limit = self.point_count() + 1;
+        // Past this many improvements a full Bellman–Ford (which converges in a few passes on
+        // networks built in time order) is cheaper than relaxing on.
+        let budget = 2 * (self.graph.edge_count() + self.point_count());
         let mut backward = Vec::new();
         let mut forward = Vec::new();
         for &edge in new_edges {
@@ -231,8 +235,13 @@ impl Stn {
             Reversed(&self.graph),
             &mut distances.to_origin,
             &backward,
-            limit,
-        ) && relax_from(&self.graph, &mut distances.from_origin, &forward, limit)
+            (limit, budget),
+        ) && relax_from(
+            &self.graph,
+            &mut distances.from_origin,
+            &forward,
+            (limit, budget),
+        )
     }
 
     /// The constraints of a negative cycle (empty if there is none).
@@ -327,13 +336,14 @@ pub enum GroundError {
 
 /// Label-correcting relaxation (a FIFO queue, Bellman–Ford's queue form) of single-source
 /// distances `dist` from the origin over `graph`, starting from the given new edges
-/// `(from, to, weight)`. False on a negative cycle: the origin's own distance drops below 0, or
-/// a point is queued more than `limit` times.
+/// `(from, to, weight)`. False on a possible negative cycle — the origin's own distance drops
+/// below 0, or a point is queued more than `limit` times — or when the work exceeds `budget`
+/// improvements; the caller then propagates in full.
 fn relax_from<G>(
     graph: G,
     dist: &mut [f64],
     new_edges: &[(NodeIndex, NodeIndex, f64)],
-    limit: usize,
+    (limit, budget): (usize, usize),
 ) -> bool
 where
     G: petgraph::visit::IntoEdges<NodeId = NodeIndex, EdgeWeight = f64>,
@@ -343,6 +353,7 @@ where
         queued: vec![false; dist.len()],
         enqueued: vec![0; dist.len()],
         limit,
+        budget,
         dist,
     };
     for &(from, to, weight) in new_edges {
@@ -370,6 +381,8 @@ struct Relaxation<'a> {
     queued: Vec<bool>,
     enqueued: Vec<usize>,
     limit: usize,
+    /// Improvements left before handing over to a full propagation.
+    budget: usize,
 }
 
 impl Relaxation<'_> {
@@ -384,6 +397,10 @@ impl Relaxation<'_> {
             return false;
         }
         self.dist[i] = value;
+        self.budget = match self.budget.checked_sub(1) {
+            Some(left) => left,
+            None => return false,
+        };
         if !self.queued[i] {
             // FIFO order: a point is queued at most once per pass, and passes past the number of
             // points only happen around a negative cycle.
