@@ -20,7 +20,7 @@
 
 use std::collections::VecDeque;
 
-use petgraph::algo::bellman_ford;
+use petgraph::algo::{bellman_ford, dijkstra};
 use petgraph::graph::{DiGraph, EdgeIndex, NodeIndex};
 use petgraph::visit::{EdgeRef, Reversed};
 
@@ -203,45 +203,61 @@ impl Stn {
         }
     }
 
-    /// Full propagation by Bellman–Ford from the origin in both directions; `None` when the
+    /// Full propagation: Bellman–Ford on the reversed graph, then Dijkstra forward; `None` when the
     /// distance graph has a negative cycle.
     fn full(&self) -> Option<Distances> {
-        let origin = NodeIndex::new(0);
         // The reversed graph reaches every point, so any negative cycle shows here.
-        let to_origin = bellman_ford(Reversed(&self.graph), origin).ok()?.distances;
-        let from_origin = bellman_ford(&self.graph, origin).ok()?.distances;
+        let to_origin = bellman_ford(Reversed(&self.graph), NodeIndex::new(0))
+            .ok()?
+            .distances;
+        let from_origin = self.latest_times(&to_origin);
         Some(Distances {
             from_origin,
             to_origin,
         })
     }
 
-    /// Incremental re-propagation from new edges; false on a negative cycle.
+    /// Incremental re-propagation: the earliest times relaxed from the new edges, then the latest
+    /// times by Dijkstra; false on a (possible) negative cycle or past the work budget.
     fn relax(&self, distances: &mut Distances, new_edges: &[EdgeIndex]) -> bool {
         let limit = self.point_count() + 1;
-        // Past this many improvements a full Bellman–Ford (which converges in a few passes on
-        // networks built in time order) is cheaper than relaxing on.
+        // Past this many improvements a full propagation is cheaper than relaxing on.
         let budget = 2 * (self.graph.edge_count() + self.point_count());
-        let mut backward = Vec::new();
-        let mut forward = Vec::new();
-        for &edge in new_edges {
-            let (from, to) = self.graph.edge_endpoints(edge).unwrap_or_default();
-            let weight = self.graph[edge];
-            forward.push((from, to, weight));
-            backward.push((to, from, weight));
-        }
+        let backward: Vec<_> = new_edges
+            .iter()
+            .filter_map(|&edge| {
+                let (from, to) = self.graph.edge_endpoints(edge)?;
+                Some((to, from, self.graph[edge]))
+            })
+            .collect();
         // Backward first: the reversed graph reaches every point, so it finds every cycle.
-        relax_from(
+        if !relax_from(
             Reversed(&self.graph),
             &mut distances.to_origin,
             &backward,
             (limit, budget),
-        ) && relax_from(
-            &self.graph,
-            &mut distances.from_origin,
-            &forward,
-            (limit, budget),
-        )
+        ) {
+            return false;
+        }
+        distances.from_origin = self.latest_times(&distances.to_origin);
+        true
+    }
+
+    /// `d(Z, ·)` by petgraph's Dijkstra on reduced weights (Johnson): the earliest times
+    /// `t = −d(·, Z)` are a solution of the network, so `w(u → v) + t(u) − t(v) ≥ 0` on every
+    /// edge, and `d(Z, v)` is the reduced distance plus `t(v)`. Bellman–Ford would need as many
+    /// passes as the longest chain of negative edges (a grounded point bounds every point before
+    /// it, one pass each).
+    fn latest_times(&self, to_origin: &[f64]) -> Vec<f64> {
+        let earliest = |n: NodeIndex| -to_origin[n.index()];
+        let reduced = dijkstra(&self.graph, NodeIndex::new(0), None, |edge| {
+            (edge.weight() + earliest(edge.source()) - earliest(edge.target())).max(0.0)
+        });
+        let mut from_origin = vec![f64::INFINITY; self.point_count()];
+        for (node, distance) in reduced {
+            from_origin[node.index()] = distance + earliest(node);
+        }
+        from_origin
     }
 
     /// The constraints of a negative cycle (empty if there is none).
