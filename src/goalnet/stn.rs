@@ -9,14 +9,18 @@
 //! Propagation keeps the two single-source distance vectors `d(Z, ·)` (on the distance graph) and
 //! `d(·, Z)` (on the reversed graph, where every point is reachable from `Z` through its
 //! `[0, +∞)` constraint to the origin, so every negative cycle is found from there).
-//! - A full propagation runs petgraph's Bellman–Ford on both.
-//! - Adding constraints to a propagated network (grounding a fired point, a scheduler's
-//!   serialisation) re-propagates incrementally: label-correcting relaxation (FIFO, as in
-//!   Bellman–Ford's queue variant) from the new edges only, which touches only the points
-//!   whose bounds change. A point queued more often than there are points signals a negative
-//!   cycle, and relaxation past a work budget (twice the graph's size) would cost more than
-//!   starting over; in both cases a full Bellman–Ford decides, and the cycle is extracted (Bellman–Ford with
-//!   predecessor edges, walked back into the cycle) and named by its constraints.
+//! - The earliest times `−d(·, Z)`: a full propagation runs petgraph's Bellman–Ford on the
+//!   reversed graph; adding constraints to a propagated network (grounding a fired point, a
+//!   scheduler's serialisation) relaxes from the new edges only (FIFO label correcting), touching
+//!   only the points whose earliest time changes. A point queued more often than there are
+//!   points signals a negative cycle, and relaxation past a work budget (twice the graph's size)
+//!   would cost more than starting over: in both cases the full Bellman–Ford decides.
+//! - The latest times `d(Z, ·)`: petgraph's Dijkstra on weights reduced by the earliest times
+//!   (Johnson's reweighting; the earliest times are a solution, so reduced weights are ≥ 0).
+//!   Bellman–Ford needed a pass per point of a chain of negative edges there: grounding one point
+//!   of a 10,000-point chain took 1 s.
+//! - On a negative cycle, the cycle is extracted (Bellman–Ford with predecessor edges, walked
+//!   back into the cycle) and named by its constraints.
 
 use std::collections::VecDeque;
 
