@@ -142,3 +142,28 @@ fn the_know_all_mission_is_knowledge_only() {
     );
     assert!(mission.safe.goals().is_empty());
 }
+
+/// `kairos check` validates missions beside models and programs (issue 13 §5): the shipped
+/// missions pass, a bad one exits 2 with its located error.
+#[test]
+fn kairos_check_validates_missions() {
+    root();
+    let kairos = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_kairos"))
+            .args(args)
+            .output()
+            .expect("runs")
+    };
+    let good = kairos(&[
+        "check",
+        "missions/thermostat_stay_warm.ron",
+        "missions/thermostat_know_all.ron",
+    ]);
+    assert_eq!(good.status.code(), Some(0));
+    let stdout = String::from_utf8_lossy(&good.stdout);
+    assert!(stdout.contains("ok: missions/thermostat_stay_warm.ron: mission on models/thermostat.ron (6 time points, 13 goals)"), "{stdout}");
+    let bad = kairos(&["check", "tests/bad_missions/unknown_sv.ron"]);
+    assert_eq!(bad.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(stderr.contains("unknown_sv.ron:6:43"), "{stderr}");
+}
