@@ -35,9 +35,16 @@ enum Command {
     /// every error, each located at file:line:col. Programs are linked against the models given
     /// on the same command line (against the names they use when none is given).
     Check {
-        /// The files to check.
+        /// The files to check (plant models, OCSP files, missions, RMPL programs).
         #[arg(required = true)]
         files: Vec<PathBuf>,
+    },
+    /// Schedule a mission's goal network (the format is documented in
+    /// `src/goalnet/mission.rs`) from the plant's most likely initial modes and print every time
+    /// point's window and each state variable's XGoals, or why it cannot be scheduled.
+    Schedule {
+        /// The mission file.
+        mission: PathBuf,
     },
     /// Compile an RMPL program to its timed hierarchical constraint automaton (THCA) and print
     /// its locations, or a Graphviz drawing.
@@ -155,6 +162,7 @@ fn main() -> ExitCode {
     let outcome = match Cli::parse().command {
         Command::Solve { file, k, json } => cli::solve::run(&file, k, json),
         Command::Check { files } => cli::check::run(&files),
+        Command::Schedule { mission } => cli::schedule::run(&mission),
         Command::Compile {
             program,
             entry,

@@ -1,5 +1,5 @@
-//! `kairos check FILES...`: validates plant models and OCSP files (`.ron`, told apart by their
-//! top-level struct name) and parses and links RMPL programs (`.rmpl`), reporting every error in
+//! `kairos check FILES...`: validates plant models, OCSP files and missions (`.ron`, told apart
+//! by their top-level struct name) and parses and links RMPL programs (`.rmpl`), reporting every error in
 //! each file. Programs are linked against every plant model given on the same command line, or
 //! against the names they use when no model is given.
 
@@ -26,6 +26,19 @@ pub fn run(paths: &[impl AsRef<Path>]) -> Result<(), Failure> {
                 continue;
             }
         };
+        if ron_struct_name(&source.text) == Some("Mission") {
+            match kairos::goalnet::mission::load(path) {
+                Ok(mission) => println!(
+                    "ok: {}: mission on {} ({}, {})",
+                    path.display(),
+                    mission.plant_path,
+                    count(mission.network.points().len(), "time point"),
+                    count(mission.network.goals().len(), "goal")
+                ),
+                Err(errors) => problems.push(errors.to_string()),
+            }
+            continue;
+        }
         if ron_struct_name(&source.text) == Some("Ocsp") {
             match kairos::opsat::file::load(&source) {
                 Ok(instance) => println!(

@@ -9,6 +9,7 @@ pub mod graph;
 pub mod output;
 pub mod plan;
 pub mod run;
+pub mod schedule;
 pub mod solve;
 
 use std::path::Path;

@@ -177,6 +177,7 @@ use std::time::Duration;
 
 pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
 pub use format::EventName;
+pub(crate) use load::resolve_path;
 pub use load::{DEFAULT_KAPPA, MAX_CYCLES, load, load_source};
 pub use model_plant::{FaultDrawn, ForcedFault, ModelPlant, ModelPlantConfig};
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};

@@ -1,0 +1,52 @@
+//! `kairos schedule MISSION`: loads a mission, schedules its goal network (DESIGN.md §15.4;
+//! mds-goal-networks.md §2.2) from the plant's most likely initial modes, and prints every time
+//! point's window and each state variable's XGoals — or why the network cannot be scheduled
+//! (exit 1).
+
+use std::path::Path;
+
+use kairos::goalnet::{display, mission, schedule};
+use kairos::logic::ValueId;
+use kairos::plant::Plant;
+use kairos::reconfiguration::Reconfiguration;
+
+use super::Failure;
+
+/// Loads, schedules and prints.
+pub fn run(path: &Path) -> Result<(), Failure> {
+    let mission = mission::load(path).map_err(Failure::bad_input)?;
+    let reconfiguration = Reconfiguration::compile(&mission.plant)
+        .map_err(|e| Failure::bad_input(format!("error: {}: {e}", mission.plant_path)))?;
+    let current = most_likely_initial(&mission.plant);
+    println!("mission: {} (plant {})", mission.name, mission.plant_path);
+    match schedule(&mission.network, &reconfiguration, &current) {
+        Ok(executable) => {
+            print!("{}", display::render(&executable, &mission.plant));
+            Ok(())
+        }
+        Err(error) => Err(Failure::failed(display::explain(
+            &error,
+            &mission.network,
+            &mission.plant,
+        ))),
+    }
+}
+
+/// Each component's most likely initial mode (the first of equals).
+fn most_likely_initial(plant: &Plant) -> Vec<ValueId> {
+    plant
+        .components()
+        .iter()
+        .map(|c| {
+            let best = c
+                .initial()
+                .iter()
+                .enumerate()
+                .fold(
+                    (0, f64::MIN),
+                    |best, (i, p)| if *p > best.1 { (i, *p) } else { best },
+                );
+            ValueId(best.0 as u32)
+        })
+        .collect()
+}

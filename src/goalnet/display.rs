@@ -1,0 +1,152 @@
+//! Text for people: a scheduled network (`kairos schedule`) and why scheduling failed.
+
+use std::fmt::Write;
+
+use super::constraint_set::ConstraintSet;
+use super::mission::seconds;
+use super::network::{ExecutableNetwork, GoalNetwork};
+use super::schedule::ScheduleError;
+use super::stn::Inconsistency;
+use super::temporal_constraint::Provenance;
+use super::xgoal::XGoal;
+use crate::logic::ValueId;
+use crate::plant::{ComponentId, Plant};
+
+/// Every point's window, then per state variable its XGoals with their merged constraint and
+/// constituent goals.
+pub fn render(executable: &ExecutableNetwork, plant: &Plant) -> String {
+    let network = &executable.network;
+    let mut out = String::from("time points (windows, s):\n");
+    let width = network
+        .points()
+        .iter()
+        .map(|p| p.name.len())
+        .max()
+        .unwrap_or(0);
+    for (i, point) in network.points().iter().enumerate() {
+        let window = network.stn().window(super::TimePointId(i as u32));
+        let shown = window.map_or("(not propagated)".to_string(), |w| {
+            format!("[{}, {}]", seconds(w.lb), seconds(w.ub))
+        });
+        let _ = writeln!(out, "  {:width$}  {shown}", point.name);
+    }
+    for timeline in &executable.timelines {
+        let _ = writeln!(out, "{}:", plant.component(timeline.sv).name());
+        for xgoal in &timeline.xgoals {
+            let _ = writeln!(out, "  {}", xgoal_line(network, plant, xgoal));
+        }
+    }
+    out
+}
+
+fn xgoal_line(network: &GoalNetwork, plant: &Plant, xgoal: &XGoal) -> String {
+    let names: Vec<&str> = xgoal
+        .constituents
+        .iter()
+        .map(|g| network.goal(*g).name.as_str())
+        .collect();
+    let goals = if names.is_empty() {
+        "(no goal)".to_string()
+    } else {
+        names.join(", ")
+    };
+    format!(
+        "[{}, {}] {} {}: {goals}",
+        network.point(xgoal.start).name,
+        network.point(xgoal.end).name,
+        xgoal.kind.name(),
+        constraint_text(plant, xgoal.sv, &xgoal.constraint),
+    )
+}
+
+/// `switch1 ∈ {closed, stuck-closed}, known, P(switch1 = closed) ≥ 0.9`, or `anything`.
+pub fn constraint_text(plant: &Plant, sv: ComponentId, set: &ConstraintSet) -> String {
+    let component = plant.component(sv);
+    let mut parts = Vec::new();
+    if !set.is_control_free() {
+        let values: Vec<&str> = set.admitted().map(|v| mode_name(plant, sv, v)).collect();
+        parts.push(format!("{} ∈ {{{}}}", component.name(), values.join(", ")));
+    }
+    if set.requires_known() {
+        parts.push("known".to_string());
+    }
+    for (value, p) in set.least_beliefs() {
+        let name = mode_name(plant, sv, value);
+        parts.push(format!("P({} = {name}) ≥ {p}", component.name()));
+    }
+    if parts.is_empty() {
+        "anything".to_string()
+    } else {
+        parts.join(", ")
+    }
+}
+
+fn mode_name(plant: &Plant, sv: ComponentId, value: ValueId) -> &str {
+    let var = plant.component(sv).mode_var();
+    plant.table().variable(var).value_name(value)
+}
+
+fn modes(plant: &Plant, sv: ComponentId, values: &[ValueId]) -> String {
+    let names: Vec<&str> = values.iter().map(|v| mode_name(plant, sv, *v)).collect();
+    format!("{{{}}}", names.join(", "))
+}
+
+/// Why scheduling failed, in words, with the evidence.
+pub fn explain(error: &ScheduleError, network: &GoalNetwork, plant: &Plant) -> String {
+    match error {
+        ScheduleError::Inconsistent(inconsistency) => inconsistent(inconsistency, network),
+        ScheduleError::Unmergeable { sv, goals } => {
+            let [a, b] = goals.map(|g| network.goal(g));
+            format!(
+                "unmergeable: on {}, goals `{}` ({}) and `{}` ({}) cannot hold together and \
+                 cannot be serialised either way",
+                plant.component(*sv).name(),
+                a.name,
+                a.text,
+                b.name,
+                b.text
+            )
+        }
+        ScheduleError::Unachievable { xgoal, from } => format!(
+            "unachievable: {} — from {} {} cannot be reached by mode reconfiguration",
+            xgoal_line(network, plant, xgoal),
+            plant.component(xgoal.sv).name(),
+            modes(plant, xgoal.sv, from),
+        ),
+        ScheduleError::TransitionUnachievable {
+            previous,
+            from,
+            next,
+        } => format!(
+            "transition unachievable: on {}, from {} (projected by {}) into {}",
+            plant.component(next.sv).name(),
+            modes(plant, next.sv, from),
+            xgoal_line(network, plant, previous),
+            xgoal_line(network, plant, next),
+        ),
+    }
+}
+
+fn inconsistent(inconsistency: &Inconsistency, network: &GoalNetwork) -> String {
+    let mut out =
+        String::from("inconsistent: the temporal constraints of this cycle cannot all hold");
+    for id in &inconsistency.cycle {
+        let c = network.stn().constraint(*id);
+        let why = match &c.provenance {
+            Provenance::Written(_) => "written".to_string(),
+            Provenance::AfterOrigin => "every point is at or after the origin".to_string(),
+            Provenance::Fired => "the point fired".to_string(),
+            Provenance::Scheduled { reason } => format!("scheduler: {reason}"),
+            Provenance::Submitted => "submitted".to_string(),
+        };
+        let _ = write!(
+            out,
+            "\n  {} → {} ∈ [{}, {}] ({why})",
+            network.point(c.from).name,
+            network.point(c.to).name,
+            seconds(c.min),
+            seconds(c.max)
+        );
+    }
+    out
+}

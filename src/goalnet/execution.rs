@@ -1,0 +1,360 @@
+//! Executing and monitoring a scheduled network, one cycle at a time (mds-goal-networks.md
+//! §2.4–2.5, §2.9; AG §1.2.7, GP §3.7–3.8; DESIGN.md §15.3).
+//!
+//! Each cycle, given the estimate ŝ (a mode per component) and the belief over each component's
+//! modes:
+//! 1. **monitoring** (the XGoalChecker): every active XGoal is checked against ŝ and the
+//!    belief — a Maintain XGoal fails when ŝ leaves its set, a Transition XGoal when its set can
+//!    no longer be reached from ŝ (reconfiguration's reachability), any XGoal when its knowledge
+//!    part is not met (P of the most likely value below the threshold, or a least belief not
+//!    reached). A failed XGoal is narrowed to the constituent goals that fail on their own; each
+//!    is reported once and stays failed (responses are issue 14's);
+//! 2. **firing** (the Executive), repeated to a fixpoint: an unfired point fires when its
+//!    earliest time has passed, every point constrained to precede it (a constraint into it with
+//!    a minimum ≥ 0) has fired, and every XGoal starting at it is *ready* (a Maintain XGoal's set
+//!    holds for ŝ; other kinds are ready at once) — or anyway at the first cycle at or after its
+//!    latest time (`TimePointForced`; a Transition XGoal ending there unreached fails). Firing
+//!    grounds the point and re-propagates incrementally, and dispatches the XGoals that start
+//!    there.
+//!
+//! The **configuration goal** is the conjunction of the active Maintain and Transition XGoals'
+//! control sets on controllable state variables; knowledge goals never become commands.
+
+use super::constraint_set::ConstraintSet;
+use super::goal::{GoalId, GoalKind};
+use super::network::ExecutableNetwork;
+use super::stn::{GroundError, Inconsistency};
+use super::time_point::TimePointId;
+use super::xgoal::XGoal;
+use crate::logic::{Formula, ValueId};
+use crate::plant::ComponentId;
+use crate::reconfiguration::Reconfiguration;
+
+/// What the estimator says this cycle: ŝ and the belief over each component's modes.
+#[derive(Debug, Clone, Copy)]
+pub struct EstimateView<'a> {
+    /// The most likely mode of each component.
+    pub modes: &'a [ValueId],
+    /// Per component, the probability of each of its modes.
+    pub beliefs: &'a [Vec<f64>],
+}
+
+/// Why a goal failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FailureReason {
+    /// ŝ left a Maintain goal's set (the mode it is in).
+    Excursion(ValueId),
+    /// A Transition goal's set cannot be reached from ŝ any more (the mode it is in).
+    Unreachable(ValueId),
+    /// A Transition goal's end point was forced with the set not reached.
+    EndForced(ValueId),
+    /// The knowledge requirement is not met.
+    NotKnown,
+}
+
+/// Something that happened to the network this cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GoalEvent {
+    /// A point fired on time.
+    TimePointFired {
+        /// The point.
+        point: TimePointId,
+    },
+    /// A point fired at its latest time without its XGoals ready.
+    TimePointForced {
+        /// The point.
+        point: TimePointId,
+        /// How late past its latest time, seconds.
+        late_by: f64,
+    },
+    /// An XGoal became active on its state variable.
+    XGoalDispatched {
+        /// The state variable.
+        sv: ComponentId,
+        /// The XGoal's index in the SV's timeline.
+        index: usize,
+    },
+    /// A goal failed (narrowed from its XGoal).
+    GoalFailed {
+        /// The goal.
+        goal: GoalId,
+        /// Why.
+        reason: FailureReason,
+    },
+    /// Grounding a (forced) point contradicted the network.
+    TemporalInconsistency {
+        /// The point.
+        point: TimePointId,
+        /// The negative cycle.
+        inconsistency: Inconsistency,
+    },
+}
+
+/// A scheduled network being executed.
+#[derive(Debug, Clone)]
+pub struct Execution {
+    executable: ExecutableNetwork,
+    threshold: f64,
+    /// Firing time of each point (the origin fires at 0).
+    fired: Vec<Option<f64>>,
+    /// Per timeline, the index of its active XGoal.
+    active: Vec<Option<usize>>,
+    /// Goals that failed (they stay failed).
+    failed: Vec<bool>,
+    /// Per point, the points that must fire before it.
+    predecessors: Vec<Vec<TimePointId>>,
+}
+
+impl Execution {
+    /// Starts executing `executable` with the mission's knowledge threshold; the origin has
+    /// fired at time 0.
+    pub fn new(executable: ExecutableNetwork, threshold: f64) -> Self {
+        let network = &executable.network;
+        let n = network.points().len();
+        let mut predecessors = vec![Vec::new(); n];
+        for c in network.stn().constraints() {
+            if c.min >= 0.0 && c.from != c.to && !predecessors[c.to.index()].contains(&c.from) {
+                predecessors[c.to.index()].push(c.from);
+            }
+        }
+        let mut fired = vec![None; n];
+        fired[TimePointId::ORIGIN.index()] = Some(0.0);
+        let active = executable
+            .timelines
+            .iter()
+            .map(|t| t.xgoals.iter().position(|x| x.start == TimePointId::ORIGIN))
+            .collect();
+        let failed = vec![false; network.goals().len()];
+        Execution {
+            executable,
+            threshold,
+            fired,
+            active,
+            failed,
+            predecessors,
+        }
+    }
+
+    /// The network being executed (windows shrink as points fire).
+    pub fn executable(&self) -> &ExecutableNetwork {
+        &self.executable
+    }
+
+    /// When a point fired, if it has.
+    pub fn fired_at(&self, point: TimePointId) -> Option<f64> {
+        self.fired.get(point.index()).copied().flatten()
+    }
+
+    /// Whether a goal has failed.
+    pub fn has_failed(&self, goal: GoalId) -> bool {
+        self.failed.get(goal.index()).copied().unwrap_or(false)
+    }
+
+    /// The active XGoal of a state variable.
+    pub fn active(&self, sv: ComponentId) -> Option<&XGoal> {
+        let t = self.executable.timelines.iter().position(|t| t.sv == sv)?;
+        self.active[t].map(|i| &self.executable.timelines[t].xgoals[i])
+    }
+
+    /// Whether every point has fired.
+    pub fn is_complete(&self) -> bool {
+        self.fired.iter().all(Option::is_some)
+    }
+
+    /// One cycle at `now`: monitoring, then firing to a fixpoint (§2.9 steps 3 and 5).
+    pub fn step(
+        &mut self,
+        now: f64,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+    ) -> Vec<GoalEvent> {
+        let mut events = Vec::new();
+        self.monitor(estimate, reconfiguration, &mut events);
+        while self.fire_one(now, estimate, &mut events) {}
+        events
+    }
+
+    /// The conjunction of the active Maintain and Transition XGoals' control sets on the state
+    /// variables `controllable` admits.
+    pub fn configuration_goal(
+        &self,
+        reconfiguration: &Reconfiguration,
+        controllable: impl Fn(ComponentId) -> bool,
+    ) -> Formula {
+        let plant = reconfiguration.plant();
+        let parts = self
+            .active_xgoals()
+            .filter(|x| matches!(x.kind, GoalKind::Maintain | GoalKind::Transition))
+            .filter(|x| !x.constraint.is_control_free() && controllable(x.sv))
+            .map(|x| {
+                let var = plant.component(x.sv).mode_var();
+                let admitted = x.constraint.admitted().map(|v| Formula::is(var, v));
+                Formula::Or(admitted.collect())
+            });
+        Formula::all(parts)
+    }
+
+    fn active_xgoals(&self) -> impl Iterator<Item = &XGoal> {
+        self.executable
+            .timelines
+            .iter()
+            .zip(&self.active)
+            .filter_map(|(t, a)| a.map(|i| &t.xgoals[i]))
+    }
+
+    /// Checks every active XGoal; narrows failures to constituents (§2.5).
+    fn monitor(
+        &mut self,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+        events: &mut Vec<GoalEvent>,
+    ) {
+        let mut failures = Vec::new();
+        for xgoal in self.active_xgoals() {
+            let (mode, belief) = (
+                estimate.modes[xgoal.sv.index()],
+                &estimate.beliefs[xgoal.sv.index()],
+            );
+            let reachable = |set: &ConstraintSet| {
+                let reachability = reconfiguration.policy(xgoal.sv).reachability();
+                set.admitted().any(|v| {
+                    v == mode
+                        || reachability.is_reversible(mode, v)
+                        || reachability.is_irreversible(mode, v)
+                })
+            };
+            let judge = |kind: GoalKind, set: &ConstraintSet| {
+                if !set.knowledge_met(belief, self.threshold) {
+                    Some(FailureReason::NotKnown)
+                } else if kind == GoalKind::Maintain && !set.admits(mode) {
+                    Some(FailureReason::Excursion(mode))
+                } else if kind == GoalKind::Transition && !reachable(set) {
+                    Some(FailureReason::Unreachable(mode))
+                } else {
+                    None
+                }
+            };
+            if judge(xgoal.kind, &xgoal.constraint).is_none() {
+                continue;
+            }
+            for &id in &xgoal.constituents {
+                let goal = self.executable.network.goal(id);
+                if let Some(reason) = judge(goal.kind, &goal.constraint) {
+                    failures.push((id, reason));
+                }
+            }
+        }
+        for (goal, reason) in failures {
+            self.fail(goal, reason, events);
+        }
+    }
+
+    fn fail(&mut self, goal: GoalId, reason: FailureReason, events: &mut Vec<GoalEvent>) {
+        if !std::mem::replace(&mut self.failed[goal.index()], true) {
+            events.push(GoalEvent::GoalFailed { goal, reason });
+        }
+    }
+
+    /// Fires the first point that should fire now; false when none does.
+    fn fire_one(&mut self, now: f64, estimate: EstimateView, events: &mut Vec<GoalEvent>) -> bool {
+        let n = self.fired.len();
+        for i in 0..n {
+            let point = TimePointId(i as u32);
+            if self.fired[i].is_some() {
+                continue;
+            }
+            let Some(window) = self.executable.network.stn().window(point) else {
+                continue;
+            };
+            let predecessors_fired = self.predecessors[i]
+                .iter()
+                .all(|q| self.fired[q.index()].is_some());
+            if now < window.lb || !predecessors_fired {
+                continue;
+            }
+            let ready = self.ready(point, estimate);
+            if !ready && now < window.ub {
+                continue;
+            }
+            // Forced only when not ready: a ready point at its latest time is on time.
+            let late_by = (!ready).then_some(now - window.ub);
+            self.fire(point, now, late_by, estimate, events);
+            return true;
+        }
+        false
+    }
+
+    /// Every XGoal starting at `point` is ready to be entered (§2.4 (a)).
+    fn ready(&self, point: TimePointId, estimate: EstimateView) -> bool {
+        self.executable.timelines.iter().all(|t| {
+            t.xgoals.iter().filter(|x| x.start == point).all(|x| {
+                x.kind != GoalKind::Maintain
+                    || x.constraint.satisfied_by(
+                        estimate.modes[x.sv.index()],
+                        &estimate.beliefs[x.sv.index()],
+                        self.threshold,
+                    )
+            })
+        })
+    }
+
+    fn fire(
+        &mut self,
+        point: TimePointId,
+        now: f64,
+        late_by: Option<f64>,
+        estimate: EstimateView,
+        events: &mut Vec<GoalEvent>,
+    ) {
+        self.fired[point.index()] = Some(now);
+        match late_by {
+            None => events.push(GoalEvent::TimePointFired { point }),
+            Some(late_by) => {
+                events.push(GoalEvent::TimePointForced { point, late_by });
+                self.fail_unreached_transitions(point, estimate, events);
+            }
+        }
+        if let Err(GroundError::Inconsistent(inconsistency)) =
+            self.executable.network.stn_mut().ground(point, now)
+        {
+            events.push(GoalEvent::TemporalInconsistency {
+                point,
+                inconsistency,
+            });
+        }
+        for (t, timeline) in self.executable.timelines.iter().enumerate() {
+            if let Some(index) = timeline.xgoals.iter().position(|x| x.start == point) {
+                self.active[t] = Some(index);
+                events.push(GoalEvent::XGoalDispatched {
+                    sv: timeline.sv,
+                    index,
+                });
+            } else if timeline.xgoals.iter().any(|x| x.end == point) {
+                self.active[t] = None;
+            }
+        }
+    }
+
+    /// A forced end point fails the Transition goals ending there unreached (§2.4 (b)).
+    fn fail_unreached_transitions(
+        &mut self,
+        point: TimePointId,
+        estimate: EstimateView,
+        events: &mut Vec<GoalEvent>,
+    ) {
+        let mut failures = Vec::new();
+        for (id, goal) in self.executable.network.goals().iter().enumerate() {
+            let Some(sv) = goal.sv else { continue };
+            let mode = estimate.modes[sv.index()];
+            if goal.end == point
+                && goal.kind == GoalKind::Transition
+                && !goal.constraint.admits(mode)
+            {
+                failures.push((GoalId(id as u32), FailureReason::EndForced(mode)));
+            }
+        }
+        for (goal, reason) in failures {
+            self.fail(goal, reason, events);
+        }
+    }
+}

@@ -1,0 +1,41 @@
+//! Goal networks: the Mission Data System's goal-based control on kairos's deductive controller
+//! (DESIGN.md §15; seeds 000, 003; `mds-goal-networks.md` is the reading of the seeds).
+//!
+//! A goal network constrains **state variables** (a component's mode variable) over intervals
+//! between **time points**, related by **temporal constraints**. The concepts have their MDS
+//! names, one file each:
+//! - [`TimePoint`] and [`TemporalConstraint`] (with its [`Provenance`]);
+//! - [`Stn`]: the simple temporal network — distance graph, propagation (petgraph's
+//!   Bellman–Ford), windows, grounding a fired point, incremental re-propagation, and the
+//!   negative cycle named by its constraints;
+//! - [`ConstraintSet`]: a constraint on one SV's values and its algebra (merge, subset);
+//! - [`Goal`] (kind [`GoalKind`]), [`XGoal`] (the merge of goals on one SV over an interval);
+//! - [`GoalNetwork`] (unscheduled) and [`ExecutableNetwork`] (scheduled, per-SV timelines);
+//! - [`schedule()`]: merging and scheduling into an [`ExecutableNetwork`] or a [`ScheduleError`];
+//!   [`display`] renders both for people;
+//! - [`Execution`]: firing, grounding, dispatch and monitoring, one cycle at a time, and the
+//!   configuration goal the active XGoals give mode reconfiguration;
+//! - [`mission`]: the mission file (RON, `missions/`) and its loader, [`Mission`].
+
+mod constraint_set;
+pub mod display;
+mod execution;
+mod goal;
+pub mod mission;
+mod network;
+mod schedule;
+mod stn;
+mod temporal_constraint;
+mod time_point;
+mod xgoal;
+
+pub use constraint_set::ConstraintSet;
+pub use execution::{EstimateView, Execution, FailureReason, GoalEvent};
+pub use goal::{Goal, GoalId, GoalKind};
+pub use mission::{Mission, MissionErrors};
+pub use network::{ExecutableNetwork, GoalNetwork, ORIGIN_NAME, Timeline};
+pub use schedule::{ScheduleError, schedule};
+pub use stn::{GroundError, Inconsistency, Stn, StnError, Window};
+pub use temporal_constraint::{ConstraintId, Provenance, TemporalConstraint};
+pub use time_point::{TimePoint, TimePointId};
+pub use xgoal::XGoal;

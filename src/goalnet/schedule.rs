@@ -1,0 +1,282 @@
+//! Merging and scheduling (mds-goal-networks.md §2.2; AG §1.2.6, GP §3.4, §3.6): from a goal
+//! network to an [`ExecutableNetwork`], or the reason there is none.
+//!
+//! For each state variable, upstream first (the causal graph of mode reconfiguration is the
+//! state-effects graph: affecting before affected, §2.2 step 1):
+//! 1. goals whose constraints do not merge are serialised, `end(g1) ≤ start(g2)` or else the
+//!    reverse; if neither is consistent, [`ScheduleError::Unmergeable`] (step 2d);
+//! 2. its points get a total order consistent with the STN: depth first, candidates by
+//!    increasing earliest time then creation order, each step adding `[0, +∞)` between
+//!    consecutive points and re-propagating (step 2b; fixed per timeline, GP §3.6);
+//! 3. each interval between consecutive points (not forced to zero length) is an XGoal, the
+//!    merge of the goals covering it (step 2c);
+//! 4. the XGoals are projected serially from the state given (the estimate, or the plant's most
+//!    likely initial modes) and validated (step 3): a Transition XGoal projects onto the
+//!    admitted modes reachable (reconfiguration's reachability, §9: a stuck or irreversible
+//!    mode is not left) from the previous projection; a Maintain XGoal must already hold on the
+//!    previous projection (no transition is allowed inside it); XGoals without a control part
+//!    (knowledge, unconstrained) leave the projection alone — knowledge is never commanded,
+//!    only monitored (DESIGN.md §15.3). A Transition XGoal with an empty projection is
+//!    [`ScheduleError::Unachievable`] (its set cannot be reached); a Maintain XGoal whose set the
+//!    previous XGoal does not leave the SV in is [`ScheduleError::TransitionUnachievable`] (the
+//!    seed's negative test: a maintain goal without its transition goal, §3.3).
+
+use super::goal::{GoalId, GoalKind};
+use super::network::{ExecutableNetwork, GoalNetwork, Timeline};
+use super::stn::{Inconsistency, Stn};
+use super::temporal_constraint::{Provenance, TemporalConstraint};
+use super::time_point::TimePointId;
+use super::xgoal::XGoal;
+use crate::logic::ValueId;
+use crate::plant::ComponentId;
+use crate::reconfiguration::Reconfiguration;
+
+/// Orderings of one timeline tried before giving up (a depth-first search with backtracking).
+const ORDER_BUDGET: usize = 10_000;
+
+/// Why a network cannot be scheduled, with the evidence for the message (§2.2 step 4).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ScheduleError {
+    /// The STN has no solution (before or after the scheduler's constraints).
+    Inconsistent(Inconsistency),
+    /// Two goals on one SV cannot hold together and cannot be serialised either way.
+    Unmergeable {
+        /// The state variable.
+        sv: ComponentId,
+        /// The two goals.
+        goals: [GoalId; 2],
+    },
+    /// An XGoal cannot be reached from the state the SV is in.
+    Unachievable {
+        /// The XGoal.
+        xgoal: Box<XGoal>,
+        /// The modes the SV is projected to be in when the XGoal starts.
+        from: Vec<ValueId>,
+    },
+    /// The SV cannot move from one XGoal's projection into the next XGoal.
+    TransitionUnachievable {
+        /// The earlier XGoal.
+        previous: Box<XGoal>,
+        /// Its projection.
+        from: Vec<ValueId>,
+        /// The XGoal that cannot be entered.
+        next: Box<XGoal>,
+    },
+}
+
+/// Schedules `network` for a plant whose components are in `current` (a mode per component).
+pub fn schedule(
+    network: &GoalNetwork,
+    reconfiguration: &Reconfiguration,
+    current: &[ValueId],
+) -> Result<ExecutableNetwork, ScheduleError> {
+    let mut network = network.clone();
+    network.propagate().map_err(ScheduleError::Inconsistent)?;
+    let plant = reconfiguration.plant();
+    let mut timelines = Vec::new();
+    for &sv in reconfiguration.upstream_first() {
+        let goals: Vec<GoalId> = network.goals_on(sv).map(|(id, _)| id).collect();
+        if goals.is_empty() {
+            continue;
+        }
+        serialise(&mut network, sv, &goals)?;
+        let points = order(&mut network, &goals)?;
+        let domain = plant.component(sv).modes().len();
+        let xgoals = xgoals(&network, sv, domain, &goals, &points);
+        let timeline = Timeline { sv, points, xgoals };
+        project(reconfiguration, &timeline, current[sv.index()])?;
+        timelines.push(timeline);
+    }
+    Ok(ExecutableNetwork { network, timelines })
+}
+
+/// Serialises every pair of goals on `sv` whose constraints do not merge (§2.2 step 2d).
+fn serialise(
+    network: &mut GoalNetwork,
+    sv: ComponentId,
+    goals: &[GoalId],
+) -> Result<(), ScheduleError> {
+    for (i, &a) in goals.iter().enumerate() {
+        for &b in &goals[i + 1..] {
+            let (ga, gb) = (network.goal(a), network.goal(b));
+            if !ga.constraint.merge(&gb.constraint).is_empty() {
+                continue;
+            }
+            let first = (
+                ga.end,
+                gb.start,
+                format!("end({}) ≤ start({})", ga.name, gb.name),
+            );
+            let second = (
+                gb.end,
+                ga.start,
+                format!("end({}) ≤ start({})", gb.name, ga.name),
+            );
+            let serialised = [first, second]
+                .into_iter()
+                .find_map(|(end, start, reason)| {
+                    let mut trial = network.stn().clone();
+                    let constraint =
+                        TemporalConstraint::before(end, start, Provenance::Scheduled { reason });
+                    trial.add_constraint(constraint).ok()?;
+                    trial.propagate().ok()?;
+                    Some(trial)
+                });
+            match serialised {
+                Some(stn) => *network.stn_mut() = stn,
+                None => return Err(ScheduleError::Unmergeable { sv, goals: [a, b] }),
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A total order of the goals' points consistent with the STN, added to it (§2.2 step 2b).
+fn order(network: &mut GoalNetwork, goals: &[GoalId]) -> Result<Vec<TimePointId>, ScheduleError> {
+    let mut points: Vec<TimePointId> = goals
+        .iter()
+        .flat_map(|g| [network.goal(*g).start, network.goal(*g).end])
+        .collect();
+    points.sort_unstable();
+    points.dedup();
+    let mut search = OrderSearch {
+        budget: ORDER_BUDGET,
+        last_failure: None,
+    };
+    match search.place(network.stn().clone(), Vec::new(), points) {
+        Some((stn, order)) => {
+            *network.stn_mut() = stn;
+            Ok(order)
+        }
+        None => Err(ScheduleError::Inconsistent(
+            search
+                .last_failure
+                .unwrap_or(Inconsistency { cycle: Vec::new() }),
+        )),
+    }
+}
+
+/// The depth-first search for a timeline's order.
+struct OrderSearch {
+    budget: usize,
+    last_failure: Option<Inconsistency>,
+}
+
+impl OrderSearch {
+    fn place(
+        &mut self,
+        stn: Stn,
+        placed: Vec<TimePointId>,
+        remaining: Vec<TimePointId>,
+    ) -> Option<(Stn, Vec<TimePointId>)> {
+        if remaining.is_empty() {
+            return Some((stn, placed));
+        }
+        let mut candidates = remaining.clone();
+        let earliest = |p: &TimePointId| stn.window(*p).map_or(0.0, |w| w.lb);
+        candidates.sort_by(|a, b| earliest(a).total_cmp(&earliest(b)).then(a.cmp(b)));
+        for candidate in candidates {
+            if self.budget == 0 {
+                return None;
+            }
+            self.budget -= 1;
+            let mut trial = stn.clone();
+            if let Some(&last) = placed.last() {
+                let reason = "the state variable's timeline is ordered".to_string();
+                let constraint =
+                    TemporalConstraint::before(last, candidate, Provenance::Scheduled { reason });
+                if trial.add_constraint(constraint).is_err() {
+                    continue;
+                }
+                if let Err(inconsistency) = trial.propagate() {
+                    self.last_failure = Some(inconsistency);
+                    continue;
+                }
+            }
+            let mut next_placed = placed.clone();
+            next_placed.push(candidate);
+            let rest = remaining
+                .iter()
+                .copied()
+                .filter(|p| *p != candidate)
+                .collect();
+            if let Some(found) = self.place(trial, next_placed, rest) {
+                return Some(found);
+            }
+        }
+        None
+    }
+}
+
+/// One XGoal per interval of consecutive points not forced to zero length (§2.2 step 2c).
+fn xgoals(
+    network: &GoalNetwork,
+    sv: ComponentId,
+    domain: usize,
+    goals: &[GoalId],
+    points: &[TimePointId],
+) -> Vec<XGoal> {
+    let position = |p: TimePointId| points.iter().position(|q| *q == p).unwrap_or(0);
+    let mut out = Vec::new();
+    for (i, pair) in points.windows(2).enumerate() {
+        let (a, b) = (pair[0], pair[1]);
+        if network.stn().distance(a, b).is_some_and(|d| d <= 0.0) {
+            continue; // a and b coincide: no interval
+        }
+        let covering = goals.iter().filter_map(|&id| {
+            let goal = network.goal(id);
+            (position(goal.start) <= i && position(goal.end) > i).then_some((id, goal))
+        });
+        out.push(XGoal::merge(sv, a, b, domain, covering));
+    }
+    out
+}
+
+/// Serial projection and validation of one timeline from `current` (§2.2 step 3).
+fn project(
+    reconfiguration: &Reconfiguration,
+    timeline: &Timeline,
+    current: ValueId,
+) -> Result<(), ScheduleError> {
+    let reachability = reconfiguration.policy(timeline.sv).reachability();
+    let mut projected = vec![current];
+    for (i, xgoal) in timeline.xgoals.iter().enumerate() {
+        if xgoal.constraint.is_control_free() {
+            continue;
+        }
+        let next: Vec<ValueId> = match xgoal.kind {
+            GoalKind::Transition => xgoal
+                .constraint
+                .admitted()
+                .filter(|&target| {
+                    projected.iter().any(|&from| {
+                        from == target
+                            || reachability.is_reversible(from, target)
+                            || reachability.is_irreversible(from, target)
+                    })
+                })
+                .collect(),
+            _ => projected
+                .iter()
+                .copied()
+                .filter(|&v| xgoal.constraint.admits(v))
+                .collect(),
+        };
+        if next.is_empty() {
+            let previous = i.checked_sub(1).map(|p| &timeline.xgoals[p]);
+            return Err(match (xgoal.kind, previous) {
+                (GoalKind::Maintain, Some(previous)) => ScheduleError::TransitionUnachievable {
+                    previous: Box::new(previous.clone()),
+                    from: projected,
+                    next: Box::new(xgoal.clone()),
+                },
+                _ => ScheduleError::Unachievable {
+                    xgoal: Box::new(xgoal.clone()),
+                    from: projected,
+                },
+            });
+        }
+        projected = next;
+    }
+    Ok(())
+}

@@ -1,0 +1,436 @@
+//! The Simple Temporal Network of a goal network (mds-goal-networks.md §1.5, DESIGN.md §15.1).
+//!
+//! Each constraint `min ≤ t(to) − t(from) ≤ max` becomes two edges of the *distance graph*:
+//! `from → to` weighted `max` and `to → from` weighted `−min` (an infinite bound gives no edge).
+//! The origin `Z` stands for absolute time 0 and every point is at or after it. The network is
+//! consistent iff the distance graph has no negative cycle, and the window of a point `p` is
+//! `[−d(p, Z), d(Z, p)]`, where `d` is the shortest-path distance.
+//!
+//! Propagation keeps the two single-source distance vectors `d(Z, ·)` (on the distance graph) and
+//! `d(·, Z)` (on the reversed graph, where every point is reachable from `Z` through its
+//! `[0, +∞)` constraint to the origin, so every negative cycle is found from there).
+//! - The earliest times `−d(·, Z)`: a full propagation runs petgraph's Bellman–Ford on the
+//!   reversed graph; adding constraints to a propagated network (grounding a fired point, a
+//!   scheduler's serialisation) relaxes from the new edges only (FIFO label correcting), touching
+//!   only the points whose earliest time changes. A point queued more often than there are
+//!   points signals a negative cycle, and relaxation past a work budget (twice the graph's size)
+//!   would cost more than starting over: in both cases the full Bellman–Ford decides.
+//! - The latest times `d(Z, ·)`: petgraph's Dijkstra on weights reduced by the earliest times
+//!   (Johnson's reweighting; the earliest times are a solution, so reduced weights are ≥ 0).
+//!   Bellman–Ford needed a pass per point of a chain of negative edges there: grounding one point
+//!   of a 10,000-point chain took 1 s.
+//! - On a negative cycle, the cycle is extracted (Bellman–Ford with predecessor edges, walked
+//!   back into the cycle) and named by its constraints.
+
+use std::collections::VecDeque;
+
+use petgraph::algo::{bellman_ford, dijkstra};
+use petgraph::graph::{DiGraph, EdgeIndex, NodeIndex};
+use petgraph::visit::{EdgeRef, Reversed};
+
+use super::temporal_constraint::{ConstraintId, Provenance, TemporalConstraint};
+use super::time_point::TimePointId;
+
+/// The earliest and latest time a point may fire (`lb ≤ t(p) ≤ ub`; `ub` may be `+∞`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Window {
+    /// The earliest time, seconds.
+    pub lb: f64,
+    /// The latest time, seconds (`f64::INFINITY` when unbounded).
+    pub ub: f64,
+}
+
+/// The network has no solution: the constraints of a negative cycle of the distance graph, in
+/// cycle order (each at most once).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Inconsistency {
+    /// The constraints whose bounds add up to a negative cycle.
+    pub cycle: Vec<ConstraintId>,
+}
+
+/// A constraint the network refuses outright.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StnError {
+    /// A point not in this network.
+    #[error("time point {0} is not in the network")]
+    UnknownPoint(u32),
+    /// NaN bounds, `min > max`, or a bound infinite on the wrong side.
+    #[error("bounds [{min}, {max}] describe no interval")]
+    BadBounds {
+        /// The lower bound given.
+        min: f64,
+        /// The upper bound given.
+        max: f64,
+    },
+}
+
+/// Distances from and to the origin after a successful propagation.
+#[derive(Debug, Clone)]
+struct Distances {
+    /// `d(Z, p)`: the latest time of `p`.
+    from_origin: Vec<f64>,
+    /// `d(p, Z)`: minus the earliest time of `p`.
+    to_origin: Vec<f64>,
+}
+
+/// A simple temporal network over time points, with its distance graph and (once propagated)
+/// every point's window.
+#[derive(Debug, Clone)]
+pub struct Stn {
+    constraints: Vec<TemporalConstraint>,
+    graph: DiGraph<(), f64>,
+    /// The constraint each edge of `graph` comes from, by edge index.
+    edge_constraint: Vec<ConstraintId>,
+    /// `None` until propagated, and after an inconsistency.
+    distances: Option<Distances>,
+    /// Edges added since the last propagation (relaxed incrementally).
+    pending: Vec<EdgeIndex>,
+}
+
+impl Default for Stn {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Stn {
+    /// A network holding only the origin.
+    pub fn new() -> Self {
+        let mut graph = DiGraph::new();
+        graph.add_node(());
+        Stn {
+            constraints: Vec::new(),
+            graph,
+            edge_constraint: Vec::new(),
+            // The first propagation is a full one (petgraph's Bellman–Ford).
+            distances: None,
+            pending: Vec::new(),
+        }
+    }
+
+    /// Number of points, the origin included.
+    pub fn point_count(&self) -> usize {
+        self.graph.node_count()
+    }
+
+    /// Every constraint, in the order added (the `[0, +∞)` constraint of each point included).
+    pub fn constraints(&self) -> &[TemporalConstraint] {
+        &self.constraints
+    }
+
+    /// One constraint.
+    pub fn constraint(&self, id: ConstraintId) -> &TemporalConstraint {
+        &self.constraints[id.index()]
+    }
+
+    /// Adds a point, at or after the origin.
+    pub fn add_point(&mut self) -> TimePointId {
+        let node = self.graph.add_node(());
+        let point = TimePointId(node.index() as u32);
+        if let Some(distances) = &mut self.distances {
+            // Unconstrained but for [0, +∞) from the origin: the window is [0, +∞).
+            distances.from_origin.push(f64::INFINITY);
+            distances.to_origin.push(0.0);
+        }
+        let after = TemporalConstraint::before(TimePointId::ORIGIN, point, Provenance::AfterOrigin);
+        self.insert(after);
+        point
+    }
+
+    /// Adds a constraint; the windows are brought up to date by the next [`Stn::propagate`].
+    pub fn add_constraint(
+        &mut self,
+        constraint: TemporalConstraint,
+    ) -> Result<ConstraintId, StnError> {
+        for point in [constraint.from, constraint.to] {
+            if point.index() >= self.point_count() {
+                return Err(StnError::UnknownPoint(point.0));
+            }
+        }
+        if !constraint.bounds_are_valid() {
+            return Err(StnError::BadBounds {
+                min: constraint.min,
+                max: constraint.max,
+            });
+        }
+        Ok(self.insert(constraint))
+    }
+
+    fn insert(&mut self, constraint: TemporalConstraint) -> ConstraintId {
+        let id = ConstraintId(self.constraints.len() as u32);
+        let from = NodeIndex::new(constraint.from.index());
+        let to = NodeIndex::new(constraint.to.index());
+        if constraint.max.is_finite() {
+            self.add_edge(from, to, constraint.max, id);
+        }
+        if constraint.min.is_finite() {
+            self.add_edge(to, from, -constraint.min, id);
+        }
+        self.constraints.push(constraint);
+        id
+    }
+
+    fn add_edge(&mut self, from: NodeIndex, to: NodeIndex, weight: f64, id: ConstraintId) {
+        let edge = self.graph.add_edge(from, to, weight);
+        self.edge_constraint.push(id);
+        self.pending.push(edge);
+    }
+
+    /// Fixes a fired point at `time` (`Z → p ∈ [τ, τ]`, AG §1.2.7 d) and re-propagates
+    /// incrementally.
+    pub fn ground(&mut self, point: TimePointId, time: f64) -> Result<(), GroundError> {
+        let constraint =
+            TemporalConstraint::new(TimePointId::ORIGIN, point, time, time, Provenance::Fired);
+        self.add_constraint(constraint)
+            .map_err(GroundError::Refused)?;
+        self.propagate().map_err(GroundError::Inconsistent)
+    }
+
+    /// Brings every window up to date: in full the first time and after an inconsistency,
+    /// incrementally from the constraints added since the last successful propagation.
+    pub fn propagate(&mut self) -> Result<(), Inconsistency> {
+        let pending = std::mem::take(&mut self.pending);
+        // The relaxation's cycle test is a bound on work; Bellman–Ford has the last word.
+        let incremental = self
+            .distances
+            .take()
+            .and_then(|mut distances| self.relax(&mut distances, &pending).then_some(distances))
+            .or_else(|| self.full());
+        match incremental {
+            Some(distances) => {
+                self.distances = Some(distances);
+                Ok(())
+            }
+            None => Err(Inconsistency {
+                cycle: self.negative_cycle(),
+            }),
+        }
+    }
+
+    /// Full propagation: Bellman–Ford on the reversed graph, then Dijkstra forward; `None` when the
+    /// distance graph has a negative cycle.
+    fn full(&self) -> Option<Distances> {
+        // The reversed graph reaches every point, so any negative cycle shows here.
+        let to_origin = bellman_ford(Reversed(&self.graph), NodeIndex::new(0))
+            .ok()?
+            .distances;
+        let from_origin = self.latest_times(&to_origin);
+        Some(Distances {
+            from_origin,
+            to_origin,
+        })
+    }
+
+    /// Incremental re-propagation: the earliest times relaxed from the new edges, then the latest
+    /// times by Dijkstra; false on a (possible) negative cycle or past the work budget.
+    fn relax(&self, distances: &mut Distances, new_edges: &[EdgeIndex]) -> bool {
+        let limit = self.point_count() + 1;
+        // Past this many improvements a full propagation is cheaper than relaxing on.
+        let budget = 2 * (self.graph.edge_count() + self.point_count());
+        let backward: Vec<_> = new_edges
+            .iter()
+            .filter_map(|&edge| {
+                let (from, to) = self.graph.edge_endpoints(edge)?;
+                Some((to, from, self.graph[edge]))
+            })
+            .collect();
+        // Backward first: the reversed graph reaches every point, so it finds every cycle.
+        if !relax_from(
+            Reversed(&self.graph),
+            &mut distances.to_origin,
+            &backward,
+            (limit, budget),
+        ) {
+            return false;
+        }
+        distances.from_origin = self.latest_times(&distances.to_origin);
+        true
+    }
+
+    /// `d(Z, ·)` by petgraph's Dijkstra on reduced weights (Johnson): the earliest times
+    /// `t = −d(·, Z)` are a solution of the network, so `w(u → v) + t(u) − t(v) ≥ 0` on every
+    /// edge, and `d(Z, v)` is the reduced distance plus `t(v)`. Bellman–Ford would need as many
+    /// passes as the longest chain of negative edges (a grounded point bounds every point before
+    /// it, one pass each).
+    fn latest_times(&self, to_origin: &[f64]) -> Vec<f64> {
+        let earliest = |n: NodeIndex| -to_origin[n.index()];
+        let reduced = dijkstra(&self.graph, NodeIndex::new(0), None, |edge| {
+            (edge.weight() + earliest(edge.source()) - earliest(edge.target())).max(0.0)
+        });
+        let mut from_origin = vec![f64::INFINITY; self.point_count()];
+        for (node, distance) in reduced {
+            from_origin[node.index()] = distance + earliest(node);
+        }
+        from_origin
+    }
+
+    /// The constraints of a negative cycle (empty if there is none).
+    fn negative_cycle(&self) -> Vec<ConstraintId> {
+        let Some(edges) = self.cycle_edges() else {
+            return Vec::new();
+        };
+        let mut cycle = Vec::new();
+        for edge in edges {
+            let id = self.edge_constraint[edge.index()];
+            if !cycle.contains(&id) {
+                cycle.push(id);
+            }
+        }
+        cycle
+    }
+
+    /// The edges of a negative cycle, in cycle order: Bellman–Ford on the reversed graph from
+    /// the origin (which reaches every point) with predecessor edges; a point still improved in
+    /// the n-th pass leads back, through n predecessor steps, into a cycle.
+    fn cycle_edges(&self) -> Option<Vec<EdgeIndex>> {
+        let n = self.point_count();
+        let mut dist = vec![f64::INFINITY; n];
+        let mut pred: Vec<Option<EdgeIndex>> = vec![None; n];
+        dist[0] = 0.0;
+        let mut last = None;
+        for _ in 0..n {
+            last = None;
+            for edge in self.graph.edge_references() {
+                // Reversed: the edge from → to is walked to → from.
+                let (from, to) = (edge.target().index(), edge.source().index());
+                if dist[from] + edge.weight() < dist[to] {
+                    dist[to] = dist[from] + edge.weight();
+                    pred[to] = Some(edge.id());
+                    last = Some(to);
+                }
+            }
+            last?;
+        }
+        let mut node = last?;
+        for _ in 0..n {
+            node = self.graph.edge_endpoints(pred[node]?)?.1.index();
+        }
+        let start = node;
+        let mut edges = Vec::new();
+        loop {
+            let edge = pred[node]?;
+            edges.push(edge);
+            node = self.graph.edge_endpoints(edge)?.1.index();
+            if node == start || edges.len() > n {
+                break;
+            }
+        }
+        edges.reverse();
+        Some(edges)
+    }
+
+    /// Whether the last propagation succeeded and nothing was added since.
+    pub fn is_propagated(&self) -> bool {
+        self.distances.is_some() && self.pending.is_empty()
+    }
+
+    /// The window of a point as of the last successful propagation (`None` before one, after an
+    /// inconsistency, or for a point added since).
+    pub fn window(&self, point: TimePointId) -> Option<Window> {
+        let distances = self.distances.as_ref()?;
+        let ub = *distances.from_origin.get(point.index())?;
+        let to_origin = *distances.to_origin.get(point.index())?;
+        Some(Window { lb: -to_origin, ub })
+    }
+
+    /// The shortest-path distance `d(a, b)`: the latest `t(b) − t(a)` the network allows
+    /// (`+∞` when unbounded; `None` when the network is inconsistent). Bellman–Ford from `a`:
+    /// the scheduler asks this for a handful of pairs, not for every pair.
+    pub fn distance(&self, a: TimePointId, b: TimePointId) -> Option<f64> {
+        if a.index() >= self.point_count() || b.index() >= self.point_count() {
+            return None;
+        }
+        let paths = bellman_ford(&self.graph, NodeIndex::new(a.index())).ok()?;
+        paths.distances.get(b.index()).copied()
+    }
+}
+
+/// Why grounding a point failed.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GroundError {
+    /// The point or the time is not acceptable (unknown point, NaN time).
+    Refused(StnError),
+    /// Firing then contradicts the network (possible only for a forced firing, §2.4).
+    Inconsistent(Inconsistency),
+}
+
+/// Label-correcting relaxation (a FIFO queue, Bellman–Ford's queue form) of single-source
+/// distances `dist` from the origin over `graph`, starting from the given new edges
+/// `(from, to, weight)`. False on a possible negative cycle — the origin's own distance drops
+/// below 0, or a point is queued more than `limit` times — or when the work exceeds `budget`
+/// improvements; the caller then propagates in full.
+fn relax_from<G>(
+    graph: G,
+    dist: &mut [f64],
+    new_edges: &[(NodeIndex, NodeIndex, f64)],
+    (limit, budget): (usize, usize),
+) -> bool
+where
+    G: petgraph::visit::IntoEdges<NodeId = NodeIndex, EdgeWeight = f64>,
+{
+    let mut relaxation = Relaxation {
+        queue: VecDeque::new(),
+        queued: vec![false; dist.len()],
+        enqueued: vec![0; dist.len()],
+        limit,
+        budget,
+        dist,
+    };
+    for &(from, to, weight) in new_edges {
+        let value = relaxation.dist[from.index()] + weight;
+        if !relaxation.improve(to, value) {
+            return false;
+        }
+    }
+    while let Some(node) = relaxation.queue.pop_front() {
+        relaxation.queued[node.index()] = false;
+        let base = relaxation.dist[node.index()];
+        for edge in graph.edges(node) {
+            if !relaxation.improve(edge.target(), base + *edge.weight()) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// The state of one incremental relaxation.
+struct Relaxation<'a> {
+    dist: &'a mut [f64],
+    queue: VecDeque<NodeIndex>,
+    queued: Vec<bool>,
+    enqueued: Vec<usize>,
+    limit: usize,
+    /// Improvements left before handing over to a full propagation.
+    budget: usize,
+}
+
+impl Relaxation<'_> {
+    /// Lowers `node`'s distance to `value` if that improves it; false on a negative cycle.
+    fn improve(&mut self, node: NodeIndex, value: f64) -> bool {
+        let i = node.index();
+        if value >= self.dist[i] {
+            return true;
+        }
+        if i == 0 {
+            // d(Z, Z) < 0: a negative cycle through the origin.
+            return false;
+        }
+        self.dist[i] = value;
+        self.budget = match self.budget.checked_sub(1) {
+            Some(left) => left,
+            None => return false,
+        };
+        if !self.queued[i] {
+            // FIFO order: a point is queued at most once per pass, and passes past the number of
+            // points only happen around a negative cycle.
+            self.enqueued[i] += 1;
+            if self.enqueued[i] > self.limit {
+                return false;
+            }
+            self.queued[i] = true;
+            self.queue.push_back(node);
+        }
+        true
+    }
+}

@@ -1,0 +1,225 @@
+//! Execution and monitoring of a scheduled network (issue 13 §4; mds-goal-networks.md §2.4–2.5;
+//! DESIGN.md §15.3), driven by scripted estimates of the thermostat for system test 4's network
+//! (`missions/thermostat_stay_warm.ron`): when each point fires, the configuration goal, a
+//! maintain failure narrowed to its constituent, a forced point failing a transition goal.
+
+use std::path::Path;
+
+use kairos::goalnet::{EstimateView, Execution, FailureReason, GoalEvent, mission, schedule};
+use kairos::logic::{Formula, ValueId};
+use kairos::plant::Plant;
+use kairos::reconfiguration::Reconfiguration;
+
+struct Harness {
+    mission: mission::Mission,
+    reconfiguration: Reconfiguration,
+    execution: Execution,
+    events: Vec<(f64, GoalEvent)>,
+}
+
+/// The thermostat's state at a time, as a script: `(component, mode)` pairs over the default
+/// (cold, open, open, healthy); every belief certain.
+fn estimate(plant: &Plant, modes: &[(&str, &str)]) -> (Vec<ValueId>, Vec<Vec<f64>>) {
+    let mut values = vec![ValueId(0); plant.components().len()];
+    for (component, mode) in modes {
+        let c = plant.component_named(component).expect("a component");
+        values[c.index()] = plant.component(c).mode_named(mode).expect("a mode");
+    }
+    let beliefs = plant
+        .components()
+        .iter()
+        .zip(&values)
+        .map(|(c, v)| {
+            (0..c.modes().len())
+                .map(|i| if i == v.index() { 1.0 } else { 0.0 })
+                .collect()
+        })
+        .collect();
+    (values, beliefs)
+}
+
+impl Harness {
+    fn new() -> Self {
+        std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
+        let mission = mission::load(Path::new("missions/thermostat_stay_warm.ron")).expect("loads");
+        let reconfiguration = Reconfiguration::compile(&mission.plant).expect("compiles");
+        let current = vec![ValueId(0); mission.plant.components().len()];
+        let executable = schedule(&mission.network, &reconfiguration, &current).expect("schedules");
+        let execution = Execution::new(executable, mission.knowledge_threshold);
+        Harness {
+            mission,
+            reconfiguration,
+            execution,
+            events: Vec::new(),
+        }
+    }
+
+    /// Runs 1 s cycles from `from` to `to` with the modes `script(t)` gives.
+    fn run(
+        &mut self,
+        from: u32,
+        to: u32,
+        script: impl Fn(f64) -> Vec<(&'static str, &'static str)>,
+    ) {
+        for t in from..=to {
+            let now = f64::from(t);
+            let (modes, beliefs) = estimate(&self.mission.plant, &script(now));
+            let view = EstimateView {
+                modes: &modes,
+                beliefs: &beliefs,
+            };
+            for event in self.execution.step(now, view, &self.reconfiguration) {
+                self.events.push((now, event));
+            }
+        }
+    }
+
+    fn fired(&self, name: &str) -> Option<f64> {
+        let point = self
+            .execution
+            .executable()
+            .network
+            .point_named(name)
+            .expect("a point");
+        self.execution.fired_at(point)
+    }
+
+    fn goal_failures(&self) -> Vec<(f64, String, FailureReason)> {
+        self.events
+            .iter()
+            .filter_map(|(t, e)| match e {
+                GoalEvent::GoalFailed { goal, reason } => Some((
+                    *t,
+                    self.execution.executable().network.goal(*goal).name.clone(),
+                    reason.clone(),
+                )),
+                _ => None,
+            })
+            .collect()
+    }
+
+    fn forced(&self) -> usize {
+        self.events
+            .iter()
+            .filter(|(_, e)| matches!(e, GoalEvent::TimePointForced { .. }))
+            .count()
+    }
+}
+
+/// The nominal thermostat under tactic 1, as the model and script play it
+/// (scenarios/thermostat/README.md, test 4): switch 1 closed from 11 s, warming from 12 s,
+/// warm-low from 76 s, warm from 148 s.
+fn nominal(t: f64) -> Vec<(&'static str, &'static str)> {
+    let mut modes = Vec::new();
+    if t >= 11.0 {
+        modes.push(("switch1", "closed"));
+    }
+    let temperature = match t {
+        t if t >= 148.0 => "warm",
+        t if t >= 76.0 => "warm-low",
+        t if t >= 12.0 => "warming",
+        _ => "cold",
+    };
+    modes.push(("temperature", temperature));
+    modes
+}
+
+/// System test 4's verdicts on the network (mds-goal-networks.md §3.3): TP_H at 10, TP_A once
+/// switch 1 is closed (11), TP_S once warm (76, inside [71, 161]), TP_E 300 s later (376);
+/// nothing forced, no failure.
+#[test]
+fn stay_warm_fires_each_point_when_ready() {
+    let mut h = Harness::new();
+    h.run(0, 400, nominal);
+    assert_eq!(h.fired("TP_H"), Some(10.0));
+    assert_eq!(h.fired("TP_A"), Some(11.0));
+    assert_eq!(h.fired("TP_S"), Some(76.0));
+    assert_eq!(h.fired("TP_E"), Some(376.0));
+    assert_eq!(h.fired("TP_bgE"), None);
+    assert_eq!(h.forced(), 0);
+    assert_eq!(h.goal_failures(), []);
+}
+
+/// The configuration goal is the active control XGoals on controllable SVs (§15.3): at 10 s,
+/// switch 1 closed and switch 2 open; knowledge never becomes a goal.
+#[test]
+fn the_configuration_goal_is_the_active_control_constraints() {
+    let mut h = Harness::new();
+    h.run(0, 9, nominal);
+    let plant = h.mission.plant.clone();
+    let switches =
+        move |c: kairos::plant::ComponentId| plant.component(c).name().starts_with("switch");
+    assert_eq!(
+        h.execution
+            .configuration_goal(&h.reconfiguration, &switches),
+        Formula::True
+    );
+    h.run(10, 10, nominal);
+    let goal = h
+        .execution
+        .configuration_goal(&h.reconfiguration, &switches);
+    let shown = goal.display(h.mission.plant.table()).to_string();
+    assert!(
+        shown.contains("switch1 = closed") && shown.contains("switch2 = open"),
+        "{shown}"
+    );
+    assert!(!shown.contains("temperature"), "{shown}");
+}
+
+/// A maintain failure (switch 1 sticks open at 187 s, as ME diagnoses it in the model's
+/// `switch1_sticks_open` scenario): the heater goal fails, narrowed from its XGoal, once; the
+/// temperature goal does not fail while the device is still warm.
+#[test]
+fn a_maintain_excursion_fails_the_constituent_goal_once() {
+    let mut h = Harness::new();
+    h.run(0, 200, |t| {
+        let mut modes = nominal(t);
+        if t >= 187.0 {
+            modes.retain(|(c, _)| *c != "switch1");
+            modes.push(("switch1", "stuck-open"));
+        }
+        modes
+    });
+    let stuck = h
+        .mission
+        .plant
+        .component(h.mission.plant.component_named("switch1").unwrap())
+        .mode_named("stuck-open")
+        .unwrap();
+    assert_eq!(
+        h.goal_failures(),
+        [(
+            187.0,
+            "heater1".to_string(),
+            FailureReason::Excursion(stuck)
+        )]
+    );
+}
+
+/// A device that never warms: TP_S is forced at its latest time (TP_A + 150 = 161 s) and the
+/// GetWarm transition goal fails there.
+#[test]
+fn a_forced_end_point_fails_the_unreached_transition() {
+    let mut h = Harness::new();
+    h.run(0, 170, |t| {
+        nominal(t)
+            .into_iter()
+            .map(|(c, m)| {
+                if c == "temperature" {
+                    (c, if t >= 12.0 { "warming" } else { "cold" })
+                } else {
+                    (c, m)
+                }
+            })
+            .collect()
+    });
+    assert_eq!(h.fired("TP_S"), Some(161.0));
+    assert_eq!(h.forced(), 1);
+    let failures = h.goal_failures();
+    assert!(
+        failures.iter().any(|(t, g, r)| *t == 161.0
+            && g == "get-warm"
+            && matches!(r, FailureReason::EndForced(_))),
+        "{failures:?}"
+    );
+}

@@ -1,0 +1,169 @@
+//! The mission file (issue 13 §2; DESIGN.md §15.4): the thermostat missions load, and every bad
+//! mission in `tests/bad_missions/` (its first comment says what is wrong) is refused with a
+//! located error (file:line:col, the text, what was expected; DESIGN.md §13), snapshot-tested as
+//! `kairos check` prints it.
+
+use std::path::Path;
+
+use kairos::goalnet::{GoalKind, TimePointId, Window, mission};
+
+fn root() {
+    // Relative to the crate root, so that messages name files as a user at the root sees them.
+    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
+}
+
+fn errors_of(file: &str) -> String {
+    root();
+    let path = format!("tests/bad_missions/{file}.ron");
+    match mission::load(Path::new(&path)) {
+        Ok(_) => panic!("{path} loaded"),
+        Err(errors) => errors.to_string(),
+    }
+}
+
+macro_rules! bad_mission {
+    ($name:ident, $($must:literal),+) => {
+        #[test]
+        fn $name() {
+            let shown = errors_of(stringify!($name));
+            $(assert!(shown.contains($must), "missing `{}` in:\n{shown}", $must);)+
+            insta::assert_snapshot!(shown);
+        }
+    };
+}
+
+bad_mission!(syntax_error, "syntax_error.ron:4:5");
+bad_mission!(missing_plant, "missing_plant.ron:3:13", "cannot read");
+bad_mission!(
+    unknown_point,
+    "unknown_point.ron:6:53",
+    "`TP_E`",
+    "did you mean `TP_End`",
+    "unknown_point.ron:7:126"
+);
+bad_mission!(unknown_sv, "unknown_sv.ron:6:43", "did you mean `switch1`");
+bad_mission!(unknown_value, "unknown_value.ron:6:", "shut");
+bad_mission!(
+    other_variable,
+    "other_variable.ron:6:",
+    "may only constrain `switch1`"
+);
+bad_mission!(
+    missing_constraint,
+    "missing_constraint.ron:6:",
+    "needs a constraint"
+);
+bad_mission!(knowledge_shape, "knowledge_shape.ron:6:", "least beliefs");
+bad_mission!(bad_bounds, "bad_bounds.ron:6:", "[300, 200]");
+bad_mission!(
+    inconsistent,
+    "inconsistent.ron:",
+    "negative cycle",
+    "TP_A → TP_S ∈ [60, 150]"
+);
+bad_mission!(
+    unknown_parent,
+    "unknown_parent.ron:7:",
+    "unknown parent goal `heater`"
+);
+bad_mission!(duplicate_names, "declared twice", "knowledge threshold 1.5");
+bad_mission!(unknown_field, "unknown_field.ron:6:", "begin");
+
+/// System test 4's mission (mds-goal-networks.md §3.2): the windows of its points follow from
+/// the constraints alone (TP_S in [70, 165] before anything fires), and the goals are tied to the
+/// components and macros they name.
+#[test]
+fn the_stay_warm_mission_loads_with_its_windows() {
+    root();
+    let mission = mission::load(Path::new("missions/thermostat_stay_warm.ron")).expect("loads");
+    let network = &mission.network;
+    let window = |name: &str| {
+        let point = network.point_named(name).expect("declared");
+        network.stn().window(point).expect("propagated")
+    };
+    assert_eq!(window("TP_H"), Window { lb: 10.0, ub: 10.0 });
+    assert_eq!(window("TP_A"), Window { lb: 10.0, ub: 15.0 });
+    assert_eq!(
+        window("TP_S"),
+        Window {
+            lb: 70.0,
+            ub: 165.0
+        }
+    );
+    assert_eq!(
+        window("TP_E"),
+        Window {
+            lb: 370.0,
+            ub: 465.0
+        }
+    );
+    assert_eq!(
+        network.stn().window(TimePointId::ORIGIN),
+        Some(Window { lb: 0.0, ub: 0.0 })
+    );
+    let heater = network.goal(network.goal_named("heater1").expect("declared"));
+    assert_eq!(heater.kind, GoalKind::Maintain);
+    let switch1 = mission.plant.component_named("switch1");
+    assert_eq!(heater.sv, switch1);
+    let parent = network.goal(heater.parent.expect("a parent"));
+    assert!(parent.is_macro() && parent.name == "StayWarm");
+    let closed: Vec<_> = heater
+        .constraint
+        .admitted()
+        .map(|v| {
+            mission
+                .plant
+                .table()
+                .variable(mission.plant.component(switch1.unwrap()).mode_var())
+                .value_name(v)
+                .to_string()
+        })
+        .collect();
+    assert_eq!(closed, ["closed", "stuck-closed"]);
+    assert_eq!(mission.knowledge_threshold, 0.9);
+}
+
+/// System test 1's mission: knowledge goals only, every one requiring "known".
+#[test]
+fn the_know_all_mission_is_knowledge_only() {
+    root();
+    let mission = mission::load(Path::new("missions/thermostat_know_all.ron")).expect("loads");
+    let goals: Vec<_> = mission
+        .network
+        .goals()
+        .iter()
+        .filter(|g| !g.is_macro())
+        .collect();
+    assert_eq!(goals.len(), 8);
+    assert!(
+        goals
+            .iter()
+            .all(|g| g.kind == GoalKind::Knowledge && g.constraint.requires_known())
+    );
+    assert!(mission.safe.goals().is_empty());
+}
+
+/// `kairos check` validates missions beside models and programs (issue 13 §5): the shipped
+/// missions pass, a bad one exits 2 with its located error.
+#[test]
+fn kairos_check_validates_missions() {
+    root();
+    let kairos = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_kairos"))
+            .args(args)
+            .output()
+            .expect("runs")
+    };
+    let good = kairos(&[
+        "check",
+        "missions/thermostat_stay_warm.ron",
+        "missions/thermostat_know_all.ron",
+    ]);
+    assert_eq!(good.status.code(), Some(0));
+    let stdout = String::from_utf8_lossy(&good.stdout);
+    assert!(stdout.contains("ok: missions/thermostat_stay_warm.ron: mission on models/thermostat.ron (6 time points, 13 goals)"), "{stdout}");
+    let bad = kairos(&["check", "tests/bad_missions/unknown_sv.ron"]);
+    assert_eq!(bad.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(stderr.contains("unknown_sv.ron:6:43"), "{stderr}");
+}

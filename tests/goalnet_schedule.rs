@@ -1,0 +1,182 @@
+//! Merging and scheduling (issue 13 §3; mds-goal-networks.md §2.2 and §3.3's negative
+//! scheduling tests): XGoals per state variable, serialisation, the four outcomes with their
+//! evidence, and `kairos schedule` on the thermostat mission (snapshot).
+
+use std::path::Path;
+use std::process::Command;
+
+use kairos::goalnet::{GoalKind, Provenance, ScheduleError, display, mission, schedule};
+use kairos::logic::ValueId;
+use kairos::reconfiguration::Reconfiguration;
+
+fn root() {
+    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
+}
+
+/// Schedules a mission from the thermostat's initial state (every mode's first value: cold,
+/// open, open, healthy — the model's most likely initial modes).
+fn scheduled(
+    path: &str,
+) -> (
+    mission::Mission,
+    Result<kairos::goalnet::ExecutableNetwork, ScheduleError>,
+) {
+    root();
+    let mission = mission::load(Path::new(path)).expect("loads");
+    let reconfiguration = Reconfiguration::compile(&mission.plant).expect("compiles");
+    let current = vec![ValueId(0); mission.plant.components().len()];
+    let result = schedule(&mission.network, &reconfiguration, &current);
+    (mission, result)
+}
+
+fn explained(path: &str) -> (ScheduleError, String) {
+    let (mission, result) = scheduled(path);
+    let error = result.expect_err("scheduling fails");
+    let text = display::explain(&error, &mission.network, &mission.plant);
+    (error, text)
+}
+
+/// System test 4's network: switch 1's timeline is Known, then the transition to CLOSED merged
+/// with Known, then CLOSED maintained, then Known again (§2.2 step 2c).
+#[test]
+fn the_stay_warm_network_has_an_xgoal_per_interval() {
+    let (mission, result) = scheduled("missions/thermostat_stay_warm.ron");
+    let executable = result.expect("schedules");
+    let switch1 = mission.plant.component_named("switch1").unwrap();
+    let timeline = executable.timeline(switch1).expect("switch1 has goals");
+    let kinds: Vec<GoalKind> = timeline.xgoals.iter().map(|x| x.kind).collect();
+    use GoalKind::*;
+    assert_eq!(kinds, [Knowledge, Transition, Maintain, Knowledge]);
+    assert_eq!(timeline.xgoals[1].constituents.len(), 2);
+    assert!(
+        timeline
+            .xgoals
+            .iter()
+            .all(|x| x.constraint.requires_known())
+    );
+    // Upstream first: the switches before the temperature they heat.
+    let names: Vec<&str> = executable
+        .timelines
+        .iter()
+        .map(|t| mission.plant.component(t.sv).name())
+        .collect();
+    let temperature = names.iter().position(|n| *n == "temperature").unwrap();
+    assert!(names.iter().position(|n| *n == "switch1").unwrap() < temperature);
+}
+
+/// System test 1: the second knowledge activity merges with KnowAll on [TP_k1, TP_k2] on every
+/// state variable (mds-goal-networks.md §3.3: "2 constituents merged").
+#[test]
+fn the_knowledge_activity_merges_with_know_all() {
+    let (mission, result) = scheduled("missions/thermostat_know_all.ron");
+    let executable = result.expect("schedules");
+    assert_eq!(executable.timelines.len(), 4);
+    let network = &executable.network;
+    for timeline in &executable.timelines {
+        let spans: Vec<(&str, &str, usize)> = timeline
+            .xgoals
+            .iter()
+            .map(|x| {
+                (
+                    network.point(x.start).name.as_str(),
+                    network.point(x.end).name.as_str(),
+                    x.constituents.len(),
+                )
+            })
+            .collect();
+        assert_eq!(
+            spans,
+            [
+                ("origin", "TP_k1", 1),
+                ("TP_k1", "TP_k2", 2),
+                ("TP_k2", "TP_bgE", 1)
+            ],
+            "{}",
+            mission.plant.component(timeline.sv).name()
+        );
+    }
+}
+
+/// Goals that do not merge are serialised when the network allows it (§2.2 step 2d).
+#[test]
+fn incompatible_goals_are_serialised() {
+    let (_, result) = scheduled("tests/missions/serialised.ron");
+    let executable = result.expect("schedules");
+    let network = &executable.network;
+    let reasons: Vec<String> = network
+        .stn()
+        .constraints()
+        .iter()
+        .filter_map(|c| match &c.provenance {
+            Provenance::Scheduled { reason } if reason.starts_with("end(") => Some(reason.clone()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        reasons,
+        ["end(close) ≤ start(open)", "end(closed) ≤ start(open)"]
+    );
+    let point = |n: &str| network.point_named(n).unwrap();
+    let window = network.stn().window(point("c")).unwrap();
+    assert_eq!(
+        window.lb, 10.0,
+        "c no earlier than b, which is 10 s after a ≥ 0"
+    );
+}
+
+#[test]
+fn unmergeable_goals_are_named() {
+    let (error, text) = explained("tests/missions/unmergeable.ron");
+    assert!(
+        matches!(error, ScheduleError::Unmergeable { .. }),
+        "{error:?}"
+    );
+    insta::assert_snapshot!(text);
+}
+
+#[test]
+fn a_transition_into_a_fault_is_unachievable() {
+    let (error, text) = explained("tests/missions/unachievable.ron");
+    assert!(
+        matches!(error, ScheduleError::Unachievable { .. }),
+        "{error:?}"
+    );
+    insta::assert_snapshot!(text);
+}
+
+#[test]
+fn a_maintain_goal_without_its_transition_is_transition_unachievable() {
+    let (error, text) = explained("tests/missions/no_transition_goal.ron");
+    assert!(
+        matches!(error, ScheduleError::TransitionUnachievable { .. }),
+        "{error:?}"
+    );
+    insta::assert_snapshot!(text);
+}
+
+/// `kairos schedule` prints the windows and the XGoals of system test 4's mission.
+#[test]
+fn kairos_schedule_prints_windows_and_xgoals() {
+    root();
+    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
+        .args(["schedule", "missions/thermostat_stay_warm.ron"])
+        .output()
+        .expect("runs");
+    assert_eq!(output.status.code(), Some(0));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("TP_S    [70, 165]"), "{stdout}");
+    insta::assert_snapshot!(stdout);
+}
+
+/// `kairos schedule` on a network that cannot be scheduled says why and exits 1.
+#[test]
+fn kairos_schedule_explains_a_failure() {
+    root();
+    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
+        .args(["schedule", "tests/missions/unmergeable.ron"])
+        .output()
+        .expect("runs");
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("unmergeable: on switch1"), "{stderr}");
+}
