@@ -78,28 +78,10 @@ fn measure(spec: &RandomPlant, run: &RandomRun, scores: &mut [Score]) -> Option<
         .collect();
     let mut largest = e.belief.states().len();
     for cycle in &cycles {
-        e = exact
-            .update(
-                &plant,
-                &mut theory,
-                &e.belief,
-                &cycle.commands,
-                &cycle.observation,
-                cycle.time,
-            )
-            .expect("exact update");
+        e = cycle.update(&mut exact, &plant, &mut theory, &e);
         largest = largest.max(e.belief.states().len());
         for ((estimator, t), score) in timed.iter_mut().zip(scores.iter_mut()) {
-            *t = estimator
-                .update(
-                    &plant,
-                    &mut theory,
-                    &t.belief,
-                    &cycle.commands,
-                    &cycle.observation,
-                    cycle.time,
-                )
-                .expect("timed update");
+            *t = cycle.update(estimator, &plant, &mut theory, t);
             score.steps += 1;
             score.agreed += u64::from(agrees(&e.belief, &t.belief));
             score.distance += total_variation(&e.belief, &t.belief);

@@ -129,26 +129,8 @@ fn run_case(spec: &RandomPlant, run: &RandomRun) -> Findings {
         let Some(cycle) = cycles.get(step) else {
             break;
         };
-        e = exact
-            .update(
-                &plant,
-                &mut theory,
-                &e.belief,
-                &cycle.commands,
-                &cycle.observation,
-                cycle.time,
-            )
-            .expect("exact update");
-        t = timed
-            .update(
-                &plant,
-                &mut theory,
-                &t.belief,
-                &cycle.commands,
-                &cycle.observation,
-                cycle.time,
-            )
-            .expect("timed update");
+        e = cycle.update(&mut exact, &plant, &mut theory, &e);
+        t = cycle.update(&mut timed, &plant, &mut theory, &t);
     }
     findings
 }

@@ -91,26 +91,8 @@ fn run_case(spec: &RandomPlant, run: &RandomRun) -> Tally {
     };
     check(&mut tally, &e, &t, &first, &mut theory, 0);
     for (step, cycle) in cycles.iter().enumerate() {
-        e = exact
-            .update(
-                &plant,
-                &mut theory,
-                &e.belief,
-                &cycle.commands,
-                &cycle.observation,
-                cycle.time,
-            )
-            .expect("exact update");
-        t = timed
-            .update(
-                &plant,
-                &mut theory,
-                &t.belief,
-                &cycle.commands,
-                &cycle.observation,
-                cycle.time,
-            )
-            .expect("timed update");
+        e = cycle.update(&mut exact, &plant, &mut theory, &e);
+        t = cycle.update(&mut timed, &plant, &mut theory, &t);
         check(
             &mut tally,
             &e,

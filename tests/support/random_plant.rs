@@ -12,6 +12,7 @@
 #![allow(dead_code)] // each includer uses a different part
 
 use kairos::diagnostic::Source;
+use kairos::estimation::{ModeEstimator, Update};
 use kairos::logic::{ValueId, VarId};
 use kairos::opsat::{Consistency, Literal, Theory};
 use kairos::plant::{Commands, Observation, Plant, SystemState, step_tcca};
@@ -493,6 +494,29 @@ pub struct Cycle {
     pub time: f64,
     /// o(i+1).
     pub observation: Observation,
+}
+
+impl Cycle {
+    /// `estimator`'s update from `last` through this cycle (the runs are valid input: a refusal
+    /// is a test failure).
+    pub fn update(
+        &self,
+        estimator: &mut dyn ModeEstimator,
+        plant: &Plant,
+        theory: &mut Theory,
+        last: &Update,
+    ) -> Update {
+        estimator
+            .update(
+                plant,
+                theory,
+                &last.belief,
+                &self.commands,
+                &self.observation,
+                self.time,
+            )
+            .expect("an estimation update")
+    }
 }
 
 fn sample(distribution: &[(ValueId, f64)], u: f64) -> usize {
