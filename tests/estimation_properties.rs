@@ -22,7 +22,6 @@ use support::random_plant::{RandomPlant, RandomRun, consistent_with, random_plan
 const MAX_COMPONENTS: usize = 5;
 const MAX_STEPS: usize = 10;
 
-
 /// What one random plant and run showed.
 #[derive(Default)]
 struct Tally {
