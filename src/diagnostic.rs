@@ -10,6 +10,7 @@ pub(crate) mod locate;
 
 use std::fmt;
 use std::ops::Range;
+use std::path::Path;
 
 use codespan_reporting::diagnostic::{Diagnostic as Report, Label};
 use codespan_reporting::files::SimpleFile;
@@ -148,6 +149,66 @@ impl Source {
         offset
     }
 }
+
+impl Source {
+    /// Reads a file, named by its path as given. The one reader of every file the CLI and the
+    /// loaders read, so that bytes that are not UTF-8 are located like any other bad input: at the
+    /// first invalid byte's line:column (and byte offset), not a bare "stream did not contain
+    /// valid UTF-8" (issue 12).
+    pub fn read(path: &Path) -> Result<Source, ReadError> {
+        let name = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|error| ReadError::Io {
+            name: name.clone(),
+            error,
+        })?;
+        match String::from_utf8(bytes) {
+            Ok(text) => Ok(Source::new(name, text)),
+            Err(e) => Err(ReadError::NotUtf8(Box::new(not_utf8(name, e.as_bytes())))),
+        }
+    }
+}
+
+/// The located error for a file whose bytes are not UTF-8: shown against the text with each
+/// invalid sequence replaced by U+FFFD, which keeps every byte offset before the first one.
+fn not_utf8(name: String, bytes: &[u8]) -> SourceErrors {
+    let (offset, byte) = match std::str::from_utf8(bytes) {
+        Ok(_) => (bytes.len(), None),
+        Err(e) => (e.valid_up_to(), bytes.get(e.valid_up_to()).copied()),
+    };
+    let source = Source::new(name, String::from_utf8_lossy(bytes).into_owned());
+    let byte = byte.map_or_else(String::new, |b| format!(" 0x{b:02x}"));
+    let diagnostic = Diagnostic::new(
+        format!("not UTF-8 text: byte{byte} at byte offset {offset} is not valid UTF-8"),
+        offset..offset + '\u{fffd}'.len_utf8(),
+    )
+    .expected("text encoded in UTF-8");
+    SourceErrors::new(source, vec![diagnostic])
+}
+
+/// Why [`Source::read`] failed.
+#[derive(Debug)]
+pub enum ReadError {
+    /// The file could not be read at all (missing, a directory, no permission).
+    Io {
+        /// The path as given.
+        name: String,
+        /// What the operating system said.
+        error: std::io::Error,
+    },
+    /// The file is not UTF-8 text: located at the first invalid byte.
+    NotUtf8(Box<SourceErrors>),
+}
+
+impl fmt::Display for ReadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ReadError::Io { name, error } => write!(f, "error: cannot read {name}: {error}"),
+            ReadError::NotUtf8(errors) => write!(f, "{errors}"),
+        }
+    }
+}
+
+impl std::error::Error for ReadError {}
 
 /// One or more problems in one source, with the source, so they can be printed on their own.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -82,3 +82,14 @@ bad_scenario!(
     "time_after_end.ron:8:41",
     "after the run ends at 100 s"
 );
+// Issue 12: deadlines a `Duration` cannot hold are located errors, not a panic.
+bad_scenario!(
+    deadline_too_long,
+    "deadline_too_long.ron:8:15",
+    "is longer than any duration"
+);
+bad_scenario!(
+    deadline_1e20,
+    "deadline_1e20.ron:7:15",
+    "is longer than any duration"
+);

@@ -44,9 +44,7 @@ impl Failure {
 
 /// Reads a file into a [`Source`] named by its path as given.
 pub fn read_source(path: &Path) -> Result<Source, Failure> {
-    std::fs::read_to_string(path)
-        .map(|text| Source::new(path.display().to_string(), text))
-        .map_err(|e| Failure::bad_input(format!("error: cannot read {}: {e}", path.display())))
+    Source::read(path).map_err(Failure::bad_input)
 }
 
 /// Reads and validates a plant model; its errors are bad input.

@@ -7,7 +7,7 @@
 //! {"time": 1.0, "observations": {"valve.flow_out": "zero"}, "commands": {"driver.dcmd_in": "on"}}
 //! {"time": 2.0, "observations": {"valve.flow_out": "zero"}}
 //! ```
-//! - `time`: t(i), seconds, never decreasing.
+//! - `time`: t(i), seconds, increasing from line to line (a repeated time is an error).
 //! - `observations`: o(i), the observables read at t(i) by name; an observable not listed is
 //!   unknown that cycle.
 //! - `commands`: μ(i), the controls commanded at t(i), after that cycle's estimate (the
@@ -74,17 +74,21 @@ pub fn parse_log(source: &Source, plant: &Plant) -> Result<Vec<LogRecord>, Sourc
             continue;
         };
         if let Some((previous, previous_line)) = last {
-            if parsed.time < previous {
+            // A repeated time is refused too: each line is a cycle, and a cycle of length zero
+            // would count a second estimation step at the same instant (issue 12).
+            if parsed.time <= previous {
                 let span = reader.find("time", 0).unwrap_or(start..start + line.len());
-                reader.errors.push(
-                    Diagnostic::new(
-                        format!(
-                            "time {} s comes after {previous} s on line {previous_line}",
-                            parsed.time
-                        ),
-                        span,
+                let message = if parsed.time == previous {
+                    format!("time {previous} s repeats the time of line {previous_line}")
+                } else {
+                    format!(
+                        "time {} s comes after {previous} s on line {previous_line}",
+                        parsed.time
                     )
-                    .expected("times that never decrease"),
+                };
+                reader.errors.push(
+                    Diagnostic::new(message, span)
+                        .expected("a time later than the line before's (one cycle per line)"),
                 );
             }
         }

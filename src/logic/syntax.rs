@@ -185,25 +185,34 @@ pub fn parse(text: &str) -> Result<Expr, Diagnostic> {
 /// parser and of the passes over the tree (resolution, grounding, evaluation).
 pub const MAX_NESTING: usize = 100;
 
+/// How many operators (`not`, `and`, `or`, `=>`) a formula may nest, one inside the other: the
+/// depth of its tree, which every pass over a formula (resolution, grounding, evaluation, the
+/// Tseitin encoding, `Drop`) walks recursively. A chain of `=>` nests one level per arrow, so this
+/// bounds chains that [`MAX_NESTING`]'s text scan cannot see (issue 12: a 10,000-long chain
+/// overflowed the stack).
+pub const MAX_DEPTH: usize = 2 * MAX_NESTING;
+
 /// Parses a fragment that sits at byte `offset` of a larger file: spans in the result, and in the
 /// error, are positions in that file. The RMPL parser uses this for the guards and goals it finds.
 pub fn parse_at(fragment: &str, offset: usize) -> Result<Expr, Diagnostic> {
     if let Some(at) = too_deep(fragment) {
-        return Err(
-            Diagnostic::new("formula nested too deeply", at + offset..at + offset).expected(
-                format!(
-                    "at most {MAX_NESTING} nested parentheses and {MAX_NESTING} negations in a row"
-                ),
-            ),
-        );
+        return Err(nested_too_deeply(at + offset));
     }
     let mut pairs = ConstraintParser::parse(Rule::formula, fragment)
         .map_err(|e| syntax_error(&e).shifted(offset))?;
     let formula = pairs.next().and_then(|p| p.into_inner().next());
     match formula {
-        Some(expr) => Ok(build_expr(expr, offset)),
+        Some(expr) => build_expr(expr, offset, 0),
         None => Err(Diagnostic::new("empty formula", offset..offset).expected("a formula")),
     }
+}
+
+/// The error for a formula that nests deeper than the limits, at byte `at`.
+fn nested_too_deeply(at: usize) -> Diagnostic {
+    Diagnostic::new("formula nested too deeply", at..at).expected(format!(
+        "at most {MAX_NESTING} nested parentheses, {MAX_NESTING} negations in a row and \
+         {MAX_DEPTH} nested operators"
+    ))
 }
 
 /// Where a fragment first nests deeper than [`MAX_NESTING`], if it does. A cheap scan of the text:
@@ -310,30 +319,54 @@ fn next_child<'i>(pairs: &mut pest::iterators::Pairs<'i, Rule>) -> Pair<'i, Rule
         .unwrap_or_else(|| unreachable!("the constraint grammar fixes the children of every rule"))
 }
 
-fn build_expr(pair: Pair<'_, Rule>, offset: usize) -> Expr {
+/// Builds the tree of a formula whose root sits under `depth` operators; refuses one that would
+/// nest deeper than [`MAX_DEPTH`] before building it, so no deep tree is ever made (or dropped).
+fn build_expr(pair: Pair<'_, Rule>, offset: usize, depth: usize) -> Result<Expr, Diagnostic> {
     let span = span_of(&pair, offset);
-    match pair.as_rule() {
+    Ok(match pair.as_rule() {
         Rule::expr => {
-            let mut inner = pair.into_inner();
-            let left = build_expr(next_child(&mut inner), offset);
-            match (inner.next(), inner.next()) {
-                (Some(_implies), Some(right)) => Expr {
-                    kind: ExprKind::Implies(Box::new(left), Box::new(build_expr(right, offset))),
-                    span,
-                },
-                _ => left,
+            // `a => b => c` is `a => (b => c)`: the i-th arrow sits under i others, and so does
+            // its left operand; the last operand under as many as there are arrows.
+            let parts: Vec<Pair<'_, Rule>> = pair
+                .into_inner()
+                .filter(|p| p.as_rule() != Rule::implies_op)
+                .collect();
+            let arrows = parts.len() - 1;
+            if arrows > MAX_DEPTH.saturating_sub(depth) {
+                let first_too_deep = &parts[MAX_DEPTH.saturating_sub(depth)];
+                return Err(nested_too_deeply(first_too_deep.as_span().start() + offset));
             }
+            let mut built = Vec::with_capacity(parts.len());
+            for (i, part) in parts.into_iter().enumerate() {
+                built.push(build_expr(part, offset, depth + (i + 1).min(arrows))?);
+            }
+            let Some(mut expr) = built.pop() else {
+                unreachable!("the constraint grammar gives `expr` at least one operand")
+            };
+            for left in built.into_iter().rev() {
+                expr = Expr {
+                    span: left.span.start..span.end,
+                    kind: ExprKind::Implies(Box::new(left), Box::new(expr)),
+                };
+            }
+            expr
         }
         Rule::disjunction | Rule::conjunction => {
             let is_or = pair.as_rule() == Rule::disjunction;
-            let mut parts: Vec<Expr> = pair
+            let pairs: Vec<Pair<'_, Rule>> = pair
                 .into_inner()
                 .filter(|p| !matches!(p.as_rule(), Rule::or_op | Rule::and_op))
-                .map(|p| build_expr(p, offset))
                 .collect();
-            if parts.len() == 1 {
-                return parts.remove(0);
+            if pairs.len() == 1 {
+                return build_expr(pairs[0].clone(), offset, depth);
             }
+            if depth >= MAX_DEPTH {
+                return Err(nested_too_deeply(span.start));
+            }
+            let parts = pairs
+                .into_iter()
+                .map(|p| build_expr(p, offset, depth + 1))
+                .collect::<Result<Vec<Expr>, Diagnostic>>()?;
             let kind = if is_or {
                 ExprKind::Or(parts)
             } else {
@@ -344,7 +377,11 @@ fn build_expr(pair: Pair<'_, Rule>, offset: usize) -> Expr {
         Rule::negation => {
             let children: Vec<Pair<'_, Rule>> = pair.into_inner().collect();
             let (nots, primary) = children.split_at(children.len() - 1);
-            let mut expr = build_expr(primary[0].clone(), offset);
+            // The i-th `not` sits under i others.
+            if let Some(first_too_deep) = nots.get(MAX_DEPTH.saturating_sub(depth)) {
+                return Err(nested_too_deeply(first_too_deep.as_span().start() + offset));
+            }
+            let mut expr = build_expr(primary[0].clone(), offset, depth + nots.len())?;
             for not in nots.iter().rev() {
                 let start = not.as_span().start() + offset;
                 expr = Expr {
@@ -387,7 +424,7 @@ fn build_expr(pair: Pair<'_, Rule>, offset: usize) -> Expr {
             }
         }
         rule => unreachable!("rule {rule:?} is not a formula"),
-    }
+    })
 }
 
 fn build_operand(pair: Pair<'_, Rule>, offset: usize) -> Operand {

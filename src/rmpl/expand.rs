@@ -14,6 +14,16 @@ use crate::diagnostic::{Diagnostic, Source, Span, did_you_mean};
 use crate::logic::syntax::{Name, Operand};
 use crate::logic::{Expr, ExprKind};
 
+/// How deeply constructs may nest once invocations are inlined, each invocation counting as a
+/// level: every pass over the inlined tree (linking, the clock analysis, compilation, `Drop`) is
+/// recursive, and a chain of 10,000 programs each invoking the next overflowed the stack (issue
+/// 12). Four times the nesting one definition may have ([`super::syntax::MAX_NESTING`]).
+pub const MAX_INLINED_DEPTH: usize = 4 * super::syntax::MAX_NESTING;
+
+/// How many constructs a program may have once invocations are inlined: a program that invokes
+/// another twice, which invokes a third twice, ... doubles with every level.
+pub const MAX_INLINED_SIZE: usize = 100_000;
+
 /// Parameter name → argument, for one invocation.
 type Arguments = HashMap<String, Operand>;
 
@@ -28,8 +38,16 @@ pub(crate) struct Expansion<'f> {
     pub assertions: Vec<Expr>,
     /// Everything wrong found so far.
     pub errors: Vec<Diagnostic>,
+    /// The definitions by name, the first of each.
+    by_name: HashMap<&'f str, &'f Definition>,
     /// The programs being expanded, outermost first.
     active: Vec<&'f str>,
+    /// How many constructs enclose the one being expanded.
+    depth: usize,
+    /// How many constructs have been expanded.
+    size: usize,
+    /// Whether a limit was reached (reported once: every construct after it is beyond it too).
+    limit_reached: bool,
 }
 
 impl<'f> Expansion<'f> {
@@ -42,7 +60,11 @@ impl<'f> Expansion<'f> {
             conditions: Vec::new(),
             assertions: Vec::new(),
             errors: Vec::new(),
+            by_name: HashMap::new(),
             active: Vec::new(),
+            depth: 0,
+            size: 0,
+            limit_reached: false,
         };
         expansion.check_definitions();
         expansion
@@ -52,13 +74,16 @@ impl<'f> Expansion<'f> {
         self.source.line_col(span.start).0
     }
 
+    /// Indexes the definitions by name (the first of each; a file may hold thousands, so no
+    /// scans per name) and reports duplicates.
     fn check_definitions(&mut self) {
         let file = self.file;
-        for (i, definition) in file.definitions.iter().enumerate() {
-            let first = file.definitions[..i]
-                .iter()
-                .find(|d| d.name.text == definition.name.text);
-            if let Some(first) = first {
+        for definition in &file.definitions {
+            let first = *self
+                .by_name
+                .entry(&definition.name.text)
+                .or_insert(definition);
+            if !std::ptr::eq(first, definition) {
                 let line = self.line_of(&first.name.span);
                 self.errors.push(
                     Diagnostic::new(
@@ -91,7 +116,63 @@ impl<'f> Expansion<'f> {
         process
     }
 
+    /// Expands one construct, within [`MAX_INLINED_DEPTH`] and [`MAX_INLINED_SIZE`]: beyond
+    /// them, a located error (once) and a placeholder that does nothing.
     fn node(&mut self, node: &Node, arguments: &Arguments, call_stack: &[Span]) -> Process {
+        if self.depth >= MAX_INLINED_DEPTH || self.size >= MAX_INLINED_SIZE {
+            if !self.limit_reached {
+                self.limit_reached = true;
+                let error = self.too_large(node.span.clone(), call_stack);
+                self.errors.push(error);
+            }
+            return Process {
+                kind: ProcessKind::Parallel(Vec::new()),
+                span: node.span.clone(),
+                call_stack: call_stack.to_vec(),
+            };
+        }
+        self.depth += 1;
+        self.size += 1;
+        let process = self.construct(node, arguments, call_stack);
+        self.depth -= 1;
+        process
+    }
+
+    /// The error for a construct past [`MAX_INLINED_DEPTH`] or [`MAX_INLINED_SIZE`], located at
+    /// the outermost invocation (where the program can be changed) with the invocation chain.
+    fn too_large(&self, span: Span, call_stack: &[Span]) -> Diagnostic {
+        let (problem, limit) = if self.depth >= MAX_INLINED_DEPTH {
+            (
+                "nested too deeply",
+                format!("at most {MAX_INLINED_DEPTH} nested constructs and invocations"),
+            )
+        } else {
+            (
+                "too large",
+                format!("at most {MAX_INLINED_SIZE} constructs once invocations are inlined"),
+            )
+        };
+        let names: Vec<String> = self.active.iter().map(|name| format!("{name}()")).collect();
+        let chain = if names.len() > 6 {
+            let skipped = names.len() - 4;
+            format!(
+                "{} → ({skipped} more) → {}",
+                names[..2].join(" → "),
+                names[names.len() - 2..].join(" → ")
+            )
+        } else {
+            names.join(" → ")
+        };
+        let at = call_stack.first().cloned().unwrap_or(span);
+        Diagnostic::new(
+            format!("program {problem} once its invocations are inlined"),
+            at.start..at.start,
+        )
+        .expected(limit)
+        .note(format!("invocation chain: {chain}"))
+    }
+
+    fn construct(&mut self, node: &Node, arguments: &Arguments, call_stack: &[Span]) -> Process {
         let kind = match &node.kind {
             NodeKind::Assertion(expr) => {
                 let expr = self.substitute(expr, arguments);
@@ -181,8 +262,7 @@ impl<'f> Expansion<'f> {
             span: span.clone(),
             call_stack: call_stack.to_vec(),
         };
-        let file = self.file;
-        let Some(definition) = file.definition(&program.text) else {
+        let Some(&definition) = self.by_name.get(program.text.as_str()) else {
             self.errors.push(self.unknown_program(program));
             return nothing;
         };

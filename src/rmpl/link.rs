@@ -11,7 +11,7 @@
 //!
 //! Every error is collected and returned, located, in source order.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeSet, HashMap, HashSet};
 
 use super::expand::{Expansion, invoked_programs};
 use super::program::{LinkedProgram, Process, ProcessKind, ResolvedAssertion, ResolvedCondition};
@@ -140,6 +140,8 @@ fn other_roots<'f>(file: &'f ProgramFile, entry: &Definition) -> Vec<&'f Definit
     for definition in &file.definitions {
         invoked_programs(&definition.body, &mut invoked);
     }
+    // A set: a file of thousands of programs must not cost a scan of them all per program.
+    let invoked: HashSet<String> = invoked.into_iter().collect();
     file.definitions
         .iter()
         .filter(|d| d.name.text != entry.name.text && d.params.is_empty())

@@ -14,6 +14,7 @@ pub mod program;
 pub mod syntax;
 
 pub use compile::compile;
+pub use expand::{MAX_INLINED_DEPTH, MAX_INLINED_SIZE};
 pub use link::{LinkOptions, link};
 pub use program::LinkedProgram;
 pub use syntax::{ProgramFile, parse};

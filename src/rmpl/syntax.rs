@@ -157,7 +157,7 @@ pub fn parse(text: &str) -> Result<ProgramFile, Vec<Diagnostic>> {
     let mut definitions = Vec::new();
     let mut errors = Vec::new();
     let mut pos = 0;
-    while RmplParser::parse(Rule::rest, &text[pos..]).is_err() {
+    while !only_comments(&text[pos..]) {
         let rest = &text[pos..];
         match RmplParser::parse(Rule::next_definition, rest) {
             Ok(mut pairs) => {
@@ -194,6 +194,28 @@ pub fn parse(text: &str) -> Result<ProgramFile, Vec<Diagnostic>> {
     } else {
         Err(errors)
     }
+}
+
+/// Whether `text` holds only whitespace and comments (the grammar's `WHITESPACE` and `COMMENT`).
+/// A scan rather than a pest rule: a failed pest parse locates its error by scanning from the
+/// end of the input back to the error, which made a file of 10,000 programs quadratic.
+fn only_comments(text: &str) -> bool {
+    let trivia: &[char] = &[' ', '\t', '\n', '\r'];
+    let mut rest = text.trim_start_matches(trivia);
+    while !rest.is_empty() {
+        rest = if let Some(line) = rest.strip_prefix("//") {
+            line.find(['\n', '\r']).map_or("", |end| &line[end..])
+        } else if let Some(block) = rest.strip_prefix("/*") {
+            match block.find("*/") {
+                Some(end) => &block[end + 2..],
+                None => return false,
+            }
+        } else {
+            return false;
+        }
+        .trim_start_matches(trivia);
+    }
+    true
 }
 
 /// Where to resume after a syntax error at `error` in the definition that starts at `start`:
@@ -464,22 +486,28 @@ impl Builder<'_, '_> {
         }
     }
 
+    /// Records that the construct at `span` nests deeper than [`MAX_NESTING`]; an empty node
+    /// stands in for it.
+    fn too_deep(&mut self, span: Span) -> Node {
+        self.errors.push(
+            Diagnostic::new(
+                "blocks and combinators are nested too deeply",
+                span.start..span.start,
+            )
+            .expected(format!(
+                "at most {MAX_NESTING} nested blocks and combinators"
+            )),
+        );
+        Node {
+            kind: NodeKind::Parallel(Vec::new()),
+            span,
+        }
+    }
+
     fn node(&mut self, pair: Pair<'_, Rule>, depth: usize) -> Node {
         let span = self.span(&pair);
         if depth > MAX_NESTING {
-            self.errors.push(
-                Diagnostic::new(
-                    "blocks and combinators are nested too deeply",
-                    span.start..span.start,
-                )
-                .expected(format!(
-                    "at most {MAX_NESTING} nested blocks and combinators"
-                )),
-            );
-            return Node {
-                kind: NodeKind::Parallel(Vec::new()),
-                span,
-            };
+            return self.too_deep(span);
         }
         let rule = pair.as_rule();
         let mut inner = children(pair);
@@ -501,7 +529,17 @@ impl Builder<'_, '_> {
                 }
             }
             Rule::maintained => {
-                let mut node = self.node(child(&mut inner), depth);
+                // `A maintaining c maintaining d` is `(A maintaining c) maintaining d`: each
+                // link is a level (issue 12: a 10,000-long chain overflowed the passes' stacks).
+                let rest: Vec<Pair<'_, Rule>> = inner.collect();
+                let first = &rest[0];
+                let links = (rest.len() - 1) / 2;
+                if depth + links > MAX_NESTING {
+                    let keyword = &rest[2 * MAX_NESTING.saturating_sub(depth) + 1];
+                    return self.too_deep(self.span(keyword));
+                }
+                let mut node = self.node(first.clone(), depth + links);
+                let mut inner = rest.into_iter().skip(1);
                 while let (Some(_keyword), Some(condition)) = (inner.next(), inner.next()) {
                     let condition = self.formula(&condition);
                     node = Node {

@@ -8,7 +8,9 @@ use super::format::{ScenarioFile, ScriptFile, ScriptParts};
 use super::script::Script;
 use super::{Scenario, ScenarioErrors};
 use crate::diagnostic::locate::{Locator, Step};
-use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean, ron_error};
+use crate::diagnostic::{
+    Diagnostic, ReadError, Source, SourceErrors, Span, did_you_mean, ron_error,
+};
 use crate::logic::{self, Formula, VarId, VarTable};
 use crate::plant::Plant;
 use crate::rmpl::{self, LinkOptions};
@@ -75,10 +77,10 @@ pub(super) enum Vars {
 
 /// Reads the scenario at `path`.
 pub fn load(path: &Path) -> Result<Scenario, ScenarioErrors> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        ScenarioErrors::Unreadable(format!("error: cannot read {}: {e}", path.display()))
+    let source = Source::read(path).map_err(|e| match e {
+        ReadError::Io { .. } => ScenarioErrors::Unreadable(e.to_string()),
+        ReadError::NotUtf8(errors) => ScenarioErrors::Invalid(vec![*errors]),
     })?;
-    let source = Source::new(path.display().to_string(), text);
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     load_source(&source, &dir)
 }
@@ -192,15 +194,24 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
         }
     };
     let deadline = file.deadline.and_then(|d| {
-        let valid = d.is_finite() && d > 0.0;
-        if !valid {
+        // `try_from_secs_f64`, not `from_secs_f64`: a deadline past `Duration::MAX` (1e20 s)
+        // panics in the latter (issue 12).
+        let duration = Duration::try_from_secs_f64(d).ok().filter(|d| !d.is_zero());
+        if duration.is_none() {
+            let problem = if !(d.is_finite() && d > 0.0) {
+                format!("{d} is not a positive number of seconds")
+            } else if d < 1.0 {
+                format!("{d:e} s is shorter than a nanosecond")
+            } else {
+                format!("{d:e} s is longer than any duration (at most about 1.8e19 s)")
+            };
             ctx.error(
                 &[Step::Field("deadline")],
-                format!("cycle deadline {d} is not a positive number of seconds"),
+                format!("cycle deadline {problem}"),
                 "a wall-time budget per cycle in seconds, such as 0.05",
             );
         }
-        valid.then(|| Duration::from_secs_f64(d))
+        duration
     });
     Settings {
         cycle,
@@ -226,17 +237,28 @@ pub(crate) fn resolve_path(dir: &Path, relative: &str) -> PathBuf {
     out.iter().collect()
 }
 
-/// Reads a file named at `path` in the scenario; an unreadable file is an error there.
-fn read_named(ctx: &mut FileCtx, path: &[Step], dir: &Path, name: &str) -> Option<Source> {
+/// Reads a file named at `path` in the scenario; an unreadable file is an error there, one that
+/// is not UTF-8 an error in that file (at its first invalid byte).
+fn read_named(
+    ctx: &mut FileCtx,
+    path: &[Step],
+    dir: &Path,
+    name: &str,
+    all: &mut Vec<SourceErrors>,
+) -> Option<Source> {
     let resolved = resolve_path(dir, name);
-    match std::fs::read_to_string(&resolved) {
-        Ok(text) => Some(Source::new(resolved.display().to_string(), text)),
-        Err(e) => {
+    match Source::read(&resolved) {
+        Ok(source) => Some(source),
+        Err(ReadError::Io { error, .. }) => {
             ctx.error(
                 path,
-                format!("cannot read `{}`: {e}", resolved.display()),
+                format!("cannot read `{}`: {error}", resolved.display()),
                 "a path relative to the scenario file",
             );
+            None
+        }
+        Err(ReadError::NotUtf8(errors)) => {
+            all.push(*errors);
             None
         }
     }
@@ -251,8 +273,8 @@ fn model_and_program(
     dir: &Path,
     all: &mut Vec<SourceErrors>,
 ) -> Option<Loaded> {
-    let plant_source = read_named(ctx, &[Step::Field("plant")], dir, &file.plant);
-    let program_source = read_named(ctx, &[Step::Field("program")], dir, &file.program);
+    let plant_source = read_named(ctx, &[Step::Field("plant")], dir, &file.plant, all);
+    let program_source = read_named(ctx, &[Step::Field("program")], dir, &file.program, all);
     let plant = match Plant::load(&plant_source?) {
         Ok(plant) => plant,
         Err(errors) => {
@@ -290,7 +312,7 @@ fn read_includes(
     let mut out = Vec::new();
     for (i, name) in file.include.iter().enumerate() {
         let path = [Step::Field("include"), Step::Index(i)];
-        let Some(source) = read_named(ctx, &path, dir, name) else {
+        let Some(source) = read_named(ctx, &path, dir, name, all) else {
             continue;
         };
         match options.from_str::<ScriptFile>(&source.text) {
