@@ -33,7 +33,7 @@ fn files(kind: &str, target: &str) -> Vec<PathBuf> {
     files
 }
 
-fn entry(target: &str) -> fn(&[u8]) {
+fn entry(target: &str) -> targets::Entry {
     targets::TARGETS
         .iter()
         .find(|(name, _)| *name == target)

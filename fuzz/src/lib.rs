@@ -402,9 +402,12 @@ fn named_value(table: &VarTable, reading: &Reading) -> NamedValue {
     NamedValue::new(variable, value)
 }
 
+/// A target's entry function: the bytes libFuzzer hands over.
+pub type Entry = fn(&[u8]);
+
 /// Every target by name, as `cargo fuzz` knows them (`fuzz/fuzz_targets/<name>.rs`) and as the
 /// corpus directories are named.
-pub const TARGETS: [(&str, fn(&[u8])); 7] = [
+pub const TARGETS: [(&str, Entry); 7] = [
     ("constraint", constraint),
     ("rmpl", rmpl),
     ("plant", plant),
