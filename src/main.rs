@@ -103,7 +103,8 @@ enum Command {
         /// commands and diagnoses, long idle stretches compressed (`src/report/timeline.rs`).
         #[arg(long, value_name = "FILE.svg")]
         timeline: Option<PathBuf>,
-        /// Print only the summary and the expectations' verdicts.
+        /// Print only the summary and the expectations' verdicts, and no progress bar (the bar
+        /// shows on standard error only when it is a terminal).
         #[arg(long)]
         quiet: bool,
     },

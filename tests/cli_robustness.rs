@@ -139,3 +139,38 @@ fn deep_programs_are_located_errors_not_aborts() {
         }
     }
 }
+
+/// `cycle: 1e-8, end: 10` is 10⁹ cycles: refused before the run, at `end`, with the count and a
+/// rough wall time (the cap, `simulation::MAX_CYCLES`, is documented in `src/simulation/mod.rs`).
+#[test]
+fn a_run_of_a_billion_cycles_is_refused_before_it_starts() {
+    let (code, stdout, stderr) = kairos(&["run", "tests/bad_scenarios/too_many_cycles.ron"]);
+    assert_eq!(code, 2, "{stdout}");
+    for expected in [
+        "too_many_cycles.ron:7:10",
+        "1.000e9 cycles, more than the 10000000 a scenario may run",
+        "about 8.6 hours",
+        "the cycle period is set at line 6, column 12",
+    ] {
+        assert!(
+            stderr.contains(expected),
+            "missing `{expected}` in\n{stderr}"
+        );
+    }
+}
+
+/// The progress bar is for a person at a terminal: standard error captured (not a terminal)
+/// carries no bar, with or without `--quiet`, and the log on standard output is unchanged.
+#[test]
+fn no_progress_bar_when_standard_error_is_not_a_terminal() {
+    for quiet in [false, true] {
+        let mut args = vec!["run", "scenarios/propulsion/nominal.ron"];
+        if quiet {
+            args.push("--quiet");
+        }
+        let (code, stdout, stderr) = kairos(&args);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(stderr.is_empty(), "{stderr}");
+        assert!(!stdout.contains("cycles (eta"), "{stdout}");
+    }
+}

@@ -93,3 +93,10 @@ bad_scenario!(
     "deadline_1e20.ron:7:15",
     "is longer than any duration"
 );
+// Issue 12: a run of more than `simulation::MAX_CYCLES` cycles is refused before it starts.
+bad_scenario!(
+    too_many_cycles,
+    "too_many_cycles.ron:7:10",
+    "1.000e9 cycles, more than the 10000000",
+    "line 6, column 12"
+);

@@ -5,7 +5,9 @@
 //! the expectations hold: a failed run is the one worth looking at.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, IsTerminal, Write};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 
 use kairos::report::log::MissionLog;
@@ -64,11 +66,21 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
     let mut trace = args.trace.map(create).transpose()?;
     let mut log = MissionLog::new(scenario);
     let mut printing = !args.quiet && emit(&log.header())?;
+    let progress = progress_bar(scenario, args.quiet);
+    let shared_terminal = !progress.is_hidden() && std::io::stdout().is_terminal();
     // The callback cannot return an error; the first one is kept and reported after the run.
     let mut problem: Option<Failure> = None;
     let outcome = simulation::run(scenario, RunOptions::default(), &mut |record| {
+        progress.inc(1);
         if printing && let Some(block) = log.cycle(record) {
-            match emit(&block) {
+            // On one terminal the bar is taken off while the log is written above it; a log
+            // going elsewhere needs no redraw of the bar per block.
+            let written = if shared_terminal {
+                progress.suspend(|| emit(&block))
+            } else {
+                emit(&block)
+            };
+            match written {
                 Ok(more) => printing = more,
                 Err(e) => {
                     printing = false;
@@ -88,7 +100,9 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
     .map_err(|e| match e {
         RunError::Build(_) => Failure::bad_input(format!("error: {e}")),
         _ => Failure::failed(format!("error: {e}")),
-    })?;
+    });
+    progress.finish_and_clear();
+    let outcome = outcome?;
     if let Some(mut writer) = trace
         && let Err(e) = writer.flush()
     {
@@ -101,6 +115,24 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
     }
     emit(&log.summary(&outcome))?;
     Ok(outcome)
+}
+
+/// The progress of a run, in cycles, on standard error: hidden when standard error is not a
+/// terminal (a log, a pipe, a test) or with `--quiet`, so that only a person watching sees it
+/// (issue 12: a long run showed nothing for minutes). indicatif redraws at most 20 times a
+/// second, so counting every cycle costs nothing measurable.
+fn progress_bar(scenario: &Scenario, quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(scenario.cycles()), ProgressDrawTarget::stderr());
+    // The template is a constant; were it refused, the default style still shows the count.
+    if let Ok(style) = ProgressStyle::with_template(
+        "{spinner} [{elapsed_precise}] {wide_bar} {human_pos}/{human_len} cycles (eta {eta})",
+    ) {
+        bar.set_style(style);
+    }
+    bar
 }
 
 /// Creates an output file, buffered; a path that cannot be written is bad input.

@@ -46,6 +46,8 @@
 //! Every error names the file, line and column, shows the text, says what was expected and which
 //! component and mode it concerns. Formulas are the constraint language of DESIGN.md §4.
 
+use std::collections::HashSet;
+
 use serde::Deserialize;
 
 use super::{
@@ -207,7 +209,7 @@ impl Loader {
             .filter_map(|(i, text)| {
                 let path = [Step::Field("connections"), Step::Index(i)];
                 let formula = self.formula(&path, text, "connection")?;
-                self.refuse_mode_variables(&path, &formula, &components);
+                self.refuse_mode_variables(&path, &formula);
                 Some(formula)
             })
             .collect();
@@ -375,17 +377,14 @@ impl Loader {
         }
     }
 
-    fn refuse_mode_variables(
-        &mut self,
-        path: &[Step],
-        formula: &Formula,
-        components: &[Component],
-    ) {
+    fn refuse_mode_variables(&mut self, path: &[Step], formula: &Formula) {
         for var in formula.variables() {
-            if let Some(component) = components.iter().find(|c| c.mode_var == var) {
+            // A mode variable is named by its component; attributes are `component.attribute`
+            // (a name test, not a scan of the components per connection).
+            let name = self.table.variable(var).name();
+            if !name.contains('.') {
                 let message = format!(
-                    "a connection links attributes; `{}` is a component's mode variable",
-                    component.name
+                    "a connection links attributes; `{name}` is a component's mode variable"
                 );
                 self.error(
                     path,
@@ -716,12 +715,6 @@ impl Loader {
 
     /// An attribute variable named at `path` (a control or an observable), or an error.
     fn attribute(&mut self, path: &[Step], name: &str, role: &str) -> Option<VarId> {
-        let attributes: Vec<&str> = self
-            .table
-            .variables()
-            .filter(|(_, v)| v.name().contains('.'))
-            .map(|(_, v)| v.name())
-            .collect();
         let problem = match self.table.variable_id(name) {
             Some(var) if name.contains('.') => return Some(var),
             Some(_) => format!("`{name}` is a component's mode variable; {role} is an attribute"),
@@ -729,6 +722,12 @@ impl Loader {
         };
         let mut diagnostic = Diagnostic::new(problem, self.locate.at(path))
             .expected("`component.attribute`, an attribute declared by a component");
+        // Listed only on an error: per name, it made a plant of 10,000 attributes quadratic.
+        let attributes = self
+            .table
+            .variables()
+            .filter(|(_, v)| v.name().contains('.'))
+            .map(|(_, v)| v.name());
         if let Some(close) = did_you_mean(name, attributes) {
             diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
         }
@@ -738,12 +737,13 @@ impl Loader {
 
     fn controls(&mut self, file: &PlantFile) -> Vec<Control> {
         let mut controls: Vec<Control> = Vec::new();
+        let mut listed = HashSet::new();
         for (name, idle) in &file.controls.0 {
             let key = [Step::Field("controls"), Step::Key(name)];
             let Some(var) = self.attribute(&key, name, "a control") else {
                 continue;
             };
-            if controls.iter().any(|c| c.var == var) {
+            if !listed.insert(var) {
                 self.error(
                     &[Step::Field("controls")],
                     format!("control `{name}` is listed twice"),
@@ -772,18 +772,20 @@ impl Loader {
 
     fn observables(&mut self, file: &PlantFile, controls: &[Control]) -> Vec<VarId> {
         let mut observables = Vec::new();
+        let mut listed = HashSet::new();
+        let controlled: HashSet<VarId> = controls.iter().map(|c| c.var).collect();
         for (i, name) in file.observables.iter().enumerate() {
             let path = [Step::Field("observables"), Step::Index(i)];
             let Some(var) = self.attribute(&path, name, "an observable") else {
                 continue;
             };
-            if observables.contains(&var) {
+            if !listed.insert(var) {
                 self.error(
                     &path,
                     format!("observable `{name}` is listed twice"),
                     "each observable once",
                 );
-            } else if controls.iter().any(|c| c.var == var) {
+            } else if controlled.contains(&var) {
                 self.error(
                     &path,
                     format!("`{name}` is both a control and an observable"),

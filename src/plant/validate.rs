@@ -4,6 +4,8 @@
 //! guards and clock values. Name, probability, window and distribution checks happen while
 //! loading ([`super::file`]).
 
+use std::collections::HashSet;
+
 use super::file::{TOLERANCE, mode_path, transition_path};
 use super::{Component, Plant, TransitionSource};
 use crate::diagnostic::Diagnostic;
@@ -18,28 +20,140 @@ pub(super) fn check(plant: &Plant, locate: &Locator) -> Vec<Diagnostic> {
         Ok(theory) => theory,
         Err(e) => return vec![Diagnostic::new(e.to_string(), 0..0)],
     };
+    let modes_hold = modes_can_hold(&mut theory, plant);
+    let guards_hold = guards_can_hold(&mut theory, plant, &modes_hold);
     let mut errors = Vec::new();
     for (c, component) in plant.components().iter().enumerate() {
-        for m in 0..component.modes().len() {
-            let mode = ValueId(m as u32);
-            let here = Literal::Is(component.mode_var(), mode);
-            if let Consistency::Conflict(_) = theory.consistent(&[here]) {
+        for (m, &holds) in modes_hold[c].iter().enumerate() {
+            if !holds {
                 errors.push(unsatisfiable_mode(component, c, m, locate));
                 continue;
             }
-            errors.extend(never_enabled_guards(
-                &mut theory,
-                component,
-                c,
-                mode,
-                locate,
-            ));
+            let mode = ValueId(m as u32);
+            for &(t, holds) in &guards_hold[c] {
+                if !holds && component.transitions()[t].source == TransitionSource::Mode(mode) {
+                    errors.push(never_enabled(component, c, t, locate));
+                }
+            }
             if let Some(error) = overfull_mode(&mut theory, component, c, mode, locate) {
                 errors.push(error);
             }
         }
     }
     errors
+}
+
+/// Per component and mode, whether the mode can hold with the model.
+fn modes_can_hold(theory: &mut Theory, plant: &Plant) -> Vec<Vec<bool>> {
+    let checks: Vec<Vec<Vec<Literal>>> = plant
+        .components()
+        .iter()
+        .map(|component| {
+            (0..component.modes().len())
+                .map(|m| vec![Literal::Is(component.mode_var(), ValueId(m as u32))])
+                .collect()
+        })
+        .collect();
+    consistent_each(theory, &checks)
+}
+
+/// Per component, its guarded transitions out of a mode that can hold, each with whether its
+/// guard can hold in that mode.
+fn guards_can_hold(
+    theory: &mut Theory,
+    plant: &Plant,
+    modes_hold: &[Vec<bool>],
+) -> Vec<Vec<(usize, bool)>> {
+    let mut transitions = Vec::new();
+    let mut checks = Vec::new();
+    for (c, component) in plant.components().iter().enumerate() {
+        let (mut mine, mut queries) = (Vec::new(), Vec::new());
+        for (t, transition) in component.transitions().iter().enumerate() {
+            let TransitionSource::Mode(mode) = transition.source else {
+                continue;
+            };
+            if transition.guard == Formula::True || !modes_hold[c][mode.index()] {
+                continue;
+            }
+            let Ok(guard) = theory.define(&transition.guard) else {
+                continue;
+            };
+            mine.push(t);
+            queries.push(vec![Literal::Is(component.mode_var(), mode), guard]);
+        }
+        transitions.push(mine);
+        checks.push(queries);
+    }
+    let results = consistent_each(theory, &checks);
+    transitions
+        .into_iter()
+        .zip(results)
+        .map(|(mine, holds)| mine.into_iter().zip(holds).collect())
+        .collect()
+}
+
+/// Whether each check (assumptions on one component, grouped by component) is consistent with
+/// the theory. One SAT call per check made validation quadratic in the size of the plant — each
+/// call assigns every variable — so the checks are asked in batches, one check per component
+/// at a time: a consistent batch settles all its checks at once; when a batch conflicts, the
+/// checks in the conflict are asked alone and the others wait for the next batch. A plant whose
+/// components are independent takes as many SAT calls as a component has checks (issue 12).
+fn consistent_each(theory: &mut Theory, checks: &[Vec<Vec<Literal>>]) -> Vec<Vec<bool>> {
+    let mut results: Vec<Vec<bool>> = checks.iter().map(|c| vec![false; c.len()]).collect();
+    let mut next = vec![0usize; checks.len()];
+    loop {
+        let batch: Vec<usize> = (0..checks.len())
+            .filter(|&c| next[c] < checks[c].len())
+            .collect();
+        if batch.is_empty() {
+            return results;
+        }
+        let assumptions: Vec<Literal> = batch
+            .iter()
+            .flat_map(|&c| checks[c][next[c]].iter().copied())
+            .collect();
+        match theory.consistent(&assumptions) {
+            Consistency::Consistent => {
+                for &c in &batch {
+                    results[c][next[c]] = true;
+                    next[c] += 1;
+                }
+            }
+            // The model alone is inconsistent: nothing can hold (and no batch would progress).
+            Consistency::Conflict(core) if core.is_empty() => return results,
+            Consistency::Conflict(core) => {
+                let core: HashSet<Literal> = core.into_iter().collect();
+                for &c in &batch {
+                    let check = &checks[c][next[c]];
+                    if check.iter().any(|literal| core.contains(literal)) {
+                        results[c][next[c]] = theory.consistent(check).is_consistent();
+                        next[c] += 1;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A transition declared from a mode whose guard contradicts the mode and the model.
+fn never_enabled(component: &Component, c: usize, t: usize, locate: &Locator) -> Diagnostic {
+    let transition = &component.transitions()[t];
+    let mode = match transition.source {
+        TransitionSource::Mode(mode) => &component.mode(mode).name,
+        TransitionSource::AnyNominal => "*",
+    };
+    let target = &component.mode(transition.target).name;
+    Diagnostic::new(
+        format!(
+            "component `{}`, transition `{mode}` -> `{target}` can never be enabled",
+            component.name(),
+        ),
+        locate.at(&transition_path(c, t, &[Step::Field("guard")])),
+    )
+    .expected(format!(
+        "a guard that can hold while `{}` is `{mode}`",
+        component.name(),
+    ))
 }
 
 fn unsatisfiable_mode(component: &Component, c: usize, m: usize, locate: &Locator) -> Diagnostic {
@@ -53,45 +167,6 @@ fn unsatisfiable_mode(component: &Component, c: usize, m: usize, locate: &Locato
     )
     .expected("a constraint consistent with the interconnections and the other modes")
     .note("the component would have no way to stay in this mode or to leave it")
-}
-
-/// Transitions declared from `mode` whose guard contradicts the mode and the model.
-fn never_enabled_guards(
-    theory: &mut Theory,
-    component: &Component,
-    c: usize,
-    mode: ValueId,
-    locate: &Locator,
-) -> Vec<Diagnostic> {
-    let mut errors = Vec::new();
-    for (t, transition) in component.transitions().iter().enumerate() {
-        if transition.source != TransitionSource::Mode(mode) || transition.guard == Formula::True {
-            continue;
-        }
-        let here = Literal::Is(component.mode_var(), mode);
-        let Ok(guard) = theory.define(&transition.guard) else {
-            continue;
-        };
-        if let Consistency::Conflict(_) = theory.consistent(&[here, guard]) {
-            let target = &component.mode(transition.target).name;
-            errors.push(
-                Diagnostic::new(
-                    format!(
-                        "component `{}`, transition `{}` -> `{target}` can never be enabled",
-                        component.name(),
-                        component.mode(mode).name
-                    ),
-                    locate.at(&transition_path(c, t, &[Step::Field("guard")])),
-                )
-                .expected(format!(
-                    "a guard that can hold while `{}` is `{}`",
-                    component.name(),
-                    component.mode(mode).name
-                )),
-            );
-        }
-    }
-    errors
 }
 
 /// A transition out of a mode that may fire together with others, with its largest per-step

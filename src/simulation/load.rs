@@ -19,8 +19,16 @@ use crate::sequencer::Thca;
 /// κ when the scenario does not say.
 pub const DEFAULT_KAPPA: usize = 10;
 
-/// More cycles than this is certainly a mistake in `cycle` or `end`.
-const MAX_CYCLES: f64 = 1e9;
+/// The most cycles a scenario may run (`end / cycle`): ten million, 58 times the nominal Mars
+/// EDL (171,577 cycles) and about five minutes at its pace. A longer run ran silently for hours
+/// (issue 12: `cycle: 1e-8, end: 10` is 10⁹ cycles); it is refused at `end` with the count and
+/// the time it would take.
+pub const MAX_CYCLES: u64 = 10_000_000;
+
+/// The wall time of a cycle used to say how long a refused run would take: the nominal Mars EDL's
+/// (5.4 s for 171,577 cycles of a release build on the benchmark machine, BENCHMARKS.md). A
+/// rough figure: it depends on the plant and the program.
+const CYCLE_PACE_SECONDS: f64 = 31e-6;
 
 /// One file being read: its text, its outline and the problems found in it.
 pub(super) struct FileCtx {
@@ -174,12 +182,8 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
             "the time the run stops, in seconds (0 or more)",
         );
         end = 0.0;
-    } else if end / cycle > MAX_CYCLES {
-        ctx.error(
-            &[Step::Field("end")],
-            format!("{end} s at {cycle} s per cycle is more than {MAX_CYCLES:e} cycles",),
-            "an end time and a cycle period giving at most a billion cycles",
-        );
+    } else if super::cycle_count(end, cycle) > MAX_CYCLES as f64 {
+        too_many_cycles(ctx, end, cycle);
     }
     let kappa = match file.kappa {
         None => DEFAULT_KAPPA,
@@ -218,6 +222,48 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
         end,
         kappa,
         deadline,
+    }
+}
+
+/// The error for a run of more than [`MAX_CYCLES`] cycles, at `end`, with where `cycle` is.
+fn too_many_cycles(ctx: &mut FileCtx, end: f64, cycle: f64) {
+    let cycles = super::cycle_count(end, cycle);
+    let (line, col) = ctx.source.line_col(ctx.span(&[Step::Field("cycle")]).start);
+    let diagnostic = Diagnostic::new(
+        format!(
+            "{end} s at {cycle} s per cycle is {cycles:.3e} cycles, more than the {MAX_CYCLES} a \
+             scenario may run: about {} at the Mars EDL's pace",
+            rough_duration(cycles * CYCLE_PACE_SECONDS)
+        ),
+        ctx.span(&[Step::Field("end")]),
+    )
+    .expected(format!(
+        "an end time and a cycle period giving at most {MAX_CYCLES} cycles"
+    ))
+    .note(format!(
+        "the cycle period is set at line {line}, column {col}"
+    ));
+    ctx.push(diagnostic);
+}
+
+/// A duration in the largest unit that keeps it at least 1 (`8.6 hours`, `12 days`).
+fn rough_duration(seconds: f64) -> String {
+    const UNITS: [(f64, &str); 5] = [
+        (365.25 * 86_400.0, "years"),
+        (86_400.0, "days"),
+        (3_600.0, "hours"),
+        (60.0, "minutes"),
+        (1.0, "seconds"),
+    ];
+    let (size, name) = UNITS
+        .into_iter()
+        .find(|&(size, _)| seconds >= size)
+        .unwrap_or(UNITS[4]);
+    let amount = seconds / size;
+    if amount >= 1e6 {
+        format!("{amount:.1e} {name}")
+    } else {
+        format!("{amount:.1} {name}")
     }
 }
 

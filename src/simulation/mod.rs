@@ -18,7 +18,8 @@
 //!     entry: "Fire",                        // optional; default: the file's first program
 //!     plant: "../../models/propulsion.ron",
 //!     cycle: 1.0,                           // cycle period, seconds; cycle i is at i · cycle
-//!     end: 300.0,                           // the last cycle is at or before this time
+//!     end: 300.0,                           // the last cycle is at or before this time;
+//!                                           // at most 10⁷ cycles (`MAX_CYCLES`), below
 //!     kappa: 5,                             // optional (default 10): states tracked by estimation
 //!     deadline: 0.05,                       // optional: wall-time budget per cycle, seconds
 //!     include: ["plant.ron"],               // optional: script files (below), read first
@@ -129,6 +130,13 @@
 //! more can happen: the program has completed, the plant is in its intended configuration, the
 //! script has nothing pending and every eventual expectation has been shown.
 //!
+//! A scenario runs at most [`MAX_CYCLES`] (10⁷) cycles, `end / cycle + 1`: 58 times the nominal
+//! Mars EDL (171,577 cycles), about five minutes at its pace. A longer one is refused where `end`
+//! is written, with the number of cycles and a rough wall time (at the EDL's ~31 µs per cycle of
+//! a release build): a mistyped period such as `cycle: 1e-8` would otherwise run for hours.
+//! `kairos run` shows a progress bar on standard error while it runs, when standard error is a
+//! terminal and `--quiet` is not given.
+//!
 //! Every problem in a scenario, script, model or program is reported with its file, line and
 //! column, the text and what was expected there.
 
@@ -145,7 +153,7 @@ use std::time::Duration;
 
 pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
 pub use format::EventName;
-pub use load::{DEFAULT_KAPPA, load, load_source};
+pub use load::{DEFAULT_KAPPA, MAX_CYCLES, load, load_source};
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
 pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
 
@@ -184,6 +192,19 @@ pub struct Scenario {
     pub script: Script,
     /// What must happen.
     pub expectations: Vec<Expectation>,
+}
+
+impl Scenario {
+    /// How many cycles the run has if it goes to its end (it may settle earlier).
+    pub fn cycles(&self) -> u64 {
+        // At most `MAX_CYCLES`, checked when the scenario was loaded: the cast does not saturate.
+        cycle_count(self.end, self.cycle) as u64
+    }
+}
+
+/// The number of cycles from time 0 to `end` at `cycle` seconds each, both ends included.
+fn cycle_count(end: f64, cycle: f64) -> f64 {
+    ((end + script::TIME_EPSILON) / cycle).floor() + 1.0
 }
 
 /// Why a scenario could not be loaded.
