@@ -3,6 +3,7 @@
 # a line per target: executions, seconds, corpus files, findings. New inputs go to
 # fuzz/work/<target>/ (not committed); the committed seeds in fuzz/corpus/<target>/ are read.
 # Usage: fuzz/run-all.sh [SECONDS] [TARGET...]   (FUZZING.md has the details)
+# FUZZ_ARGS adds libFuzzer flags (e.g. FUZZ_ARGS=-max_len=100000 for deep nesting).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
@@ -17,7 +18,7 @@ for target in "${targets[@]}"; do
     mkdir -p "fuzz/work/$target" "fuzz/corpus/$target"
     log="fuzz/work/logs/$target.log"
     nice -n 10 cargo fuzz run -s none "$target" "fuzz/work/$target" "fuzz/corpus/$target" -- \
-        -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 \
+        -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 ${FUZZ_ARGS:-} \
         >"$log" 2>&1
     status=$?
     runs=$(grep -oE 'stat::number_of_executed_units: *[0-9]+' "$log" | grep -oE '[0-9]+$' | tail -1)
