@@ -4,6 +4,8 @@
 
 #[path = "support/cli.rs"]
 mod cli;
+#[path = "support/large_plant.rs"]
+mod large_plant;
 
 use std::path::PathBuf;
 
@@ -173,4 +175,25 @@ fn no_progress_bar_when_standard_error_is_not_a_terminal() {
         assert!(stderr.is_empty(), "{stderr}");
         assert!(!stdout.contains("cycles (eta"), "{stdout}");
     }
+}
+
+/// A plant above `LARGE_PLANT_VARIABLES` (1,000; here 260 components, 1,040 variables): `kairos
+/// estimate` says how large it is before the long part starts, and still estimates.
+#[test]
+fn estimation_on_a_large_plant_says_so_before_it_starts() {
+    let plant = scratch("chain260.ron", large_plant::chain(260));
+    let log = scratch(
+        "chain260.jsonl",
+        "{\"time\": 0.0, \"observations\": {\"c0.out\": \"zero\"}}\n\
+         {\"time\": 1.0, \"observations\": {\"c0.out\": \"zero\"}}\n",
+    );
+    let (code, stdout, stderr) = kairos(&["estimate", "--plant", &plant, "--log", &log]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stderr.starts_with("note: ")
+            && stderr.contains("260 components, 1040 variables, 780 transitions")
+            && stderr.contains("grows faster than linearly"),
+        "{stderr}"
+    );
+    assert!(stdout.contains("t = 1"), "{stdout}");
 }

@@ -131,6 +131,6 @@ fn check_program(path: &Path, plant: Option<(&Path, &Plant)>) -> Result<String, 
     ))
 }
 
-fn count(n: usize, what: &str) -> String {
+pub(super) fn count(n: usize, what: &str) -> String {
     format!("{n} {what}{}", if n == 1 { "" } else { "s" })
 }

@@ -37,6 +37,15 @@ pub fn run(args: &EstimateArgs) -> Result<(), Failure> {
     let plant = load_plant(args.plant)?;
     let source = read_source(args.log)?;
     let records = parse_log(&source, &plant).map_err(Failure::bad_input)?;
+    super::announce_large_plant(
+        args.plant,
+        &plant,
+        &format!(
+            "estimation ({} cycles, each an OPSAT search over the whole plant)",
+            records.len()
+        ),
+        false,
+    );
     let mut theory = plant
         .theory()
         .map_err(|e| Failure::bad_input(format!("error: {e}")))?;

@@ -52,3 +52,37 @@ pub fn load_plant(path: &Path) -> Result<kairos::plant::Plant, Failure> {
     let source = read_source(path)?;
     kairos::plant::Plant::load(&source).map_err(Failure::bad_input)
 }
+
+/// Above this many plant variables `kairos plan` and `kairos estimate` say, before they start,
+/// that the work ahead grows faster than the plant: both ask SAT questions over the whole plant
+/// per transition (policy compilation) or per cycle (estimation). Measured in BENCHMARKS.md
+/// ("Loading large plants"): 400 variables take a fraction of a second, 4,000 variables tens of
+/// seconds.
+pub const LARGE_PLANT_VARIABLES: usize = 1_000;
+
+/// Says on standard error, before a long computation on a large plant starts, how large it is
+/// and that `what` grows faster than linearly with it (issue 12: a 10,000-component plant ran
+/// for minutes with no output): when the plant has more than [`LARGE_PLANT_VARIABLES`], or when
+/// the caller knows its work is `large` for another reason.
+pub fn announce_large_plant(path: &Path, plant: &kairos::plant::Plant, what: &str, large: bool) {
+    let variables = plant.table().len();
+    if variables <= LARGE_PLANT_VARIABLES && !large {
+        return;
+    }
+    let components = plant.components();
+    let transitions: usize = components.iter().map(|c| c.transitions().len()).sum();
+    let largest = components
+        .iter()
+        .map(|c| c.modes().len())
+        .max()
+        .unwrap_or(0);
+    eprintln!(
+        "note: {}: {}, {}, {}, up to {} in a component; {what} grows faster than linearly \
+         with the plant and may take minutes",
+        path.display(),
+        check::count(components.len(), "component"),
+        check::count(variables, "variable"),
+        check::count(transitions, "transition"),
+        check::count(largest, "mode"),
+    );
+}

@@ -82,8 +82,26 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
     }
 }
 
+/// Above this many (mode, target) pairs in all policies `kairos plan` says so before compiling.
+const LARGE_POLICY_ENTRIES: usize = 1_000_000;
+
 fn compile(model: &Path) -> Result<(Plant, Reconfiguration), Failure> {
     let plant = load_plant(model)?;
+    // A policy has an entry per (mode, target) pair of a component: 5,000 modes took 900 MB.
+    let policy_entries: usize = plant
+        .components()
+        .iter()
+        .map(|c| c.modes().len().pow(2))
+        .sum();
+    super::announce_large_plant(
+        model,
+        &plant,
+        &format!(
+            "policy compilation ({policy_entries} (mode, target) pairs, a SAT question over the \
+             plant per transition)"
+        ),
+        policy_entries > LARGE_POLICY_ENTRIES,
+    );
     let reconfiguration = Reconfiguration::compile(&plant)
         .map_err(|e| Failure::bad_input(format!("error: {}: {e}", model.display())))?;
     Ok((plant, reconfiguration))
