@@ -45,6 +45,13 @@ enum Command {
     Schedule {
         /// The mission file.
         mission: PathBuf,
+        /// Project the schedule to this time (seconds): every point fired as early as the
+        /// network lets it, the windows left, and the XGoal each state variable is under.
+        #[arg(long, value_name = "SECONDS")]
+        at: Option<f64>,
+        /// Print a Graphviz drawing (time points, temporal constraints, XGoals) instead.
+        #[arg(long)]
+        dot: bool,
     },
     /// Compile an RMPL program to its timed hierarchical constraint automaton (THCA) and print
     /// its locations, or a Graphviz drawing.
@@ -162,7 +169,7 @@ fn main() -> ExitCode {
     let outcome = match Cli::parse().command {
         Command::Solve { file, k, json } => cli::solve::run(&file, k, json),
         Command::Check { files } => cli::check::run(&files),
-        Command::Schedule { mission } => cli::schedule::run(&mission),
+        Command::Schedule { mission, at, dot } => cli::schedule::run(&mission, at, dot),
         Command::Compile {
             program,
             entry,

@@ -180,3 +180,68 @@ fn kairos_schedule_explains_a_failure() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("unmergeable: on switch1"), "{stderr}");
 }
+
+fn schedule_cli(args: &[&str]) -> (Option<i32>, String, String) {
+    root();
+    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
+        .arg("schedule")
+        .args(args)
+        .output()
+        .expect("runs");
+    let text = |bytes: &[u8]| String::from_utf8_lossy(bytes).into_owned();
+    (
+        output.status.code(),
+        text(&output.stdout),
+        text(&output.stderr),
+    )
+}
+
+/// `kairos schedule --at T` projects the network to T (issue 13 item 5; mds-goal-networks.md
+/// §2.4): the points that fire by T at their earliest times, the windows left to the others,
+/// the XGoal each SV is under at T.
+#[test]
+fn kairos_schedule_at_projects_firings_and_active_xgoals() {
+    let (code, stdout, stderr) =
+        schedule_cli(&["missions/thermostat_stay_warm.ron", "--at", "100"]);
+    assert_eq!(code, Some(0), "{stderr}");
+    // TP_H at 10 s, TP_A at once (min 0), TP_S 60 s later; TP_E then fixed by [300, 300].
+    assert!(stdout.contains("TP_S    fired at 70"), "{stdout}");
+    assert!(stdout.contains("TP_E    [370, 370]"), "{stdout}");
+    assert!(
+        stdout.contains("[TP_S, TP_E] Maintain temperature ∈ {warm-low, warm, warm-high}, known: know-temperature, stay-warm  ← active"),
+        "{stdout}"
+    );
+    insta::assert_snapshot!(stdout);
+}
+
+/// `kairos schedule --dot` draws points, written constraints and XGoals (issue 13 item 5).
+#[test]
+fn kairos_schedule_dot_draws_points_constraints_and_xgoals() {
+    let (code, stdout, stderr) =
+        schedule_cli(&["missions/thermostat_stay_warm.ron", "--at", "100", "--dot"]);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stdout.starts_with("digraph "), "{stdout}");
+    assert!(stdout.contains("rankdir=LR"), "{stdout}");
+    // A fired point has a double border, a written constraint its bounds, the active XGoal is
+    // highlighted in the cluster of its SV.
+    assert!(
+        stdout.contains(
+            "\"point/3\" [label=\"TP_A\\lfired at 10 s\\l\", shape=ellipse, peripheries=2];"
+        ),
+        "{stdout}"
+    );
+    assert!(stdout.contains("[label=\"[60, 150] s\"]"), "{stdout}");
+    assert!(
+        stdout.contains("subgraph \"cluster_sv/temperature\""),
+        "{stdout}"
+    );
+    insta::assert_snapshot!(stdout);
+}
+
+/// A time that is not finite is refused with a message, not a panic.
+#[test]
+fn kairos_schedule_at_refuses_a_non_finite_time() {
+    let (code, _, stderr) = schedule_cli(&["missions/thermostat_stay_warm.ron", "--at", "NaN"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("expected a finite time"), "{stderr}");
+}

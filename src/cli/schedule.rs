@@ -1,35 +1,174 @@
-//! `kairos schedule MISSION`: loads a mission, schedules its goal network (DESIGN.md §15.4;
-//! mds-goal-networks.md §2.2) from the plant's most likely initial modes, and prints every time
-//! point's window and each state variable's XGoals — or why the network cannot be scheduled
-//! (exit 1).
+//! `kairos schedule MISSION [--at T] [--dot]`: loads a mission, schedules its goal network
+//! (DESIGN.md §15.4; mds-goal-networks.md §2.2) from the plant's most likely initial modes, and
+//! prints every time point's window and each state variable's XGoals — or why the network cannot
+//! be scheduled (exit 1). `--at T` projects the schedule to `T` (`goalnet::project`); `--dot`
+//! draws it for Graphviz: time points as ellipses (fired ones with a double border), written
+//! temporal constraints as labelled edges, the scheduler's ordering constraints dashed, and each
+//! state variable's XGoals as boxes in its own cluster between their start and end points (the
+//! XGoal active at `T` highlighted).
 
 use std::path::Path;
 
-use kairos::goalnet::{display, mission, schedule};
+use kairos::goalnet::mission::seconds;
+use kairos::goalnet::{
+    ExecutableNetwork, GroundError, Projection, Provenance, ScheduleError, TimePointId, XGoal,
+    display, mission, project, schedule,
+};
 use kairos::logic::ValueId;
 use kairos::plant::Plant;
 use kairos::reconfiguration::Reconfiguration;
+use kairos::report::dot::{Cluster, Edge, Graph, Node, Shape};
 
 use super::Failure;
+use super::output::emit;
 
-/// Loads, schedules and prints.
-pub fn run(path: &Path) -> Result<(), Failure> {
+/// Loads, schedules, optionally projects to `at`, and prints as text or DOT.
+pub fn run(path: &Path, at: Option<f64>, dot: bool) -> Result<(), Failure> {
+    if let Some(at) = at.filter(|t| !t.is_finite()) {
+        return Err(Failure::bad_input(format!(
+            "error: --at {at}: expected a finite time in seconds"
+        )));
+    }
     let mission = mission::load(path).map_err(Failure::bad_input)?;
     let reconfiguration = Reconfiguration::compile(&mission.plant)
         .map_err(|e| Failure::bad_input(format!("error: {}: {e}", mission.plant_path)))?;
     let current = most_likely_initial(&mission.plant);
-    println!("mission: {} (plant {})", mission.name, mission.plant_path);
-    match schedule(&mission.network, &reconfiguration, &current) {
-        Ok(executable) => {
-            print!("{}", display::render(&executable, &mission.plant));
-            Ok(())
+    let executable = schedule(&mission.network, &reconfiguration, &current).map_err(|error| {
+        Failure::failed(format!(
+            "mission: {} (plant {})\n{}",
+            mission.name,
+            mission.plant_path,
+            display::explain(&error, &mission.network, &mission.plant)
+        ))
+    })?;
+    let projection = at
+        .map(|at| project(&executable, at))
+        .transpose()
+        .map_err(|error| {
+            Failure::failed(match error {
+                GroundError::Refused(refused) => {
+                    format!("error: projecting the schedule: {refused}")
+                }
+                GroundError::Inconsistent(cycle) => display::explain(
+                    &ScheduleError::Inconsistent(cycle),
+                    &executable.network,
+                    &mission.plant,
+                ),
+            })
+        })?;
+    let plant = &mission.plant;
+    let text = match (&projection, dot) {
+        (_, true) => drawing(&mission.name, &executable, projection.as_ref(), plant).render(),
+        (Some(projection), false) => {
+            header(&mission) + &display::render_projection(projection, plant)
         }
-        Err(error) => Err(Failure::failed(display::explain(
-            &error,
-            &mission.network,
-            &mission.plant,
-        ))),
+        (None, false) => header(&mission) + &display::render(&executable, plant),
+    };
+    emit(&text).map(|_| ())
+}
+
+fn header(mission: &mission::Mission) -> String {
+    format!("mission: {} (plant {})\n", mission.name, mission.plant_path)
+}
+
+fn point_id(point: TimePointId) -> String {
+    format!("point/{}", point.0)
+}
+
+/// The Graphviz drawing of a scheduled (and possibly projected) network.
+fn drawing(
+    name: &str,
+    executable: &ExecutableNetwork,
+    projection: Option<&Projection>,
+    plant: &Plant,
+) -> Graph {
+    // A projection's network has its fired points grounded; draw its windows.
+    let network = projection.map_or(&executable.network, |p| &p.executable.network);
+    let mut graph = Graph::new(name);
+    graph.left_to_right = true;
+    for (i, point) in network.points().iter().enumerate() {
+        let id = TimePointId(i as u32);
+        let fired = projection.and_then(|p| p.fired[i]);
+        let when = match (fired, network.stn().window(id)) {
+            (Some(time), _) => format!("fired at {} s", seconds(time)),
+            (None, Some(w)) => format!("[{}, {}] s", seconds(w.lb), seconds(w.ub)),
+            (None, None) => "(not propagated)".to_string(),
+        };
+        graph.nodes.push(Node {
+            shape: Shape::Ellipse,
+            peripheral: fired.is_some(),
+            ..Node::new(point_id(id), format!("{}\n{when}", point.name))
+        });
     }
+    for c in network.stn().constraints() {
+        let (label, dashed) = match &c.provenance {
+            Provenance::Written(_) | Provenance::Submitted => {
+                (format!("[{}, {}] s", seconds(c.min), seconds(c.max)), false)
+            }
+            // An ordering the XGoal boxes already show is not drawn twice.
+            Provenance::Scheduled { .. } if joined_by_xgoal(executable, c.from, c.to) => continue,
+            Provenance::Scheduled { reason } => (reason.clone(), true),
+            Provenance::AfterOrigin | Provenance::Fired => continue,
+        };
+        graph.edges.push(Edge {
+            from: point_id(c.from),
+            to: point_id(c.to),
+            label,
+            dashed,
+        });
+    }
+    for timeline in &executable.timelines {
+        let sv = plant.component(timeline.sv).name();
+        let active = projection.and_then(|p| p.active(timeline.sv));
+        let mut cluster = Cluster {
+            id: format!("sv/{sv}"),
+            label: sv.to_string(),
+            ..Cluster::default()
+        };
+        for (index, xgoal) in timeline.xgoals.iter().enumerate() {
+            let id = format!("xgoal/{sv}/{index}");
+            cluster.nodes.push(Node {
+                highlight: active == Some(xgoal),
+                ..Node::new(&id, xgoal_label(executable, plant, xgoal))
+            });
+            for (from, to) in [
+                (point_id(xgoal.start), id.clone()),
+                (id, point_id(xgoal.end)),
+            ] {
+                graph.edges.push(Edge {
+                    from,
+                    to,
+                    label: String::new(),
+                    dashed: false,
+                });
+            }
+        }
+        graph.clusters.push(cluster);
+    }
+    graph
+}
+
+fn joined_by_xgoal(executable: &ExecutableNetwork, from: TimePointId, to: TimePointId) -> bool {
+    let xgoals = executable.timelines.iter().flat_map(|t| &t.xgoals);
+    xgoals.clone().any(|x| x.start == from && x.end == to)
+}
+
+fn xgoal_label(executable: &ExecutableNetwork, plant: &Plant, xgoal: &XGoal) -> String {
+    let goals: Vec<&str> = xgoal
+        .constituents
+        .iter()
+        .map(|g| executable.network.goal(*g).name.as_str())
+        .collect();
+    format!(
+        "{}\n{}\ngoals: {}",
+        xgoal.kind.name(),
+        display::constraint_text(plant, xgoal.sv, &xgoal.constraint),
+        if goals.is_empty() {
+            "none".to_string()
+        } else {
+            goals.join(", ")
+        }
+    )
 }
 
 /// Each component's most likely initial mode (the first of equals).

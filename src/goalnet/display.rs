@@ -5,6 +5,7 @@ use std::fmt::Write;
 use super::constraint_set::ConstraintSet;
 use super::mission::seconds;
 use super::network::{ExecutableNetwork, GoalNetwork};
+use super::projection::Projection;
 use super::schedule::ScheduleError;
 use super::stn::Inconsistency;
 use super::temporal_constraint::Provenance;
@@ -15,6 +16,24 @@ use crate::plant::{ComponentId, Plant};
 /// Every point's window, then per state variable its XGoals with their merged constraint and
 /// constituent goals.
 pub fn render(executable: &ExecutableNetwork, plant: &Plant) -> String {
+    write_network(executable, plant, None)
+}
+
+/// A projection (`kairos schedule --at T`): as [`render`], with the points fired by `T` and
+/// the XGoal each state variable is under at `T` marked.
+pub fn render_projection(projection: &Projection, plant: &Plant) -> String {
+    let header = format!(
+        "projected to {} s (every point fired as early as the network lets it):\n",
+        seconds(projection.at)
+    );
+    header + &write_network(&projection.executable, plant, Some(projection))
+}
+
+fn write_network(
+    executable: &ExecutableNetwork,
+    plant: &Plant,
+    projection: Option<&Projection>,
+) -> String {
     let network = &executable.network;
     let mut out = String::from("time points (windows, s):\n");
     let width = network
@@ -24,16 +43,26 @@ pub fn render(executable: &ExecutableNetwork, plant: &Plant) -> String {
         .max()
         .unwrap_or(0);
     for (i, point) in network.points().iter().enumerate() {
-        let window = network.stn().window(super::TimePointId(i as u32));
-        let shown = window.map_or("(not propagated)".to_string(), |w| {
-            format!("[{}, {}]", seconds(w.lb), seconds(w.ub))
-        });
+        let id = super::TimePointId(i as u32);
+        let window = network.stn().window(id);
+        let fired = projection.and_then(|p| p.fired[i]);
+        let shown = match (fired, window) {
+            (Some(time), _) => format!("fired at {}", seconds(time)),
+            (None, Some(w)) => format!("[{}, {}]", seconds(w.lb), seconds(w.ub)),
+            (None, None) => "(not propagated)".to_string(),
+        };
         let _ = writeln!(out, "  {:width$}  {shown}", point.name);
     }
     for timeline in &executable.timelines {
         let _ = writeln!(out, "{}:", plant.component(timeline.sv).name());
+        let active = projection.and_then(|p| p.active(timeline.sv));
         for xgoal in &timeline.xgoals {
-            let _ = writeln!(out, "  {}", xgoal_line(network, plant, xgoal));
+            let marker = if active == Some(xgoal) {
+                "  ← active"
+            } else {
+                ""
+            };
+            let _ = writeln!(out, "  {}{marker}", xgoal_line(network, plant, xgoal));
         }
     }
     out

@@ -111,12 +111,7 @@ impl Execution {
     pub fn new(executable: ExecutableNetwork, threshold: f64) -> Self {
         let network = &executable.network;
         let n = network.points().len();
-        let mut predecessors = vec![Vec::new(); n];
-        for c in network.stn().constraints() {
-            if c.min >= 0.0 && c.from != c.to && !predecessors[c.to.index()].contains(&c.from) {
-                predecessors[c.to.index()].push(c.from);
-            }
-        }
+        let predecessors = network.stn().predecessors();
         let mut fired = vec![None; n];
         fired[TimePointId::ORIGIN.index()] = Some(0.0);
         let active = executable

@@ -627,7 +627,7 @@ fn least_beliefs(formula: &Formula, var: logic::VarId) -> Option<Vec<(ValueId, f
 }
 
 /// A bound as written in messages: `+∞`/`−∞` for open sides.
-pub(crate) fn seconds(bound: f64) -> String {
+pub fn seconds(bound: f64) -> String {
     match bound {
         f64::INFINITY => "+∞".to_string(),
         f64::NEG_INFINITY => "−∞".to_string(),

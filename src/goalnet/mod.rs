@@ -13,6 +13,8 @@
 //! - [`GoalNetwork`] (unscheduled) and [`ExecutableNetwork`] (scheduled, per-SV timelines);
 //! - [`schedule()`]: merging and scheduling into an [`ExecutableNetwork`] or a [`ScheduleError`];
 //!   [`display`] renders both for people;
+//! - [`project()`]: the nominal [`Projection`] of a scheduled network to a time (every point
+//!   fired as early as it may), for `kairos schedule --at`;
 //! - [`Execution`]: firing, grounding, dispatch and monitoring, one cycle at a time, and the
 //!   configuration goal the active XGoals give mode reconfiguration;
 //! - [`mission`]: the mission file (RON, `missions/`) and its loader, [`Mission`].
@@ -23,6 +25,7 @@ mod execution;
 mod goal;
 pub mod mission;
 mod network;
+mod projection;
 mod schedule;
 mod stn;
 mod temporal_constraint;
@@ -34,6 +37,7 @@ pub use execution::{EstimateView, Execution, FailureReason, GoalEvent};
 pub use goal::{Goal, GoalId, GoalKind};
 pub use mission::{Mission, MissionErrors};
 pub use network::{ExecutableNetwork, GoalNetwork, ORIGIN_NAME, Timeline};
+pub use projection::{Projection, project};
 pub use schedule::{ScheduleError, schedule};
 pub use stn::{GroundError, Inconsistency, Stn, StnError, Window};
 pub use temporal_constraint::{ConstraintId, Provenance, TemporalConstraint};

@@ -333,6 +333,18 @@ impl Stn {
         Some(Window { lb: -to_origin, ub })
     }
 
+    /// Per point, the points that must fire before it: the sources of the constraints into it
+    /// with a minimum ≥ 0 (the firing rule of mds-goal-networks.md §2.4: "predecessors fired").
+    pub fn predecessors(&self) -> Vec<Vec<TimePointId>> {
+        let mut predecessors = vec![Vec::new(); self.point_count()];
+        for c in &self.constraints {
+            if c.min >= 0.0 && c.from != c.to && !predecessors[c.to.index()].contains(&c.from) {
+                predecessors[c.to.index()].push(c.from);
+            }
+        }
+        predecessors
+    }
+
     /// The shortest-path distance `d(a, b)`: the latest `t(b) − t(a)` the network allows
     /// (`+∞` when unbounded; `None` when the network is inconsistent). Bellman–Ford from `a`:
     /// the scheduler asks this for a handful of pairs, not for every pair.

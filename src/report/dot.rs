@@ -82,6 +82,8 @@ pub struct Graph {
     pub clusters: Vec<Cluster>,
     /// All edges.
     pub edges: Vec<Edge>,
+    /// Lay out left to right (time flowing rightwards) instead of top to bottom.
+    pub left_to_right: bool,
 }
 
 /// Quotes a string for DOT, escaping quotes and backslashes and turning line breaks into
@@ -116,7 +118,9 @@ impl Graph {
     pub fn render(&self) -> String {
         let mut out = String::new();
         let _ = writeln!(out, "digraph {} {{", quote(&self.name));
-        out.push_str("  compound=true;\n  rankdir=TB;\n  node [fontname=\"Helvetica\", fontsize=11];\n  edge [fontname=\"Helvetica\", fontsize=10];\n");
+        let direction = if self.left_to_right { "LR" } else { "TB" };
+        let _ = writeln!(out, "  compound=true;\n  rankdir={direction};");
+        out.push_str("  node [fontname=\"Helvetica\", fontsize=11];\n  edge [fontname=\"Helvetica\", fontsize=10];\n");
         for node in &self.nodes {
             write_node(&mut out, node, 1);
         }
