@@ -245,3 +245,22 @@ fn kairos_schedule_at_refuses_a_non_finite_time() {
     assert_eq!(code, Some(2), "{stderr}");
     assert!(stderr.contains("expected a finite time"), "{stderr}");
 }
+
+/// A Maintain goal on a set the plant enters by itself (a trigger no command sets) is a
+/// condition its start point waits for, not an unachievable goal (ARCHITECTURE.md, goalnet
+/// decisions; mds-goal-networks.md §2.4's firing rule): the EDL descent mission schedules, its
+/// TP_bs held back by `alt-vel-triggered`. A set only a command reaches still needs its
+/// Transition goal (`a_maintain_goal_without_its_transition_is_transition_unachievable`).
+#[test]
+fn a_maintain_goal_on_a_spontaneous_trigger_schedules_as_a_wait() {
+    let (mission, result) = scheduled("missions/mars_edl_descent.ron");
+    let executable = result.expect("the descent mission schedules");
+    let trigger = mission
+        .plant
+        .component_named("alt_vel_trigger")
+        .expect("the lander has the trigger");
+    let timeline = executable.timeline(trigger).expect("the trigger has goals");
+    let xgoal = &timeline.xgoals[0];
+    assert_eq!(xgoal.kind, GoalKind::Maintain);
+    assert_eq!(mission.network.point(xgoal.start).name, "TP_bs");
+}

@@ -14,7 +14,9 @@
 //!    likely initial modes) and validated (step 3): a Transition XGoal projects onto the
 //!    admitted modes reachable (reconfiguration's reachability, §9: a stuck or irreversible
 //!    mode is not left) from the previous projection; a Maintain XGoal must already hold on the
-//!    previous projection (no transition is allowed inside it); XGoals without a control part
+//!    previous projection (no transition is allowed inside it) — or, on a set the plant enters
+//!    by itself (transitions whose guards name no command: a trigger, a drifting temperature),
+//!    it is a condition its start point waits for and projects onto those modes; XGoals without a control part
 //!    (knowledge, unconstrained) leave the projection alone — knowledge is never commanded,
 //!    only monitored (DESIGN.md §15.3). A Transition XGoal with an empty projection is
 //!    [`ScheduleError::Unachievable`] (its set cannot be reached); a Maintain XGoal whose set the
@@ -27,8 +29,8 @@ use super::stn::{Inconsistency, Stn};
 use super::temporal_constraint::{Provenance, TemporalConstraint};
 use super::time_point::TimePointId;
 use super::xgoal::XGoal;
-use crate::logic::ValueId;
-use crate::plant::ComponentId;
+use crate::logic::{ValueId, VarId};
+use crate::plant::{ComponentId, ModeKind, Plant, Transition};
 use crate::reconfiguration::Reconfiguration;
 
 /// Orderings of one timeline tried before giving up (a depth-first search with backtracking).
@@ -256,11 +258,24 @@ fn project(
                     })
                 })
                 .collect(),
-            _ => projected
-                .iter()
-                .copied()
-                .filter(|&v| xgoal.constraint.admits(v))
-                .collect(),
+            _ => {
+                let holding: Vec<ValueId> = projected
+                    .iter()
+                    .copied()
+                    .filter(|&v| xgoal.constraint.admits(v))
+                    .collect();
+                if holding.is_empty() && xgoal.kind == GoalKind::Maintain {
+                    // A set the plant enters by itself is a condition the start point waits
+                    // for (the firing rule: a Maintain XGoal is ready when its set holds).
+                    let plant = reconfiguration.plant();
+                    entered_by_itself(plant, timeline.sv, &projected)
+                        .into_iter()
+                        .filter(|&v| xgoal.constraint.admits(v))
+                        .collect()
+                } else {
+                    holding
+                }
+            }
         };
         if next.is_empty() {
             let previous = i.checked_sub(1).map(|p| &timeline.xgoals[p]);
@@ -279,4 +294,29 @@ fn project(
         projected = next;
     }
     Ok(())
+}
+
+/// The nominal modes of `sv` the plant may enter by itself from `from` (transitively): through
+/// transitions whose guard names no command — a trigger that sets when the radar acquires the
+/// ground, a temperature that drifts. No command brings them about, so no configuration goal
+/// can; a Maintain goal on them is a condition to wait for, not a state to achieve.
+fn entered_by_itself(plant: &Plant, sv: ComponentId, from: &[ValueId]) -> Vec<ValueId> {
+    let component = plant.component(sv);
+    let controls: Vec<VarId> = plant.controls().iter().map(|c| c.var).collect();
+    let spontaneous = |t: &Transition| {
+        component.mode(t.target).kind == ModeKind::Nominal
+            && t.guard.variables().iter().all(|v| !controls.contains(v))
+    };
+    let mut reached: Vec<ValueId> = from.to_vec();
+    let mut frontier: Vec<ValueId> = from.to_vec();
+    while let Some(mode) = frontier.pop() {
+        for &t in component.outgoing(mode) {
+            let transition = &component.transitions()[t];
+            if spontaneous(transition) && !reached.contains(&transition.target) {
+                reached.push(transition.target);
+                frontier.push(transition.target);
+            }
+        }
+    }
+    reached
 }
