@@ -155,9 +155,12 @@ impl Source {
     /// loaders read, so that bytes that are not UTF-8 are located like any other bad input: at the
     /// first invalid byte's line:column (and byte offset), not a bare "stream did not contain
     /// valid UTF-8" (issue 12).
+    ///
+    /// Only regular files of at most [`MAX_SOURCE_BYTES`] are read: a device (`/dev/zero`), a
+    /// pipe or a directory given as a model would otherwise hang the loader or exhaust memory.
     pub fn read(path: &Path) -> Result<Source, ReadError> {
         let name = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|error| ReadError::Io {
+        let bytes = read_regular_file(path).map_err(|error| ReadError::Io {
             name: name.clone(),
             error,
         })?;
@@ -166,6 +169,35 @@ impl Source {
             Err(e) => Err(ReadError::NotUtf8(Box::new(not_utf8(name, e.as_bytes())))),
         }
     }
+}
+
+/// The largest source file [`Source::read`] accepts (1 GiB): far above any model, program,
+/// scenario or replay log, far below what would exhaust the machine.
+pub const MAX_SOURCE_BYTES: u64 = 1 << 30;
+
+fn read_regular_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    let file = std::fs::File::open(path)?;
+    let metadata = file.metadata()?;
+    if !metadata.is_file() {
+        return Err(std::io::Error::other("not a regular file"));
+    }
+    if metadata.len() > MAX_SOURCE_BYTES {
+        return Err(std::io::Error::other(format!(
+            "{} bytes, more than the {MAX_SOURCE_BYTES} a source file may have",
+            metadata.len()
+        )));
+    }
+    let mut bytes = Vec::with_capacity(metadata.len() as usize);
+    // The size checked above can grow while reading (a file being written): read one byte past
+    // the limit at most.
+    file.take(MAX_SOURCE_BYTES + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > MAX_SOURCE_BYTES {
+        return Err(std::io::Error::other(
+            "the file grew past the size a source may have",
+        ));
+    }
+    Ok(bytes)
 }
 
 /// The located error for a file whose bytes are not UTF-8: shown against the text with each

@@ -197,3 +197,20 @@ fn estimation_on_a_large_plant_says_so_before_it_starts() {
     );
     assert!(stdout.contains("t = 1"), "{stdout}");
 }
+
+/// A device or a directory given where a file is expected is refused at once, not read until
+/// memory runs out (`/dev/zero` never ends): every loader reads through `Source::read`, which
+/// takes regular files only.
+#[test]
+fn a_device_or_directory_is_not_read_as_a_file() {
+    for args in [
+        vec!["run", "/dev/zero"],
+        vec!["graph", "/dev/zero"],
+        vec!["schedule", "/dev/zero"],
+        vec!["run", "tests"],
+    ] {
+        let (code, stdout, stderr) = kairos(&args);
+        assert_eq!(code, 2, "{args:?}: {stdout}{stderr}");
+        assert!(stderr.contains("not a regular file"), "{args:?}: {stderr}");
+    }
+}

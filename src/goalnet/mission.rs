@@ -53,7 +53,7 @@ use super::stn::Inconsistency;
 use super::temporal_constraint::{Provenance, TemporalConstraint};
 use super::time_point::TimePointId;
 use crate::diagnostic::locate::{Locator, Step};
-use crate::diagnostic::{Diagnostic, Source, SourceErrors, did_you_mean, ron_error};
+use crate::diagnostic::{Diagnostic, ReadError, Source, SourceErrors, did_you_mean, ron_error};
 use crate::logic::{self, Atom, CmpOp, Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
 use crate::simulation::{ScenarioErrors, resolve_path};
@@ -152,10 +152,7 @@ struct GoalFile {
 
 /// Reads the mission at `path`.
 pub fn load(path: &Path) -> Result<Mission, MissionErrors> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        ScenarioErrors::Unreadable(format!("error: cannot read {}: {e}", path.display()))
-    })?;
-    let source = Source::new(path.display().to_string(), text);
+    let source = Source::read(path)?;
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     load_source(&source, &dir)
 }
@@ -175,9 +172,10 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Mission, MissionErrors
         errors: Vec::new(),
     };
     let plant_path = resolve_path(dir, &file.plant).display().to_string();
-    let plant_source = match std::fs::read_to_string(&plant_path) {
-        Ok(text) => Source::new(plant_path.clone(), text),
-        Err(e) => {
+    let plant_source = match Source::read(Path::new(&plant_path)) {
+        Ok(source) => source,
+        Err(ReadError::NotUtf8(errors)) => return Err(ScenarioErrors::Invalid(vec![*errors])),
+        Err(ReadError::Io { error: e, .. }) => {
             loader.error(
                 &[Step::Field("plant")],
                 format!("cannot read `{plant_path}`: {e}"),

@@ -85,10 +85,7 @@ pub(super) enum Vars {
 
 /// Reads the scenario at `path`.
 pub fn load(path: &Path) -> Result<Scenario, ScenarioErrors> {
-    let source = Source::read(path).map_err(|e| match e {
-        ReadError::Io { .. } => ScenarioErrors::Unreadable(e.to_string()),
-        ReadError::NotUtf8(errors) => ScenarioErrors::Invalid(vec![*errors]),
-    })?;
+    let source = Source::read(path)?;
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     load_source(&source, &dir)
 }

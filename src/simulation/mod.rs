@@ -245,6 +245,16 @@ pub enum ScenarioErrors {
     Invalid(Vec<SourceErrors>),
 }
 
+impl From<crate::diagnostic::ReadError> for ScenarioErrors {
+    /// A file that cannot be read at all is unreadable; one that is not UTF-8 is located.
+    fn from(error: crate::diagnostic::ReadError) -> Self {
+        match error {
+            crate::diagnostic::ReadError::NotUtf8(errors) => ScenarioErrors::Invalid(vec![*errors]),
+            io => ScenarioErrors::Unreadable(io.to_string()),
+        }
+    }
+}
+
 impl fmt::Display for ScenarioErrors {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
