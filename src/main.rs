@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use kairos::report::log::LogFilter;
 
 /// kairos: a timed model-based executive.
 #[derive(Parser)]
@@ -131,6 +132,19 @@ enum Command {
         /// The model-driven plant's seed, in place of the scenario's: replays a campaign's run.
         #[arg(long)]
         seed: Option<u64>,
+        /// Leave the scripted plant's rule lines out of the log.
+        #[arg(long)]
+        hide_plant: bool,
+        /// Log only what concerns these components (repeat the option or separate by commas):
+        /// their mode changes and diagnoses, and the lines that name them.
+        #[arg(long, value_delimiter = ',', value_name = "COMPONENT")]
+        only: Vec<String>,
+        /// Log only the cycles at or after this time (seconds).
+        #[arg(long, value_name = "SECONDS")]
+        from: Option<f64>,
+        /// Log only the cycles at or before this time (seconds).
+        #[arg(long, value_name = "SECONDS")]
+        to: Option<f64>,
     },
     /// A Monte Carlo campaign: many seeded runs of a scenario with a model-driven plant, in
     /// parallel, tabulated (pass rate, failures with the seeds that replay them, diagnosis
@@ -202,6 +216,10 @@ fn main() -> ExitCode {
             timeline,
             quiet,
             seed,
+            hide_plant,
+            only,
+            from,
+            to,
         } => cli::run::run(&cli::run::RunArgs {
             scenario: &scenario,
             trace: trace.as_deref(),
@@ -209,6 +227,12 @@ fn main() -> ExitCode {
             timeline: timeline.as_deref(),
             quiet,
             seed,
+            filter: LogFilter {
+                hide_plant,
+                only,
+                from: from.unwrap_or(f64::NEG_INFINITY),
+                to: to.unwrap_or(f64::INFINITY),
+            },
         }),
         Command::Campaign(args) => cli::campaign::run(&args),
         Command::Bench {

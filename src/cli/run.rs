@@ -1,4 +1,5 @@
-//! `kairos run SCENARIO [--trace FILE] [--timeline FILE.svg] [--quiet]`: run a scenario
+//! `kairos run SCENARIO [--trace FILE] [--timeline FILE.svg] [--quiet] [--hide-plant] [--only
+//! COMPONENT,…] [--from T] [--to T]`: run a scenario
 //! (DESIGN.md §11, §12) and print its mission log (`kairos::report::log`); exit 0 when every
 //! expectation holds, 1 when one does not (the failed ones are listed on standard error), 2 when
 //! the scenario or a file it names is bad input. The timeline picture is drawn whether or not
@@ -10,7 +11,8 @@ use std::io::{BufWriter, IsTerminal, Write};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 
-use kairos::report::log::MissionLog;
+use kairos::diagnostic::did_you_mean;
+use kairos::report::log::{LogFilter, MissionLog};
 use kairos::report::timeline::{self, TimelineInput};
 use kairos::report::trace::Trace;
 use kairos::simulation::{self, RunError, RunOptions, RunOutcome, Scenario};
@@ -32,6 +34,8 @@ pub struct RunArgs<'a> {
     pub quiet: bool,
     /// The model-driven plant's seed, in place of the scenario's.
     pub seed: Option<u64>,
+    /// Which lines of the log to print.
+    pub filter: LogFilter,
 }
 
 /// Loads and runs the scenario; the outcome is the exit code.
@@ -43,6 +47,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
             args.scenario.display()
         )));
     }
+    check_filter(&scenario, &args.filter)?;
     // Opened before the run, so that a bad path is reported before a long run, not after.
     let picture = args
         .timeline
@@ -79,7 +84,7 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
     } else {
         Trace::changes()
     };
-    let mut log = MissionLog::new(scenario);
+    let mut log = MissionLog::filtered(scenario, args.filter.clone());
     let mut printing = !args.quiet && emit(&log.header())?;
     let progress = progress_bar(scenario, args.quiet);
     let shared_terminal = !progress.is_hidden() && std::io::stdout().is_terminal();
@@ -134,6 +139,35 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
     }
     emit(&log.summary(&outcome))?;
     Ok(outcome)
+}
+
+/// `--only` names components of the plant; `--from` is not after `--to`.
+fn check_filter(scenario: &Scenario, filter: &LogFilter) -> Result<(), Failure> {
+    let plant = &scenario.plant;
+    let names = || plant.components().iter().map(|c| c.name());
+    for name in &filter.only {
+        if plant.component_named(name).is_none() {
+            let hint = did_you_mean(name, names())
+                .map_or_else(String::new, |known| format!(" (did you mean `{known}`?)"));
+            return Err(Failure::bad_input(format!(
+                "error: --only {name}: no such component in {}{hint}; expected one of: {}",
+                scenario.plant_path,
+                names().collect::<Vec<_>>().join(", ")
+            )));
+        }
+    }
+    if filter.from.is_nan() || filter.to.is_nan() {
+        return Err(Failure::bad_input(
+            "error: --from and --to expect a time in seconds, not NaN",
+        ));
+    }
+    if filter.from > filter.to {
+        return Err(Failure::bad_input(format!(
+            "error: --from {} is after --to {}: no cycle would be logged",
+            filter.from, filter.to
+        )));
+    }
+    Ok(())
 }
 
 /// The progress of a run, in cycles, on standard error: hidden when standard error is not a

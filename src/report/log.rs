@@ -8,7 +8,7 @@
 //!   plant     rule `PDE latches up` takes effect: pde = latched  (FAULT)
 //!   believed  PDE: on -> resettable (p 0.91)
 //!   DIAGNOSIS PDE = resettable (p 0.91)
-//!   command   PDE.cmd = reset (repair): PDE: resettable -> on
+//!   REPAIR    PDE.cmd = reset (PDE: resettable -> on)
 //! ```
 
 use std::fmt::Write;
@@ -82,10 +82,21 @@ pub fn describe_event(
                 || format!("{}: {purpose}", assignments.join(", ")),
                 str::to_string,
             );
-            let tag = if *repair { "REPAIR" } else { "command" };
-            (tag, what)
+            // The tag says it is a repair; the planner's " (repair)" would say it twice.
+            if *repair {
+                ("REPAIR", what.replacen(" (repair)", "", 1))
+            } else {
+                ("command", what)
+            }
         }
-        E::Waiting { purpose } => ("waiting", purpose.clone()),
+        // `waiting  after Uniform(30, 60) s (engine: heating -> standby)`, not "waiting wait".
+        E::Waiting { purpose } => (
+            "waiting",
+            purpose
+                .strip_prefix("wait, ")
+                .unwrap_or(purpose)
+                .to_string(),
+        ),
         E::PlanFailed { reason } => ("NO PLAN", reason.clone()),
         E::EstimatorInconsistency { fallback } => (
             "INCONSISTENT",
@@ -126,9 +137,59 @@ pub fn describe_event(
     }
 }
 
+/// Which lines of the mission log to print (`kairos run --hide-plant --only … --from … --to …`).
+/// The default shows everything. Filtering changes what is printed, never what is reported:
+/// the summary, the verdicts and the trace are whole.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogFilter {
+    /// Leave out the scripted plant's rule lines.
+    pub hide_plant: bool,
+    /// Only lines that concern one of these components (empty: all): a mode change or a
+    /// diagnosis of it, or any other line that names it (a command to it, a goal on it, a rule
+    /// setting one of its attributes).
+    pub only: Vec<String>,
+    /// Only cycles at or after this time, seconds.
+    pub from: f64,
+    /// Only cycles at or before this time, seconds.
+    pub to: f64,
+}
+
+impl Default for LogFilter {
+    fn default() -> Self {
+        LogFilter {
+            hide_plant: false,
+            only: Vec::new(),
+            from: f64::NEG_INFINITY,
+            to: f64::INFINITY,
+        }
+    }
+}
+
+impl LogFilter {
+    fn shows_time(&self, time: f64) -> bool {
+        self.from <= time && time <= self.to
+    }
+
+    /// Whether a line of text names one of the components (as a whole word: `valve1` is not
+    /// named by `valve10`; `engine.power` names `engine`).
+    fn names_one(&self, text: &str) -> bool {
+        self.only.is_empty() || self.only.iter().any(|name| names_word(text, name))
+    }
+}
+
+fn names_word(text: &str, word: &str) -> bool {
+    let part_of_name = |c: char| c.is_alphanumeric() || c == '_' || c == '-';
+    text.match_indices(word).any(|(at, _)| {
+        let before = text[..at].chars().next_back();
+        let after = text[at + word.len()..].chars().next();
+        !before.is_some_and(part_of_name) && !after.is_some_and(part_of_name)
+    })
+}
+
 /// Writes the mission log of one scenario run.
 pub struct MissionLog<'a> {
     scenario: &'a Scenario,
+    filter: LogFilter,
     /// The locations whose goal was reported achieved in the last cycle: an `always` goal is
     /// achieved again every cycle it holds, which is not news (the trace keeps every report).
     achieved: Vec<LocationId>,
@@ -137,8 +198,14 @@ pub struct MissionLog<'a> {
 impl<'a> MissionLog<'a> {
     /// A log for `scenario`.
     pub fn new(scenario: &'a Scenario) -> Self {
+        Self::filtered(scenario, LogFilter::default())
+    }
+
+    /// A log for `scenario` printing only what `filter` lets through.
+    pub fn filtered(scenario: &'a Scenario, filter: LogFilter) -> Self {
         MissionLog {
             scenario,
+            filter,
             achieved: Vec::new(),
         }
     }
@@ -195,7 +262,9 @@ impl<'a> MissionLog<'a> {
                 ),
             };
             let fault = if rule.fault { "  (FAULT)" } else { "" };
-            let _ = writeln!(lines, "  {:<12} {what}{fault}", "plant");
+            if !self.filter.hide_plant && self.filter.names_one(&what) {
+                let _ = writeln!(lines, "  {:<12} {what}{fault}", "plant");
+            }
         }
         let mut achieved = Vec::new();
         for event in &step.events {
@@ -205,10 +274,29 @@ impl<'a> MissionLog<'a> {
                     continue;
                 }
             }
-            let _ = writeln!(lines, "  {}", self.event_line(event));
+            if self.concerns_shown_components(&event.kind) {
+                let _ = writeln!(lines, "  {}", self.event_line(event));
+            }
         }
         self.achieved = achieved;
-        (!lines.is_empty()).then(|| format!("[{:>10.3} s] #{}\n{lines}", step.time, step.cycle))
+        let shown = !lines.is_empty() && self.filter.shows_time(step.time);
+        shown.then(|| format!("[{:>10.3} s] #{}\n{lines}", step.time, step.cycle))
+    }
+
+    /// `--only`: a mode change or diagnosis by its component, any other event by its text.
+    fn concerns_shown_components(&self, kind: &EventKind) -> bool {
+        let plant = &self.scenario.plant;
+        match kind {
+            _ if self.filter.only.is_empty() => true,
+            EventKind::ModeChanged { component, .. } | EventKind::Diagnosis { component, .. } => {
+                let name = plant.component(*component).name();
+                self.filter.only.iter().any(|n| n == name)
+            }
+            other => {
+                let (_, text) = describe_event(plant, &self.scenario.program_source, other);
+                self.filter.names_one(&text)
+            }
+        }
     }
 
     fn event_line(&self, event: &Event) -> String {
@@ -266,5 +354,23 @@ impl<'a> MissionLog<'a> {
             );
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::names_word;
+
+    #[test]
+    fn a_component_is_named_as_a_whole_word() {
+        assert!(names_word(
+            "PDE.cmd = open2: valve2: closed -> open",
+            "valve2"
+        ));
+        assert!(names_word("rule sets engine.power = zero", "engine"));
+        assert!(!names_word("valve10 = open", "valve1"));
+        assert!(!names_word("alt_12m_trigger = triggered", "trigger"));
+        assert!(!names_word("slew-to-landing", "landing"));
+        assert!(names_word("landing = success", "landing"));
     }
 }

@@ -1,0 +1,106 @@
+//! The mission log's filters and its wording (issue 19 item 2; DESIGN.md §12): `--hide-plant`,
+//! `--only COMPONENT…`, `--from T`, `--to T` choose what is printed, never what is checked; a
+//! repair and a wait are said once ("REPAIR PDE.cmd = reset", "waiting after …").
+
+use std::process::Command;
+
+fn kairos(args: &[&str]) -> (Option<i32>, String, String) {
+    let output = Command::new(env!("CARGO_BIN_EXE_kairos"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(args)
+        .output()
+        .expect("kairos runs");
+    let text = |bytes: &[u8]| String::from_utf8_lossy(bytes).into_owned();
+    (
+        output.status.code(),
+        text(&output.stdout),
+        text(&output.stderr),
+    )
+}
+
+/// The cycles' blocks of a log (header and summary left out: the summary has wall times).
+fn blocks(log: &str) -> String {
+    log.lines()
+        .skip_while(|l| !l.starts_with('['))
+        .take_while(|l| !l.starts_with("run ended"))
+        .collect::<Vec<_>>()
+        .join("\n")
+        .trim_end()
+        .to_string()
+}
+
+/// The PDE latch-up scenario's first 0.5 s, only the PDE, no plant rules: the diagnosis, the
+/// repair said once, the PDE's own mode changes — and none of the engine's.
+#[test]
+fn only_the_pde_until_half_a_second() {
+    let (code, stdout, stderr) = kairos(&[
+        "run",
+        "scenarios/mars_edl/pde_resettable.ron",
+        "--hide-plant",
+        "--only",
+        "PDE",
+        "--to",
+        "0.5",
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let log = blocks(&stdout);
+    assert!(
+        log.contains("REPAIR       PDE.cmd = reset (PDE: resettable -> on)"),
+        "{log}"
+    );
+    assert!(!log.contains("(repair)"), "{log}");
+    assert!(!log.contains("plant "), "{log}");
+    assert!(!log.contains("engine: off -> heating (p"), "{log}");
+    // The verdicts are whole whatever the filter.
+    assert!(stdout.contains("PASS:"), "{stdout}");
+    insta::assert_snapshot!(log);
+}
+
+/// A wait is said once: `waiting  after Uniform(30, 60) s (engine: heating -> standby)`; a
+/// plant rule setting `engine.power` names the engine.
+#[test]
+fn a_wait_is_not_waiting_wait() {
+    let (code, stdout, stderr) = kairos(&[
+        "run",
+        "scenarios/mars_edl/pde_resettable.ron",
+        "--only",
+        "engine",
+        "--from",
+        "0.25",
+        "--to",
+        "0.35",
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let log = blocks(&stdout);
+    assert_eq!(
+        log,
+        "[     0.300 s] #3\n  plant        rule `engine powers up` takes effect: engine.power = nominal\n  believed     engine: off -> heating (p 1.00)\n  waiting      after Uniform(30, 60) s (engine: heating -> standby)"
+    );
+}
+
+/// An unknown component is bad input with a suggestion; an empty time range is refused.
+#[test]
+fn bad_filters_are_refused_before_the_run() {
+    let (code, _, stderr) = kairos(&[
+        "run",
+        "scenarios/mars_edl/pde_resettable.ron",
+        "--only",
+        "valve3",
+    ]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--only valve3: no such component"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("did you mean `valve2`?"), "{stderr}");
+    let (code, _, stderr) = kairos(&[
+        "run",
+        "scenarios/mars_edl/pde_resettable.ron",
+        "--from",
+        "10",
+        "--to",
+        "5",
+    ]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("--from 10 is after --to 5"), "{stderr}");
+}
