@@ -441,3 +441,30 @@ fn a_maintained_goal_is_reported_achieved_once_while_it_holds() {
         "achieved once, while the goal holds throughout"
     );
 }
+
+/// `examples/embed.rs` (issue 19 item 1), built by `cargo test` with the other examples, runs
+/// to the settled valve: the documented embedding works as shipped.
+#[test]
+fn the_embedding_example_runs() {
+    let exe = std::env::current_exe().expect("the test knows where it is");
+    // target/<profile>/deps/<this test> → target/<profile>/examples/embed
+    let examples = exe
+        .parent()
+        .and_then(|deps| deps.parent())
+        .map(|profile| profile.join("examples"))
+        .expect("the test runs from target/<profile>/deps");
+    let example = examples.join(format!("embed{}", std::env::consts::EXE_SUFFIX));
+    let output = std::process::Command::new(&example)
+        .output()
+        .unwrap_or_else(|e| panic!("{}: {e}", example.display()));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{stdout}");
+    for line in [
+        "send driver.dcmd_in = on",
+        "send driver.dcmd_in = open",
+        "believed valve = open",
+        "settled",
+    ] {
+        assert!(stdout.contains(line), "missing `{line}` in\n{stdout}");
+    }
+}

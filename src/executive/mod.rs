@@ -26,6 +26,8 @@
 
 pub mod adapters;
 mod events;
+mod load;
+mod named;
 mod observations;
 mod oracle;
 mod timeline;
@@ -33,6 +35,8 @@ mod timeline;
 use std::time::{Duration, Instant};
 
 pub use events::{Event, EventKind};
+pub use load::LoadError;
+pub use named::NamedEstimate;
 pub use observations::NamedValue;
 pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeline, Timelines};
 
@@ -319,6 +323,52 @@ struct Reported {
 }
 
 /// A timed model-based executive: a linked program, a plant model, and the state of both.
+///
+/// # Examples
+///
+/// Open the valve of thesis §6.1 (`models/driver_valve.ron`): the executive turns the driver
+/// on, sends `open` through it, sees the flow, and turns the driver off again. The loop is the
+/// embedder's own; observations go in and commands come out by name.
+///
+/// ```
+/// use std::path::Path;
+/// use kairos::executive::{Executive, NamedValue};
+///
+/// let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+/// let mut executive = Executive::load(
+///     &root.join("models/driver_valve.ron"),
+///     &root.join("programs/valve_open.rmpl"),
+/// )?
+/// .build()?;
+/// let (mut driver_on, mut valve_open) = (false, false);
+/// let mut sent = Vec::new();
+/// for cycle in 0..50 {
+///     let flow_out = if valve_open { "nominal" } else { "zero" };
+///     let observed = [
+///         NamedValue::new("valve.flow_in", "nominal"),
+///         NamedValue::new("valve.flow_out", flow_out),
+///     ];
+///     let step = executive.step(f64::from(cycle) * 0.1, &observed)?;
+///     for command in step.commands_named(executive.plant()) {
+///         match command.value.as_str() {
+///             "on" => driver_on = true,
+///             "off" => driver_on = false,
+///             "open" if driver_on => valve_open = true,
+///             _ => {}
+///         }
+///         sent.push(command.to_string());
+///     }
+///     if step.is_settled() {
+///         assert_eq!(step.mode_of(executive.plant(), "valve"), Some("open"));
+///         break;
+///     }
+/// }
+/// assert_eq!(sent, ["driver.dcmd_in = on", "driver.dcmd_in = open", "driver.dcmd_in = off"]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// `examples/embed.rs` is the same loop with the device written out; [`adapters`] has traits
+/// and a runner for a loop driven by a clock.
 pub struct Executive {
     plant: Plant,
     theory: Theory,

@@ -6,9 +6,9 @@
 //! variables that are consistent with the theory, cheapest first, each once:
 //! - [`Theory`] answers "consistent?" with a *conflict* when not — a small set of the candidate's
 //!   assignments that cannot hold together (SAT with failed-assumption cores, minimised);
-//! - the search ([`search`]) jumps over every candidate containing a known conflict by expanding
+//! - the search (module `search`) jumps over every candidate containing a known conflict by expanding
 //!   nodes along the conflict's constituent kernels, systematically, so nothing is visited twice;
-//! - independent sub-problems are solved apart and their streams merged best-first ([`merge`]);
+//! - independent sub-problems are solved apart and their streams merged best-first (module `merge`);
 //! - a [`Budget`] bounds a call; a cut search returns the best found so far and says so.
 //!
 //! Mode estimation (costs −log p), goal interpretation (costs −reward) and `kairos solve` all

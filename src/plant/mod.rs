@@ -8,7 +8,7 @@
 //! interconnection constraints; some attributes are **controls** (commanded) and some are
 //! **observables** (sensed).
 //!
-//! - [`Plant::load`] reads and validates the RON format (documented in [`file`](self::file)),
+//! - [`Plant::load`] reads and validates the RON format (documented in [`file`](mod@self::file)),
 //!   with located errors.
 //! - [`Plant::theory`] encodes the plant once into the [`Theory`] that estimation, the sequencer
 //!   and goal interpretation all query: `component = mode => constraint` for every mode, plus the
@@ -196,7 +196,7 @@ pub struct Plant {
 }
 
 impl Plant {
-    /// Reads and validates a plant model (the format is documented in [`file`](self::file)).
+    /// Reads and validates a plant model (the format is documented in [`file`](mod@self::file)).
     /// Every problem found is reported with its location.
     pub fn load(source: &Source) -> Result<Plant, SourceErrors> {
         file::load(source)

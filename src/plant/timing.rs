@@ -32,7 +32,7 @@ const GAUSSIAN_SERIES_FROM: f64 = 30.0;
 
 /// How close to a window bound (a uniform's `lower` and `upper`, a fixed delay) a clock reading
 /// counts as *at* the bound, seconds. Such a reading is taken as this much past the bound (see
-/// [`Timing::reading`]).
+/// `Timing::reading`).
 ///
 /// Why: a component's clock restarts at the end of the step in which it changed mode (Figure 6-7
 /// step 8, `newInit = t_abs`), the latest time it can have entered it, so the clock may read up to
