@@ -32,7 +32,12 @@
 //!         ],
 //!     ),
 //!     // Optional: the network safing promotes (issue 14); default: every SV unconstrained.
+//!     // Not elaborated: its goals take no `type`.
 //!     safe: Network(goals: [...]),
+//!     // Optional: goal types — failure responses and elaborators' tactics (module
+//!     // `elaborators`, `missions/thermostat.ron`). A goal or macro of `network` takes one
+//!     // with `type: "StayWarm"`.
+//!     types: [GoalType(name: "StayWarm", response: ReElaborate, tactics: [...])],
 //! )
 //! ```
 //! A goal's `parent` names a macro or a goal declared before it, so the goals form a tree.

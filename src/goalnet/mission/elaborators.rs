@@ -52,6 +52,7 @@ pub(super) struct TypeFile {
 }
 
 #[derive(Deserialize, Default, Clone, Copy)]
+#[serde(rename = "Response")]
 enum ResponseFile {
     Safing,
     ReElaborate,
@@ -87,12 +88,28 @@ struct ChildFile {
     priority: i32,
 }
 
-/// A network's macros and goals: (list, index, (name, type)).
-fn listed(net: &super::NetworkFile) -> Vec<(&'static str, usize, (&String, &Option<String>))> {
-    let macros = net.macros.iter().map(|m| (&m.name, &m.goal_type));
-    let goals = net.goals.iter().map(|g| (&g.name, &g.goal_type));
-    let macros = macros.enumerate().map(|(i, x)| ("macros", i, x));
-    let goals = goals.enumerate().map(|(i, x)| ("goals", i, x));
+/// A macro or goal of a network file, with where it is and the type it names.
+struct Listed<'a> {
+    list: &'static str,
+    index: usize,
+    name: &'a str,
+    goal_type: Option<&'a str>,
+}
+
+/// A network's macros, then its goals.
+fn listed(net: &super::NetworkFile) -> Vec<Listed<'_>> {
+    let macros = net.macros.iter().enumerate().map(|(index, m)| Listed {
+        list: "macros",
+        index,
+        name: &m.name,
+        goal_type: m.goal_type.as_deref(),
+    });
+    let goals = net.goals.iter().enumerate().map(|(index, g)| Listed {
+        list: "goals",
+        index,
+        name: &g.name,
+        goal_type: g.goal_type.as_deref(),
+    });
     macros.chain(goals).collect()
 }
 
@@ -157,18 +174,20 @@ impl Loader<'_> {
         network: &GoalNetwork,
         elaborators: &mut Elaborators,
     ) {
-        for (list, index, (name, goal_type)) in listed(&file.network) {
-            let Some(type_name) = goal_type else { continue };
-            let path = Item::listed("network", list, index).path("type");
+        for item in listed(&file.network) {
+            let Some(type_name) = item.goal_type else {
+                continue;
+            };
+            let path = Item::listed("network", item.list, item.index).path("type");
             let found = self.goal_type(elaborators, &path, type_name);
-            if let (Some(found), Some(goal)) = (found, network.goal_named(name)) {
+            if let (Some(found), Some(goal)) = (found, network.goal_named(item.name)) {
                 elaborators.of_goal[goal.index()] = Some(found);
             }
         }
-        for (list, index, (_, goal_type)) in listed(&file.safe) {
-            if goal_type.is_some() {
+        for item in listed(&file.safe) {
+            if item.goal_type.is_some() {
                 self.error(
-                    &Item::listed("safe", list, index).path("type"),
+                    &Item::listed("safe", item.list, item.index).path("type"),
                     "the safe network is not elaborated: its goals take no type".into(),
                     "no `type:` in the safe network (it must be promotable as written)",
                 );
