@@ -52,17 +52,22 @@ struct Run {
 }
 
 impl Run {
-    /// Makes the controller at 10 s and runs 1 s cycles to `to`.
+    /// Runs the thermostat: makes the controller at 10 s and runs 1 s cycles to `to`.
     fn new(to: u32, script: Script) -> Self {
+        Self::of("missions/thermostat.ron", 10, to, script)
+    }
+
+    /// Runs `path`: makes the controller at `from` and runs 1 s cycles from `from` to `to`.
+    fn of(path: &str, from: u32, to: u32, script: Script) -> Self {
         std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
-        let mission = mission::load(Path::new("missions/thermostat.ron")).expect("loads");
+        let mission = mission::load(Path::new(path)).expect("loads");
         let reconfiguration = Reconfiguration::compile(&mission.plant).expect("compiles");
-        let (modes, beliefs) = estimate(&mission.plant, &script(10.0));
+        let (modes, beliefs) = estimate(&mission.plant, &script(f64::from(from)));
         let view = EstimateView {
             modes: &modes,
             beliefs: &beliefs,
         };
-        let controller = GoalController::new(&mission, &reconfiguration, 10.0, view);
+        let controller = GoalController::new(&mission, &reconfiguration, f64::from(from), view);
         let mut run = Run {
             plant: mission.plant.clone(),
             reconfiguration,
@@ -70,7 +75,7 @@ impl Run {
             events: Vec::new(),
             goals_after_safing: Vec::new(),
         };
-        for t in 10..=to {
+        for t in from..=to {
             run.cycle(f64::from(t), script);
         }
         run
@@ -108,7 +113,8 @@ impl Run {
     /// promotions, safing, and the firing of StayWarm's points.
     fn story(&self) -> Vec<String> {
         let network = self.controller.network();
-        let with_choice = |goal: &str| goal == "stay-warm" || goal.ends_with("get-warm");
+        let with_choice =
+            |goal: &str| ["stay-warm", "hold"].contains(&goal) || goal.ends_with("get-warm");
         self.events
             .iter()
             .filter_map(|(t, e)| {
@@ -408,4 +414,52 @@ fn test_9_sensor_failure_leaves_no_tactic_and_safes_once() {
         *t > 188.0 && matches!(e, MissionEvent::Goal(GoalEvent::GoalFailed { .. }))
     });
     assert_eq!(failures_after.count(), 0);
+}
+
+/// The other responses (mds-goal-networks.md §2.6–2.8; `tests/missions/responses.ron`):
+/// `Ignore` lets the plan run; a re-elaboration within budget promotes; past its budget the
+/// goal has no response left and, a root, goes to safing; the custom safe network is promoted
+/// from a point fired at the safing time, and its goal drives the configuration from then on.
+#[test]
+fn ignore_budget_and_a_custom_safe_network() {
+    fn script(t: f64) -> Vec<(&'static str, &'static str, f64)> {
+        let switch1 = match t {
+            t if t >= 10.0 => "stuck-open",
+            t if t >= 5.0 => "closed",
+            _ => "open",
+        };
+        let switch2 = if (3.0..5.0).contains(&t) {
+            "closed"
+        } else {
+            "open"
+        };
+        vec![("switch1", switch1, 1.0), ("switch2", switch2, 1.0)]
+    }
+    let run = Run::of("tests/missions/responses.ron", 0, 20, script);
+    assert_eq!(
+        run.story(),
+        [
+            "0 chosen hold 1",
+            "0 promoted",
+            "3 failed watch",
+            "3 response watch failed: switch2 = closed (p 1) → ignored",
+            "5 failed hold.keep",
+            "5 response hold.keep failed: switch1 = closed (p 1) → fail up → hold re-elaborated \
+             with tactic 2 → promoted",
+            "5 chosen hold 2",
+            "5 promoted",
+            "10 failed hold.keep′",
+            "10 response hold.keep′ failed: switch1 = stuck-open (p 1) → fail up → hold: no \
+             tactic left (its re-elaboration budget of 1 is spent) → hold is a root → safing",
+            "10 safing",
+        ]
+    );
+    assert!(run.controller.is_safed());
+    assert_eq!(run.fired("TP_E"), None);
+    assert_eq!(run.fired("safing"), Some(10.0));
+    assert!(
+        run.goals_after_safing.iter().all(|g| g == "switch2 = open"),
+        "{:?}",
+        run.goals_after_safing
+    );
 }
