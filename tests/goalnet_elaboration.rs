@@ -333,6 +333,11 @@ fn test_7_switch_1_sticks_open_reelaborates_with_tactic_2() {
         _ => None,
     });
     assert_eq!(response, Some(Response::FailUp));
+    // Conditional elaboration: TP_S has fired, so tactic 2 adds no GetWarm and its TP_A′ is
+    // anchored after the failure, not 60 s before TP_S.
+    let network = run.controller.network();
+    assert_eq!(network.goal_named("stay-warm.get-warm′"), None);
+    assert_eq!(run.fired("stay-warm.TP_A′"), Some(189.0));
 }
 
 /// System test 8 (switch 2 sticks closed during the maintain interval): the same with the
@@ -462,4 +467,37 @@ fn ignore_budget_and_a_custom_safe_network() {
         "{:?}",
         run.goals_after_safing
     );
+}
+
+/// Safing is promotable at any time, from any state (mds-goal-networks.md §2.8): invoked with
+/// switch 2 stuck closed, the custom safe network (switch 2 open) cannot be scheduled, so the
+/// default one — every state variable unconstrained — is promoted and the cause says why.
+#[test]
+fn safing_falls_back_to_the_default_safe_network() {
+    fn script(t: f64) -> Vec<(&'static str, &'static str, f64)> {
+        let switch2 = if t >= 2.0 { "stuck-closed" } else { "open" };
+        vec![("switch2", switch2, 1.0)]
+    }
+    let mut run = Run::of("tests/missions/responses.ron", 0, 1, script);
+    let (modes, beliefs) = estimate(&run.plant, &script(2.0));
+    let view = EstimateView {
+        modes: &modes,
+        beliefs: &beliefs,
+    };
+    let cause = "an operator's command".to_string();
+    let events = run
+        .controller
+        .invoke_safing(2.0, view, &run.reconfiguration, cause);
+    let [MissionEvent::Safing { cause }] = events.as_slice() else {
+        panic!("{events:?}");
+    };
+    assert!(
+        cause.starts_with("an operator's command (the safe network cannot be scheduled: ")
+            && cause.ends_with("; every state variable is left unconstrained instead)"),
+        "{cause}"
+    );
+    run.cycle(2.0, script);
+    assert_eq!(run.goals_after_safing, ["true"]);
+    assert_eq!(run.fired("safing"), Some(2.0));
+    assert_eq!(run.controller.network().point_named("rest-end"), None);
 }

@@ -447,7 +447,8 @@ impl GoalController {
             Ok(executable) => executable,
             Err(error) => {
                 let why = super::display::explain(&error, &network, &self.mission.plant);
-                cause.push_str(&format!(" (the safe network cannot be scheduled: {why}; every state variable left unconstrained)"));
+                let instead = "every state variable is left unconstrained instead";
+                cause = format!("{cause} (the safe network cannot be scheduled: {why}; {instead})");
                 (network, state) = base;
                 append_safe(&mut network, &mut state, &GoalNetwork::new(), now);
                 // Grounded points and no goals: consistent, nothing to schedule.
