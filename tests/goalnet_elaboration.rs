@@ -501,3 +501,75 @@ fn safing_falls_back_to_the_default_safe_network() {
     assert_eq!(run.fired("safing"), Some(2.0));
     assert_eq!(run.controller.network().point_named("rest-end"), None);
 }
+
+/// All failures of a cycle are gathered before responding (mds-goal-networks.md §2.5 step 4):
+/// switch 1 sticking open and the sensor failing at once both fail up to StayWarm, which is
+/// re-elaborated once for both (each tactic rejected once), and safing follows once.
+#[test]
+fn two_failures_reaching_one_goal_re_elaborate_it_once() {
+    fn script(t: f64) -> Vec<(&'static str, &'static str, f64)> {
+        let mut modes = vec![temperature(t)];
+        match t {
+            t if t >= 188.0 => {
+                modes.extend([("switch1", "stuck-open", 1.0), ("sensor", "failed", 1.0)])
+            }
+            t if t >= 11.0 => modes.push(("switch1", "closed", 1.0)),
+            _ => {}
+        }
+        modes
+    }
+    let run = Run::new(200, script);
+    let at_188: Vec<String> = run
+        .story()
+        .into_iter()
+        .filter(|l| l.starts_with("188 "))
+        .map(|l| l.split(": ").next().unwrap_or_default().to_string())
+        .collect();
+    assert_eq!(
+        at_188,
+        [
+            "188 failed stay-warm.heater1",
+            "188 failed stay-warm.sensor",
+            "188 response stay-warm.heater1 failed",
+            "188 response stay-warm.sensor failed",
+            "188 rejected stay-warm 2",
+            "188 rejected stay-warm 1",
+            "188 promotion failed",
+            "188 safing",
+        ]
+    );
+}
+
+/// Safing wins (§2.5 step 4): switch 1 sticks open but is believed so with p 0.6 only, below
+/// the knowledge threshold — the heater goal's failure would re-elaborate StayWarm, KnowAll's
+/// knowledge goal on switch 1 fails up to a root: no tactic is tried, safing at once.
+#[test]
+fn safing_wins_over_re_elaboration_in_the_same_cycle() {
+    fn script(t: f64) -> Vec<(&'static str, &'static str, f64)> {
+        let mut modes = vec![temperature(t)];
+        match t {
+            t if t >= 188.0 => modes.push(("switch1", "stuck-open", 0.6)),
+            t if t >= 11.0 => modes.push(("switch1", "closed", 1.0)),
+            _ => {}
+        }
+        modes
+    }
+    let run = Run::new(200, script);
+    let at_188: Vec<String> = run
+        .story()
+        .into_iter()
+        .filter(|l| l.starts_with("188 "))
+        .collect();
+    assert_eq!(
+        at_188,
+        [
+            "188 failed know-all.switch1",
+            "188 failed stay-warm.heater1",
+            "188 response know-all.switch1 failed: switch1 = stuck-open (p 0.6) → fail up → \
+             know-all is a root → safing",
+            "188 response stay-warm.heater1 failed: switch1 = stuck-open (p 0.6) → fail up → \
+             safing (another failure of this cycle)",
+            "188 safing",
+        ]
+    );
+}

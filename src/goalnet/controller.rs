@@ -299,6 +299,13 @@ impl GoalController {
         }
         let safing = chains.iter().find(|c| c.2 == Outcome::Safing);
         let cause = safing.map(|c| c.1.to_string());
+        if cause.is_some() {
+            for (_, explanation, outcome) in &mut chains {
+                if matches!(outcome, Outcome::ReElaborate(_)) {
+                    explanation.steps.push(ResponseStep::Superseded);
+                }
+            }
+        }
         for (goal, explanation, _) in chains {
             events.push(MissionEvent::ResponseTaken {
                 goal,

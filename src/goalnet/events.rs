@@ -87,6 +87,9 @@ pub enum ResponseStep {
     },
     /// The safe network was promoted.
     Safing,
+    /// Another failure of the same cycle led to safing first, so this one's response (a
+    /// re-elaboration) was not tried: safing wins (mds-goal-networks.md §2.5 step 4).
+    Superseded,
 }
 
 /// Why a goal failed and what was done about it: "heater1 failed: switch1 = stuck-open (p 0.97)
@@ -119,6 +122,7 @@ impl fmt::Display for ResponseStep {
             }
             ResponseStep::Root { goal } => write!(f, "{goal} is a root"),
             ResponseStep::Safing => write!(f, "safing"),
+            ResponseStep::Superseded => write!(f, "safing (another failure of this cycle)"),
         }
     }
 }
