@@ -19,7 +19,10 @@
 //!    only monitored (DESIGN.md §15.3). A Transition XGoal with an empty projection is
 //!    [`ScheduleError::Unachievable`] (its set cannot be reached); a Maintain XGoal whose set the
 //!    previous XGoal does not leave the SV in is [`ScheduleError::TransitionUnachievable`] (the
-//!    seed's negative test: a maintain goal without its transition goal, §3.3).
+//!    seed's negative test: a maintain goal without its transition goal, §3.3). In a network
+//!    being promoted over a running one, XGoals whose end point has fired are history and are
+//!    not projected: the projection starts from ŝ on the XGoals still to come, which is
+//!    promotion step c (§2.3: each SV can move from where it is into the proposed XGoals).
 
 use super::goal::{GoalId, GoalKind};
 use super::network::{ExecutableNetwork, GoalNetwork, Timeline};
