@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use kairos::goalnet::{GoalKind, TimePointId, Window, mission};
+use kairos::goalnet::{GoalKind, Response, TimePointId, Window, mission};
 
 fn root() {
     // Relative to the crate root, so that messages name files as a user at the root sees them.
@@ -166,4 +166,82 @@ fn kairos_check_validates_missions() {
     assert_eq!(bad.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&bad.stderr);
     assert!(stderr.contains("unknown_sv.ron:6:43"), "{stderr}");
+}
+
+// Goal types, tactics and children (issue 14 item 1; `missions/thermostat.ron`'s format).
+bad_mission!(
+    unknown_goal_type,
+    "unknown_goal_type.ron:6:",
+    "unknown goal type `StayWrm`",
+    "did you mean `StayWarm`"
+);
+bad_mission!(
+    tactic_unknown_point,
+    "tactic_unknown_point.ron:7:",
+    "unknown time point `TP_G`",
+    "did you mean `TP_H`"
+);
+bad_mission!(
+    tactic_reserved_point,
+    "tactic_reserved_point.ron:6:",
+    "`start` cannot name a tactic's point",
+    "time point `TP_H` is declared twice",
+    "goal type `Heater` is declared twice"
+);
+bad_mission!(tactic_bad_bounds, "tactic_bad_bounds.ron:7:", "[5, 1]");
+bad_mission!(
+    child_constraint_without_sv,
+    "child_constraint_without_sv.ron:8:",
+    "takes its parent's constraint"
+);
+bad_mission!(
+    child_errors,
+    "child_errors.ron:9:",
+    "unknown state variable `switch3`",
+    "child_errors.ron:10:",
+    "shut",
+    "unknown goal type `Heatr`",
+    "unknown time point `TP_B`"
+);
+bad_mission!(
+    typed_safe_goal,
+    "typed_safe_goal.ron:7:",
+    "the safe network is not elaborated"
+);
+bad_mission!(unknown_response, "unknown_response.ron:5:", "Retry");
+
+/// The complete thermostat (mds-goal-networks.md §3.1): the seed's five goal types with their
+/// responses and tactic counts, and the initial goals' types.
+#[test]
+fn the_thermostat_mission_declares_the_seeds_goal_types() {
+    root();
+    let mission = mission::load(Path::new("missions/thermostat.ron")).expect("loads");
+    let elaborators = &mission.elaborators;
+    let shape: Vec<(&str, Response, usize)> = elaborators
+        .types
+        .iter()
+        .map(|t| (t.name.as_str(), t.response, t.tactics.len()))
+        .collect();
+    assert_eq!(
+        shape,
+        [
+            ("KnowAll", Response::FailUp, 1),
+            ("StayWarm", Response::ReElaborate, 2),
+            ("GetWarm", Response::ReElaborate, 2),
+            ("Sensor", Response::FailUp, 0),
+            ("Heater", Response::FailUp, 1),
+        ]
+    );
+    let typed = |goal: &str| {
+        let id = mission.network.goal_named(goal).expect("a goal");
+        elaborators.of(id).map(|t| elaborators.get(t).name.as_str())
+    };
+    assert_eq!(typed("know-all"), Some("KnowAll"));
+    assert_eq!(typed("stay-warm"), Some("StayWarm"));
+    assert_eq!(
+        elaborators
+            .get(elaborators.named("StayWarm").unwrap())
+            .budget,
+        3
+    );
 }

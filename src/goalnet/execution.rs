@@ -8,7 +8,7 @@
 //!    no longer be reached from ŝ (reconfiguration's reachability), any XGoal when its knowledge
 //!    part is not met (P of the most likely value below the threshold, or a least belief not
 //!    reached). A failed XGoal is narrowed to the constituent goals that fail on their own; each
-//!    is reported once and stays failed (responses are issue 14's);
+//!    is reported once and stays failed (the responses are [`GoalController`]'s);
 //! 2. **firing** (the Executive), repeated to a fixpoint: an unfired point fires when its
 //!    earliest time has passed, every point constrained to precede it (a constraint into it with
 //!    a minimum ≥ 0) has fired, and every XGoal starting at it is *ready* (a Maintain XGoal's set
@@ -21,6 +21,8 @@
 //! control sets on controllable state variables; knowledge goals never become commands.
 
 use super::constraint_set::ConstraintSet;
+#[cfg(doc)]
+use super::controller::GoalController;
 use super::goal::{GoalId, GoalKind};
 use super::network::ExecutableNetwork;
 use super::stn::{GroundError, Inconsistency};
@@ -103,23 +105,62 @@ pub struct Execution {
     failed: Vec<bool>,
     /// Per point, the points that must fire before it.
     predecessors: Vec<Vec<TimePointId>>,
+    /// Points of an earlier network that a promotion retired: they never fire.
+    retired: Vec<bool>,
 }
 
 impl Execution {
     /// Starts executing `executable` with the mission's knowledge threshold; the origin has
     /// fired at time 0.
     pub fn new(executable: ExecutableNetwork, threshold: f64) -> Self {
-        let network = &executable.network;
-        let n = network.points().len();
-        let predecessors = network.stn().predecessors();
+        let n = executable.network.points().len();
         let mut fired = vec![None; n];
         fired[TimePointId::ORIGIN.index()] = Some(0.0);
+        let goals = executable.network.goals().len();
+        Self::with_history(
+            executable,
+            threshold,
+            fired,
+            vec![false; goals],
+            vec![false; n],
+        )
+    }
+
+    /// Continues `previous` on `executable`, a promoted network that extends its network (the
+    /// same ids for the same points and goals, new ones after; mds-goal-networks.md §2.3 steps
+    /// d–i): fired points stay fired at their times, failed goals stay failed, the points
+    /// `retired` marks (of the old network, no longer wanted) never fire, and each timeline's
+    /// active XGoal is the one whose start has fired and whose end has not.
+    pub fn resume(executable: ExecutableNetwork, previous: &Execution, retired: Vec<bool>) -> Self {
+        let network = &executable.network;
+        let mut fired = previous.fired.clone();
+        fired.resize(network.points().len(), None);
+        let mut failed = previous.failed.clone();
+        failed.resize(network.goals().len(), false);
+        Self::with_history(executable, previous.threshold, fired, failed, retired)
+    }
+
+    fn with_history(
+        executable: ExecutableNetwork,
+        threshold: f64,
+        fired: Vec<Option<f64>>,
+        failed: Vec<bool>,
+        mut retired: Vec<bool>,
+    ) -> Self {
+        let network = &executable.network;
+        let n = network.points().len();
+        retired.resize(n, false);
+        let predecessors = network.stn().predecessors();
+        let has_fired = |p: TimePointId| fired[p.index()].is_some();
         let active = executable
             .timelines
             .iter()
-            .map(|t| t.xgoals.iter().position(|x| x.start == TimePointId::ORIGIN))
+            .map(|t| {
+                t.xgoals
+                    .iter()
+                    .position(|x| has_fired(x.start) && !has_fired(x.end))
+            })
             .collect();
-        let failed = vec![false; network.goals().len()];
         Execution {
             executable,
             threshold,
@@ -127,7 +168,18 @@ impl Execution {
             active,
             failed,
             predecessors,
+            retired,
         }
+    }
+
+    /// The knowledge threshold it monitors with.
+    pub fn threshold(&self) -> f64 {
+        self.threshold
+    }
+
+    /// Whether a point was retired by a promotion (it never fires).
+    pub fn is_retired(&self, point: TimePointId) -> bool {
+        self.retired.get(point.index()).copied().unwrap_or(false)
     }
 
     /// The network being executed (windows shrink as points fire).
@@ -151,9 +203,12 @@ impl Execution {
         self.active[t].map(|i| &self.executable.timelines[t].xgoals[i])
     }
 
-    /// Whether every point has fired.
+    /// Whether every point (not retired) has fired.
     pub fn is_complete(&self) -> bool {
-        self.fired.iter().all(Option::is_some)
+        self.fired
+            .iter()
+            .zip(&self.retired)
+            .all(|(fired, retired)| fired.is_some() || *retired)
     }
 
     /// One cycle at `now`: monitoring, then firing to a fixpoint (§2.9 steps 3 and 5).
@@ -163,8 +218,26 @@ impl Execution {
         estimate: EstimateView,
         reconfiguration: &Reconfiguration,
     ) -> Vec<GoalEvent> {
+        let mut events = self.check(estimate, reconfiguration);
+        events.extend(self.advance(now, estimate));
+        events
+    }
+
+    /// The first half of a cycle (§2.9 step 3, the XGoalChecker): monitoring alone, so that
+    /// failure responses can run before anything fires.
+    pub fn check(
+        &mut self,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+    ) -> Vec<GoalEvent> {
         let mut events = Vec::new();
         self.monitor(estimate, reconfiguration, &mut events);
+        events
+    }
+
+    /// The second half of a cycle (§2.9 step 5, the Executive): firing to a fixpoint.
+    pub fn advance(&mut self, now: f64, estimate: EstimateView) -> Vec<GoalEvent> {
+        let mut events = Vec::new();
         while self.fire_one(now, estimate, &mut events) {}
         events
     }
@@ -255,7 +328,7 @@ impl Execution {
         let n = self.fired.len();
         for i in 0..n {
             let point = TimePointId(i as u32);
-            if self.fired[i].is_some() {
+            if self.fired[i].is_some() || self.retired[i] {
                 continue;
             }
             let Some(window) = self.executable.network.stn().window(point) else {

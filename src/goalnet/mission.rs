@@ -32,7 +32,12 @@
 //!         ],
 //!     ),
 //!     // Optional: the network safing promotes (issue 14); default: every SV unconstrained.
+//!     // Not elaborated: its goals take no `type`.
 //!     safe: Network(goals: [...]),
+//!     // Optional: goal types — failure responses and elaborators' tactics (module
+//!     // `elaborators`, `missions/thermostat.ron`). A goal or macro of `network` takes one
+//!     // with `type: "StayWarm"`.
+//!     types: [GoalType(name: "StayWarm", response: ReElaborate, tactics: [...])],
 //! )
 //! ```
 //! A goal's `parent` names a macro or a goal declared before it, so the goals form a tree.
@@ -42,6 +47,8 @@
 //!
 //! Every error names the file, line and column, shows the text and says what was expected.
 
+mod elaborators;
+
 use std::path::Path;
 
 use serde::Deserialize;
@@ -50,6 +57,7 @@ use super::constraint_set::ConstraintSet;
 use super::goal::{Goal, GoalKind};
 use super::network::GoalNetwork;
 use super::stn::Inconsistency;
+use super::tactic::Elaborators;
 use super::temporal_constraint::{Provenance, TemporalConstraint};
 use super::time_point::TimePointId;
 use crate::diagnostic::locate::{Locator, Step};
@@ -78,6 +86,8 @@ pub struct Mission {
     pub network: GoalNetwork,
     /// The safe network (issue 14's safing promotes it).
     pub safe: GoalNetwork,
+    /// The goal types (elaborators, tactics, failure responses) and the initial goals' types.
+    pub elaborators: Elaborators,
 }
 
 /// Why a mission could not be loaded: the file is unreadable, or its problems grouped by file
@@ -93,6 +103,8 @@ struct MissionFile {
     network: NetworkFile,
     #[serde(default)]
     safe: NetworkFile,
+    #[serde(default)]
+    types: Vec<elaborators::TypeFile>,
 }
 
 #[derive(Deserialize, Default)]
@@ -126,6 +138,8 @@ struct MacroFile {
     parent: Option<String>,
     #[serde(default)]
     priority: i32,
+    #[serde(rename = "type")]
+    goal_type: Option<String>,
 }
 
 #[derive(Deserialize, Clone, Copy)]
@@ -134,6 +148,17 @@ enum KindFile {
     Transition,
     Knowledge,
     Unconstrained,
+}
+
+impl KindFile {
+    fn kind(self) -> GoalKind {
+        match self {
+            KindFile::Maintain => GoalKind::Maintain,
+            KindFile::Transition => GoalKind::Transition,
+            KindFile::Knowledge => GoalKind::Knowledge,
+            KindFile::Unconstrained => GoalKind::Unconstrained,
+        }
+    }
 }
 
 #[derive(Deserialize)]
@@ -148,6 +173,8 @@ struct GoalFile {
     parent: Option<String>,
     #[serde(default)]
     priority: i32,
+    #[serde(rename = "type")]
+    goal_type: Option<String>,
 }
 
 /// Reads the mission at `path`.
@@ -188,6 +215,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Mission, MissionErrors
     let knowledge_threshold = loader.threshold(file.knowledge_threshold);
     let network = loader.network(&plant, &file.network, "network");
     let safe = loader.network(&plant, &file.safe, "safe");
+    let elaborators = loader.elaborators(&plant, &file, &network);
     if !loader.errors.is_empty() {
         return Err(invalid(loader.errors));
     }
@@ -204,6 +232,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Mission, MissionErrors
         knowledge_threshold,
         network,
         safe,
+        elaborators,
     })
 }
 
@@ -213,22 +242,25 @@ struct Loader<'a> {
     errors: Vec<Diagnostic>,
 }
 
-/// Where a goal's or macro's fields are: `network.goals[i]` or `network.macros[i]`.
-#[derive(Clone, Copy)]
+/// Where a goal's or macro's fields are: `network.goals[i]`, `network.macros[i]`, or a
+/// tactic's child `types[i].tactics[j].goals[k]`.
+#[derive(Clone)]
 struct Item<'p> {
-    network: &'p str,
-    list: &'p str,
-    index: usize,
+    prefix: Vec<Step<'p>>,
 }
 
-impl Item<'_> {
-    fn path<'s>(&'s self, field: &'s str) -> [Step<'s>; 4] {
-        [
-            Step::Field(self.network),
-            Step::Field(self.list),
-            Step::Index(self.index),
-            Step::Field(field),
-        ]
+impl<'p> Item<'p> {
+    /// `network.list[index]`.
+    fn listed(network: &'p str, list: &'p str, index: usize) -> Self {
+        Item {
+            prefix: vec![Step::Field(network), Step::Field(list), Step::Index(index)],
+        }
+    }
+
+    fn path(&self, field: &'p str) -> Vec<Step<'p>> {
+        let mut path = self.prefix.clone();
+        path.push(Step::Field(field));
+        path
     }
 }
 
@@ -259,11 +291,7 @@ impl Loader<'_> {
         self.points(&mut network, file, field);
         self.constraints(&mut network, file, field);
         for (index, spec) in file.macros.iter().enumerate() {
-            let item = Item {
-                network: field,
-                list: "macros",
-                index,
-            };
+            let item = Item::listed(field, "macros", index);
             let header = Header {
                 name: &spec.name,
                 start: &spec.start,
@@ -271,7 +299,7 @@ impl Loader<'_> {
                 parent: spec.parent.as_deref(),
                 priority: spec.priority,
             };
-            if let Some(goal) = self.header(&network, item, &header) {
+            if let Some(goal) = self.header(&network, &item, &header) {
                 network.add_goal(goal(
                     None,
                     GoalKind::Unconstrained,
@@ -281,11 +309,7 @@ impl Loader<'_> {
             }
         }
         for (index, spec) in file.goals.iter().enumerate() {
-            let item = Item {
-                network: field,
-                list: "goals",
-                index,
-            };
+            let item = Item::listed(field, "goals", index);
             self.goal(plant, &mut network, item, spec);
         }
         if let Err(inconsistency) = network.propagate() {
@@ -379,7 +403,7 @@ impl Loader<'_> {
     fn header(
         &mut self,
         network: &GoalNetwork,
-        item: Item,
+        item: &Item,
         header: &Header,
     ) -> Option<impl FnOnce(Option<ComponentId>, GoalKind, ConstraintSet, String) -> Goal + use<>>
     {
@@ -443,30 +467,32 @@ impl Loader<'_> {
             parent: spec.parent.as_deref(),
             priority: spec.priority,
         };
-        let build = self.header(network, item, &header);
-        let Some(sv) = plant.component_named(&spec.sv) else {
-            let span = self.locate.at(&item.path("sv"));
-            let known = plant.components().iter().map(|c| c.name());
-            let mut diagnostic =
-                Diagnostic::new(format!("unknown state variable `{}`", spec.sv), span)
-                    .expected("a component of the plant (its mode variable is the state variable)");
-            if let Some(close) = did_you_mean(&spec.sv, known) {
-                diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
-            }
-            self.errors.push(diagnostic);
+        let build = self.header(network, &item, &header);
+        let Some(sv) = self.state_variable(plant, &item.path("sv"), &spec.sv) else {
             return;
         };
-        let kind = match spec.kind {
-            KindFile::Maintain => GoalKind::Maintain,
-            KindFile::Transition => GoalKind::Transition,
-            KindFile::Knowledge => GoalKind::Knowledge,
-            KindFile::Unconstrained => GoalKind::Unconstrained,
-        };
-        let constraint = self.constraint_set(plant, sv, kind, item, spec.constraint.as_deref());
+        let kind = spec.kind.kind();
+        let constraint = self.constraint_set(plant, sv, kind, &item, spec.constraint.as_deref());
         if let (Some(build), Some(constraint)) = (build, constraint) {
             let text = spec.constraint.clone().unwrap_or_default();
             network.add_goal(build(Some(sv), kind, constraint, text));
         }
+    }
+
+    /// The component `name` names (its mode variable is the state variable), or an error.
+    fn state_variable(&mut self, plant: &Plant, path: &[Step], name: &str) -> Option<ComponentId> {
+        let found = plant.component_named(name);
+        if found.is_none() {
+            let span = self.locate.at(path);
+            let known = plant.components().iter().map(|c| c.name());
+            let mut diagnostic = Diagnostic::new(format!("unknown state variable `{name}`"), span)
+                .expected("a component of the plant (its mode variable is the state variable)");
+            if let Some(close) = did_you_mean(name, known) {
+                diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+            }
+            self.errors.push(diagnostic);
+        }
+        found
     }
 
     /// The constraint set a goal's kind and constraint text describe.
@@ -475,7 +501,7 @@ impl Loader<'_> {
         plant: &Plant,
         sv: ComponentId,
         kind: GoalKind,
-        item: Item,
+        item: &Item,
         text: Option<&str>,
     ) -> Option<ConstraintSet> {
         let var = plant.component(sv).mode_var();

@@ -17,29 +17,45 @@
 //!   fired as early as it may), for `kairos schedule --at`;
 //! - [`Execution`]: firing, grounding, dispatch and monitoring, one cycle at a time, and the
 //!   configuration goal the active XGoals give mode reconfiguration;
-//! - [`mission`]: the mission file (RON, `missions/`) and its loader, [`Mission`].
+//! - [`mission`]: the mission file (RON, `missions/`) and its loader, [`Mission`];
+//! - [`GoalType`] ([`tactic`]): a named goal type's failure [`Response`] and its elaborator's
+//!   [`Tactic`]s; [`elaborate`]: elaboration with chronological tactic backtracking;
+//! - [`Proposal`]: a copy of the running network to edit and promote;
+//! - [`GoalController`]: the per-cycle mission executive — monitoring, failure responses
+//!   (re-elaboration, fail up, safing), promotion, firing — reporting [`MissionEvent`]s, each
+//!   failure with its [`Explanation`] chain.
 
 mod constraint_set;
+mod controller;
 pub mod display;
+pub mod elaborate;
+mod events;
 mod execution;
 mod goal;
 pub mod mission;
 mod network;
 mod projection;
+mod proposal;
 mod schedule;
 mod stn;
+pub mod tactic;
 mod temporal_constraint;
 mod time_point;
 mod xgoal;
 
 pub use constraint_set::ConstraintSet;
+pub use controller::GoalController;
+pub use elaborate::{Elaboration, ElaborationState};
+pub use events::{Explanation, MissionEvent, ResponseStep};
 pub use execution::{EstimateView, Execution, FailureReason, GoalEvent};
 pub use goal::{Goal, GoalId, GoalKind};
 pub use mission::{Mission, MissionErrors};
 pub use network::{ExecutableNetwork, GoalNetwork, ORIGIN_NAME, Timeline};
 pub use projection::{Projection, project};
+pub use proposal::Proposal;
 pub use schedule::{ScheduleError, schedule};
 pub use stn::{GroundError, Inconsistency, Stn, StnError, Window};
+pub use tactic::{Elaborators, GoalType, Response, Tactic, TypeId};
 pub use temporal_constraint::{ConstraintId, Provenance, TemporalConstraint};
 pub use time_point::{TimePoint, TimePointId};
 pub use xgoal::XGoal;

@@ -21,7 +21,10 @@
 //!    only monitored (DESIGN.md §15.3). A Transition XGoal with an empty projection is
 //!    [`ScheduleError::Unachievable`] (its set cannot be reached); a Maintain XGoal whose set the
 //!    previous XGoal does not leave the SV in is [`ScheduleError::TransitionUnachievable`] (the
-//!    seed's negative test: a maintain goal without its transition goal, §3.3).
+//!    seed's negative test: a maintain goal without its transition goal, §3.3). In a network
+//!    being promoted over a running one, XGoals whose end point has fired are history and are
+//!    not projected: the projection starts from ŝ on the XGoals still to come, which is
+//!    promotion step c (§2.3: each SV can move from where it is into the proposed XGoals).
 
 use super::goal::{GoalId, GoalKind};
 use super::network::{ExecutableNetwork, GoalNetwork, Timeline};
@@ -75,6 +78,7 @@ pub fn schedule(
     let mut network = network.clone();
     network.propagate().map_err(ScheduleError::Inconsistent)?;
     let plant = reconfiguration.plant();
+    let fired = fired_points(&network);
     let mut timelines = Vec::new();
     for &sv in reconfiguration.upstream_first() {
         let goals: Vec<GoalId> = network.goals_on(sv).map(|(id, _)| id).collect();
@@ -86,7 +90,7 @@ pub fn schedule(
         let domain = plant.component(sv).modes().len();
         let xgoals = xgoals(&network, sv, domain, &goals, &points);
         let timeline = Timeline { sv, points, xgoals };
-        project(reconfiguration, &timeline, current[sv.index()])?;
+        project(reconfiguration, &timeline, current[sv.index()], &fired)?;
         timelines.push(timeline);
     }
     Ok(ExecutableNetwork { network, timelines })
@@ -176,7 +180,21 @@ impl OrderSearch {
         }
         let mut candidates = remaining.clone();
         let earliest = |p: &TimePointId| stn.window(*p).map_or(0.0, |w| w.lb);
-        candidates.sort_by(|a, b| earliest(a).total_cmp(&earliest(b)).then(a.cmp(b)));
+        // A point that a written constraint puts at or after another remaining point goes after
+        // it among equals: placing it first would force the two to coincide and each would wait
+        // for the other to fire (a tactic's point created before its children's, as Heater's
+        // TP_H → TP_A ∈ [0, 5]).
+        let follows = |p: &TimePointId| {
+            stn.constraints()
+                .iter()
+                .any(|c| c.to == *p && c.from != *p && c.min >= 0.0 && remaining.contains(&c.from))
+        };
+        candidates.sort_by(|a, b| {
+            earliest(a)
+                .total_cmp(&earliest(b))
+                .then(follows(a).cmp(&follows(b)))
+                .then(a.cmp(b))
+        });
         for candidate in candidates {
             if self.budget == 0 {
                 return None;
@@ -234,16 +252,28 @@ fn xgoals(
     out
 }
 
+/// The points grounded by firing (a network being promoted over a running one).
+fn fired_points(network: &GoalNetwork) -> Vec<TimePointId> {
+    let constraints = network.stn().constraints().iter();
+    constraints
+        .filter(|c| c.provenance == Provenance::Fired)
+        .map(|c| c.to)
+        .collect()
+}
+
 /// Serial projection and validation of one timeline from `current` (§2.2 step 3).
 fn project(
     reconfiguration: &Reconfiguration,
     timeline: &Timeline,
     current: ValueId,
+    fired: &[TimePointId],
 ) -> Result<(), ScheduleError> {
     let reachability = reconfiguration.policy(timeline.sv).reachability();
     let mut projected = vec![current];
     for (i, xgoal) in timeline.xgoals.iter().enumerate() {
-        if xgoal.constraint.is_control_free() {
+        // A promoted proposal keeps its history: an XGoal whose end has fired is over, and the
+        // projection starts from the state the SV is in now (promotion step c, §2.3).
+        if xgoal.constraint.is_control_free() || fired.contains(&xgoal.end) {
             continue;
         }
         let next: Vec<ValueId> = match xgoal.kind {

@@ -1,0 +1,475 @@
+//! The per-cycle mission executive (MDS's ElaborationManager, XGoalChecker and Executive
+//! together; mds-goal-networks.md §2.3, §2.5–2.9; DESIGN.md §15.2–15.3): a [`GoalController`]
+//! owns the running [`Execution`] and the elaboration tree, and each cycle
+//! 1. monitors the running network (the XGoalChecker);
+//! 2. gathers the cycle's failures and responds (§2.5 step 4, §2.6): each failed goal's type
+//!    gives its response — `Ignore`, `Safing`, `FailUp` to the parent (a root goes to safing),
+//!    `ReElaborate` the goal with its next tactic, cyclically, within its budget (§2.7); a
+//!    re-elaboration that finds no tactic is a failure of that goal with no response left: it
+//!    fails up. Re-elaborations are done once per goal per cycle; if any failure leads to
+//!    safing, safing wins and the safe network is promoted once;
+//! 3. fires points and dispatches (the Executive), on whatever network now runs.
+//!
+//! Every promotion follows §2.3: the proposal is a copy of the running network
+//! ([`Proposal`]), edited (elaborated), scheduled from the current estimate (each SV must be
+//! able to move from where it is into the proposed XGoals, step c) with its new points anchored
+//! at or after now (step b), and only then replaces the running one; a failed promotion leaves
+//! the running network as it was and says why.
+//!
+//! The controller has the shape of [`Execution`] (`step`, `configuration_goal`) so an
+//! executive runs either; the mission's initial network is elaborated and promoted when the
+//! controller is made, and those events come with the first `step`.
+
+use super::elaborate::{Context, ElaborationState, elaborate};
+use super::events::{Explanation, MissionEvent, ResponseStep};
+use super::execution::{EstimateView, Execution, FailureReason, GoalEvent};
+use super::goal::GoalId;
+use super::mission::Mission;
+use super::network::{ExecutableNetwork, GoalNetwork};
+use super::proposal::{Proposal, append_safe, copy};
+use super::schedule::schedule;
+use super::tactic::Response;
+use super::time_point::TimePointId;
+use crate::logic::Formula;
+use crate::plant::ComponentId;
+use crate::reconfiguration::Reconfiguration;
+
+/// A mission being run, one cycle at a time.
+#[derive(Debug, Clone)]
+pub struct GoalController {
+    mission: Mission,
+    execution: Execution,
+    state: ElaborationState,
+    /// Per goal, how often it was re-elaborated.
+    reelaborations: Vec<u32>,
+    safed: bool,
+    /// Events of the construction, reported by the first step.
+    pending: Vec<MissionEvent>,
+}
+
+/// Where a failure's chain of responses ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Outcome {
+    Ignored,
+    ReElaborate(GoalId),
+    Done,
+    Safing,
+}
+
+impl GoalController {
+    /// Elaborates and promotes the mission's network at `now` from the estimate (or, if no
+    /// elaboration fits, starts safed).
+    pub fn new(
+        mission: &Mission,
+        reconfiguration: &Reconfiguration,
+        now: f64,
+        estimate: EstimateView,
+    ) -> Self {
+        let mut network = mission.network.clone();
+        // The mission loaded consistent; the unelaborated network only stands for the old
+        // network if safing must replace it at once.
+        let _ = network.propagate();
+        let unelaborated = ExecutableNetwork {
+            network,
+            timelines: Vec::new(),
+        };
+        let goals = mission.network.goals().len();
+        let mut types = mission.elaborators.of_goal.clone();
+        types.resize(goals, None);
+        let mut controller = GoalController {
+            mission: mission.clone(),
+            execution: Execution::new(unelaborated, mission.knowledge_threshold),
+            state: ElaborationState {
+                types,
+                retired: vec![false; goals],
+                ..ElaborationState::default()
+            },
+            reelaborations: vec![0; goals],
+            safed: false,
+            pending: Vec::new(),
+        };
+        let mut proposal = controller.proposal(&[], &[], "the mission's network".into());
+        proposal.roots = (0..goals as u32).map(|g| (GoalId(g), 0)).collect();
+        let mut events = Vec::new();
+        if let Err(reason) =
+            controller.promote_proposal(proposal, now, estimate, reconfiguration, &mut events)
+        {
+            let cause = format!("the mission's network cannot be elaborated: {reason}");
+            controller.safe(now, estimate, reconfiguration, cause, &mut events);
+        }
+        controller.pending = events;
+        controller
+    }
+
+    /// The running execution.
+    pub fn execution(&self) -> &Execution {
+        &self.execution
+    }
+
+    /// The running network (ids stay valid across promotions).
+    pub fn network(&self) -> &GoalNetwork {
+        &self.execution.executable().network
+    }
+
+    /// The elaboration tree of the running network.
+    pub fn elaboration(&self) -> &ElaborationState {
+        &self.state
+    }
+
+    /// Whether safing has been invoked.
+    pub fn is_safed(&self) -> bool {
+        self.safed
+    }
+
+    /// One cycle at `now`: monitoring, the failure responses, then firing (§2.9 steps 3–5).
+    pub fn step(
+        &mut self,
+        now: f64,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+    ) -> Vec<MissionEvent> {
+        let mut events = std::mem::take(&mut self.pending);
+        let checked = self.execution.check(estimate, reconfiguration);
+        let failures: Vec<(GoalId, FailureReason)> = checked
+            .iter()
+            .filter_map(|e| match e {
+                GoalEvent::GoalFailed { goal, reason } => Some((*goal, reason.clone())),
+                _ => None,
+            })
+            .collect();
+        events.extend(checked.into_iter().map(MissionEvent::Goal));
+        if !failures.is_empty() && !self.safed {
+            self.respond(now, estimate, reconfiguration, &failures, &mut events);
+        }
+        let fired = self.execution.advance(now, estimate);
+        events.extend(fired.into_iter().map(MissionEvent::Goal));
+        events
+    }
+
+    /// The configuration goal of the running network (see [`Execution::configuration_goal`]).
+    pub fn configuration_goal(
+        &self,
+        reconfiguration: &Reconfiguration,
+        controllable: impl Fn(ComponentId) -> bool,
+    ) -> Formula {
+        self.execution
+            .configuration_goal(reconfiguration, controllable)
+    }
+
+    /// A proposal: a copy of the running network to edit and [`GoalController::promote`].
+    pub fn propose(&self) -> Proposal {
+        self.proposal(&[], &[], "a proposal".into())
+    }
+
+    /// Promotes an edited proposal at `now` (§2.3 steps a–j): its typed new goals are
+    /// elaborated, it is scheduled and checked, and it replaces the running network — or
+    /// `PromotionFailed` says why and nothing changes.
+    pub fn promote(
+        &mut self,
+        proposal: Proposal,
+        now: f64,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+    ) -> Vec<MissionEvent> {
+        let mut events = Vec::new();
+        // The reason is in the `PromotionFailed` event.
+        let _ = self.promote_proposal(proposal, now, estimate, reconfiguration, &mut events);
+        events
+    }
+
+    /// Promotes the safe network now, from any state (§2.8).
+    pub fn invoke_safing(
+        &mut self,
+        now: f64,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+        cause: String,
+    ) -> Vec<MissionEvent> {
+        let mut events = Vec::new();
+        self.safe(now, estimate, reconfiguration, cause, &mut events);
+        events
+    }
+
+    /// A copy of the running network without `goals` and the unfired of `points`.
+    fn proposal(&self, goals: &[GoalId], points: &[TimePointId], cause: String) -> Proposal {
+        let mut state = self.state.clone();
+        for g in goals {
+            state.retired[g.index()] = true;
+            state.elaborations.remove(g);
+        }
+        let network = self.network();
+        let mut retired_points: Vec<bool> = (0..network.points().len() as u32)
+            .map(|p| self.execution.is_retired(TimePointId(p)))
+            .collect();
+        for p in points {
+            if self.execution.fired_at(*p).is_none() {
+                retired_points[p.index()] = true;
+            }
+        }
+        Proposal {
+            network: copy(network, &state.retired, &retired_points),
+            state,
+            retired_points,
+            roots: Vec::new(),
+            anchor_from: network.points().len(),
+            cause,
+        }
+    }
+
+    fn promote_proposal(
+        &mut self,
+        proposal: Proposal,
+        now: f64,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+        events: &mut Vec<MissionEvent>,
+    ) -> Result<(), String> {
+        let fired = |p: TimePointId| self.execution.fired_at(p).is_some();
+        let context = Context {
+            elaborators: &self.mission.elaborators,
+            reconfiguration,
+            current: estimate.modes,
+            now,
+            anchor_from: proposal.anchor_from,
+            fired: &fired,
+        };
+        let elaborated = elaborate(
+            &context,
+            &proposal.network,
+            &proposal.state,
+            &proposal.roots,
+            events,
+        );
+        match elaborated {
+            Ok(elaborated) => {
+                let retired = proposal.retired_points;
+                self.execution = Execution::resume(elaborated.executable, &self.execution, retired);
+                self.state = elaborated.state;
+                self.reelaborations.resize(self.state.types.len(), 0);
+                events.push(MissionEvent::Promoted {
+                    cause: proposal.cause,
+                });
+                Ok(())
+            }
+            Err(reason) => {
+                events.push(MissionEvent::PromotionFailed {
+                    reason: reason.clone(),
+                });
+                Err(reason)
+            }
+        }
+    }
+
+    /// Responds to the cycle's failures, all gathered first (§2.5 step 4).
+    fn respond(
+        &mut self,
+        now: f64,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+        failures: &[(GoalId, FailureReason)],
+        events: &mut Vec<MissionEvent>,
+    ) {
+        let mut chains: Vec<(GoalId, Explanation, Outcome)> = failures
+            .iter()
+            .map(|(goal, _)| {
+                let mut explanation = self.explain(*goal, estimate);
+                let outcome = self.climb(*goal, &mut explanation.steps);
+                (*goal, explanation, outcome)
+            })
+            .collect();
+        let mut work = Vec::new();
+        // Safing wins: no re-elaboration when a failure already leads there.
+        if !chains.iter().any(|c| c.2 == Outcome::Safing) {
+            let mut done: Vec<(GoalId, Vec<ResponseStep>, Outcome)> = Vec::new();
+            for (_, explanation, outcome) in &mut chains {
+                while let Outcome::ReElaborate(target) = *outcome {
+                    let (steps, next) = match done.iter().find(|d| d.0 == target) {
+                        Some((_, steps, next)) => (steps.clone(), *next),
+                        None => {
+                            let result =
+                                self.reelaborate(target, now, estimate, reconfiguration, &mut work);
+                            done.push((target, result.0.clone(), result.1));
+                            result
+                        }
+                    };
+                    explanation.steps.extend(steps);
+                    *outcome = next;
+                }
+            }
+        }
+        let safing = chains.iter().find(|c| c.2 == Outcome::Safing);
+        let cause = safing.map(|c| c.1.to_string());
+        if cause.is_some() {
+            for (_, explanation, outcome) in &mut chains {
+                if matches!(outcome, Outcome::ReElaborate(_)) {
+                    explanation.steps.push(ResponseStep::Superseded);
+                }
+            }
+        }
+        for (goal, explanation, _) in chains {
+            events.push(MissionEvent::ResponseTaken {
+                goal,
+                response: self.response(goal),
+                explanation,
+            });
+        }
+        events.extend(work);
+        if let Some(cause) = cause {
+            self.safe(now, estimate, reconfiguration, cause, events);
+        }
+    }
+
+    /// The failed goal, the mode ŝ has its SV in and that mode's probability.
+    fn explain(&self, goal: GoalId, estimate: EstimateView) -> Explanation {
+        let g = self.network().goal(goal);
+        let plant = &self.mission.plant;
+        let (sv, mode, probability) = match g.sv {
+            Some(sv) => {
+                let mode = estimate.modes[sv.index()];
+                let component = plant.component(sv);
+                (
+                    component.name().to_string(),
+                    component.modes()[mode.index()].name.clone(),
+                    estimate.beliefs[sv.index()][mode.index()],
+                )
+            }
+            None => (String::new(), String::new(), 0.0),
+        };
+        Explanation {
+            goal: g.name.clone(),
+            sv,
+            mode,
+            probability,
+            steps: Vec::new(),
+        }
+    }
+
+    /// A goal's response as its type declares it (`FailUp` for a goal with no type).
+    fn response(&self, goal: GoalId) -> Response {
+        self.state.types[goal.index()].map_or(Response::FailUp, |t| {
+            self.mission.elaborators.get(t).response
+        })
+    }
+
+    /// Follows the responses from a failed `goal` up to one that acts (§2.6).
+    fn climb(&self, mut goal: GoalId, steps: &mut Vec<ResponseStep>) -> Outcome {
+        loop {
+            match self.response(goal) {
+                Response::Ignore => {
+                    steps.push(ResponseStep::Ignored);
+                    return Outcome::Ignored;
+                }
+                Response::Safing => {
+                    steps.push(ResponseStep::Safing);
+                    return Outcome::Safing;
+                }
+                Response::ReElaborate => return Outcome::ReElaborate(goal),
+                Response::FailUp => match self.network().goal(goal).parent {
+                    Some(parent) => {
+                        steps.push(ResponseStep::FailUp);
+                        goal = parent;
+                    }
+                    None => return self.root(goal, steps),
+                },
+            }
+        }
+    }
+
+    fn root(&self, goal: GoalId, steps: &mut Vec<ResponseStep>) -> Outcome {
+        let name = self.network().goal(goal).name.clone();
+        steps.push(ResponseStep::Root { goal: name });
+        steps.push(ResponseStep::Safing);
+        Outcome::Safing
+    }
+
+    /// Re-elaborates `goal` with its next tactic (§2.7); if none fits, it fails up.
+    fn reelaborate(
+        &mut self,
+        goal: GoalId,
+        now: f64,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+        events: &mut Vec<MissionEvent>,
+    ) -> (Vec<ResponseStep>, Outcome) {
+        let name = self.network().goal(goal).name.clone();
+        let goal_type = self.state.types[goal.index()].map(|t| self.mission.elaborators.get(t));
+        let (tactics, budget) = goal_type.map_or((0, 0), |t| (t.tactics.len(), t.budget));
+        let in_use = self.state.elaborations.get(&goal).map_or(0, |e| e.tactic);
+        let attempt = if tactics == 0 {
+            Err("its type has no tactic".to_string())
+        } else if self.reelaborations[goal.index()] >= budget {
+            Err(format!("its re-elaboration budget of {budget} is spent"))
+        } else {
+            let (goals, points) = self.state.subtree(goal);
+            let cause = format!("re-elaboration of {name}");
+            let mut proposal = self.proposal(&goals, &points, cause);
+            proposal.state.elaborations.remove(&goal);
+            proposal.roots = vec![(goal, (in_use + 1) % tactics)];
+            self.promote_proposal(proposal, now, estimate, reconfiguration, events)
+        };
+        let mut steps = Vec::new();
+        match attempt {
+            Ok(()) => {
+                self.reelaborations[goal.index()] += 1;
+                let tactic = self.state.elaborations.get(&goal).map_or(0, |e| e.tactic) + 1;
+                steps.push(ResponseStep::ReElaborated { goal: name, tactic });
+                steps.push(ResponseStep::Promoted);
+                (steps, Outcome::Done)
+            }
+            Err(reason) => {
+                steps.push(ResponseStep::NoTacticLeft { goal: name, reason });
+                let outcome = match self.network().goal(goal).parent {
+                    Some(parent) => {
+                        steps.push(ResponseStep::FailUp);
+                        self.climb(parent, &mut steps)
+                    }
+                    None => self.root(goal, &mut steps),
+                };
+                (steps, outcome)
+            }
+        }
+    }
+
+    /// Promotes the safe network (§2.8): every goal of the running network is retired and
+    /// every unfired point with it; the safe network is appended from a promotion point fired
+    /// now. If the safe network cannot be scheduled from this state, the default one (every
+    /// SV unconstrained) is used and the cause says why.
+    fn safe(
+        &mut self,
+        now: f64,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+        mut cause: String,
+        events: &mut Vec<MissionEvent>,
+    ) {
+        let goals: Vec<GoalId> = (0..self.state.types.len() as u32).map(GoalId).collect();
+        let points: Vec<TimePointId> = (0..self.network().points().len() as u32)
+            .map(TimePointId)
+            .collect();
+        let proposal = self.proposal(&goals, &points, String::new());
+        let (mut network, mut state) = (proposal.network, proposal.state);
+        let base = (network.clone(), state.clone());
+        append_safe(&mut network, &mut state, &self.mission.safe, now);
+        let executable = match schedule(&network, reconfiguration, estimate.modes) {
+            Ok(executable) => executable,
+            Err(error) => {
+                let why = super::display::explain(&error, &network, &self.mission.plant);
+                let instead = "every state variable is left unconstrained instead";
+                cause = format!("{cause} (the safe network cannot be scheduled: {why}; {instead})");
+                (network, state) = base;
+                append_safe(&mut network, &mut state, &GoalNetwork::new(), now);
+                // Grounded points and no goals: consistent, nothing to schedule.
+                let _ = network.propagate();
+                ExecutableNetwork {
+                    network,
+                    timelines: Vec::new(),
+                }
+            }
+        };
+        self.execution = Execution::resume(executable, &self.execution, proposal.retired_points);
+        self.reelaborations.resize(state.types.len(), 0);
+        self.state = state;
+        self.safed = true;
+        events.push(MissionEvent::Safing { cause });
+    }
+}
