@@ -6,8 +6,6 @@
 use std::path::Path;
 
 use kairos::goalnet::{display, mission, schedule};
-use kairos::logic::ValueId;
-use kairos::plant::Plant;
 use kairos::reconfiguration::Reconfiguration;
 
 use super::Failure;
@@ -17,7 +15,7 @@ pub fn run(path: &Path) -> Result<(), Failure> {
     let mission = mission::load(path).map_err(Failure::bad_input)?;
     let reconfiguration = Reconfiguration::compile(&mission.plant)
         .map_err(|e| Failure::bad_input(format!("error: {}: {e}", mission.plant_path)))?;
-    let current = most_likely_initial(&mission.plant);
+    let current = mission.plant.most_likely_initial();
     println!("mission: {} (plant {})", mission.name, mission.plant_path);
     match schedule(&mission.network, &reconfiguration, &current) {
         Ok(executable) => {
@@ -30,23 +28,4 @@ pub fn run(path: &Path) -> Result<(), Failure> {
             &mission.plant,
         ))),
     }
-}
-
-/// Each component's most likely initial mode (the first of equals).
-fn most_likely_initial(plant: &Plant) -> Vec<ValueId> {
-    plant
-        .components()
-        .iter()
-        .map(|c| {
-            let best = c
-                .initial()
-                .iter()
-                .enumerate()
-                .fold(
-                    (0, f64::MIN),
-                    |best, (i, p)| if *p > best.1 { (i, *p) } else { best },
-                );
-            ValueId(best.0 as u32)
-        })
-        .collect()
 }

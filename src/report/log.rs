@@ -123,7 +123,61 @@ pub fn describe_event(
             ),
         ),
         E::ProgramCompleted => ("completed", "the program has completed".to_string()),
+        E::TimePointFired { point, window } => (
+            "fired",
+            format!("{point}  (window {})", window_text(*window)),
+        ),
+        E::TimePointForced {
+            point,
+            window,
+            late_by,
+        } => (
+            "FORCED",
+            format!(
+                "{point} at its latest time, not ready  (window {}, {late_by:.3} s late)",
+                window_text(*window)
+            ),
+        ),
+        E::XGoalDispatched {
+            sv,
+            constraint,
+            kind,
+            interval: (start, end),
+            goals,
+        } => (
+            "dispatched",
+            format!(
+                "{} [{start}, {end}] {kind} {constraint}  ({})",
+                component(*sv),
+                goals.join(", ")
+            ),
+        ),
+        E::MissionGoalFailed {
+            goal,
+            reason,
+            mode,
+            probability,
+        } => (
+            "GOAL FAILED",
+            format!("{goal}: {reason}; ŝ has {mode} (p {probability:.2})"),
+        ),
+        E::TemporalInconsistency { point, cycle } => (
+            "TEMPORAL",
+            format!(
+                "firing {point} contradicts the network: {}",
+                cycle.join("; ")
+            ),
+        ),
     }
+}
+
+/// `[71, 161]`: a time point's window, open sides as `−∞`/`+∞`.
+fn window_text((lb, ub): (f64, f64)) -> String {
+    format!(
+        "[{}, {}]",
+        crate::goalnet::mission::seconds(lb),
+        crate::goalnet::mission::seconds(ub)
+    )
 }
 
 /// Writes the mission log of one scenario run.

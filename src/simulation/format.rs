@@ -235,6 +235,16 @@ pub enum EventName {
     DeadlineOverrun,
     /// The program completed.
     ProgramCompleted,
+    /// A time point of the mission fired on time.
+    TimePointFired,
+    /// A time point of the mission was forced at its latest time.
+    TimePointForced,
+    /// An XGoal became active on its state variable.
+    XGoalDispatched,
+    /// A goal of the mission's network failed.
+    MissionGoalFailed,
+    /// Firing a time point contradicted the temporal constraints.
+    TemporalInconsistency,
 }
 
 impl EventName {
@@ -260,6 +270,11 @@ impl EventName {
             E::ObservationsMissing { .. } => EventName::ObservationsMissing,
             E::DeadlineOverrun { .. } => EventName::DeadlineOverrun,
             E::ProgramCompleted => EventName::ProgramCompleted,
+            E::TimePointFired { .. } => EventName::TimePointFired,
+            E::TimePointForced { .. } => EventName::TimePointForced,
+            E::XGoalDispatched { .. } => EventName::XGoalDispatched,
+            E::MissionGoalFailed { .. } => EventName::MissionGoalFailed,
+            E::TemporalInconsistency { .. } => EventName::TemporalInconsistency,
         }
     }
 }

@@ -1,0 +1,247 @@
+//! A goal network run as the executive's control program (DESIGN.md §15.3; mds-goal-networks.md
+//! §2.4–2.5, §2.9).
+//!
+//! Every call into [`goalnet::Execution`](crate::goalnet::Execution) is in this file: issue 14's
+//! controller (elaboration, failure responses, safing) has the same per-cycle shape — `step(now,
+//! view, reconfiguration) -> events`, then `configuration_goal(..)` — and replaces it here.
+//!
+//! Per cycle, after estimation: the estimate view (ŝ and each component's mode marginals, summed
+//! over the belief's plant states) goes to `Execution::step` (monitoring, then firing to a
+//! fixpoint and dispatch), its events become the executive's, and the conjunction of the active
+//! XGoals' control sets on *controllable* state variables becomes the configuration goal. A
+//! state variable is controllable when mode reconfiguration can move it at all (its concurrent
+//! policy has a step): a sensor's health is monitored, never commanded.
+
+use super::events::EventKind;
+use crate::estimation::PlantEstimate;
+use crate::goalnet::{
+    EstimateView, ExecutableNetwork, Execution, FailureReason, GoalEvent, Mission, ScheduleError,
+    TimePointId, Window, display, schedule,
+};
+use crate::logic::{Formula, ValueId};
+use crate::plant::{ComponentId, Plant};
+use crate::reconfiguration::Reconfiguration;
+
+/// A loaded mission with its goal network scheduled: what [`Executive::builder`] runs as a
+/// mission (it converts into a [`ControlProgram`](super::ControlProgram)).
+///
+/// [`Executive::builder`]: super::Executive::builder
+#[derive(Debug, Clone)]
+pub struct ScheduledMission {
+    mission: Mission,
+    executable: ExecutableNetwork,
+}
+
+impl ScheduledMission {
+    /// Schedules the mission's network from the plant's most likely initial modes (the state the
+    /// executive starts from) with the plant's compiled reconfiguration.
+    pub fn schedule(
+        mission: Mission,
+        reconfiguration: &Reconfiguration,
+    ) -> Result<ScheduledMission, ScheduleError> {
+        let current = mission.plant.most_likely_initial();
+        let executable = schedule(&mission.network, reconfiguration, &current)?;
+        Ok(ScheduledMission {
+            mission,
+            executable,
+        })
+    }
+
+    /// The mission as loaded.
+    pub fn mission(&self) -> &Mission {
+        &self.mission
+    }
+
+    /// The scheduled network.
+    pub fn executable(&self) -> &ExecutableNetwork {
+        &self.executable
+    }
+}
+
+/// A mission being executed, one cycle at a time.
+#[derive(Debug, Clone)]
+pub(super) struct MissionControl {
+    mission: Mission,
+    execution: Execution,
+    /// Every point's window as the network gives it before this cycle's firings (an event
+    /// shows the window the point fired in, not the `[t, t]` grounding makes of it); refreshed
+    /// only after a cycle in which a point fired.
+    windows: Vec<Option<Window>>,
+    /// Per component, the marginal of each of its modes (reused from cycle to cycle).
+    beliefs: Vec<Vec<f64>>,
+}
+
+impl MissionControl {
+    pub(super) fn new(scheduled: ScheduledMission) -> Self {
+        let ScheduledMission {
+            mission,
+            executable,
+        } = scheduled;
+        let beliefs = mission
+            .plant
+            .components()
+            .iter()
+            .map(|c| vec![0.0; c.modes().len()])
+            .collect();
+        let execution = Execution::new(executable, mission.knowledge_threshold);
+        let mut control = MissionControl {
+            mission,
+            execution,
+            windows: Vec::new(),
+            beliefs,
+        };
+        control.refresh_windows();
+        control
+    }
+
+    /// The mission as loaded.
+    pub(super) fn mission(&self) -> &Mission {
+        &self.mission
+    }
+
+    /// The scheduled network as it is being executed (windows shrink as points fire).
+    pub(super) fn executable(&self) -> &ExecutableNetwork {
+        self.execution.executable()
+    }
+
+    /// Every point has fired.
+    pub(super) fn is_complete(&self) -> bool {
+        self.execution.is_complete()
+    }
+
+    /// Monitoring, firing and dispatch at `now` from ŝ (`modes`) and the belief's plant states;
+    /// returns the events and the configuration goal.
+    pub(super) fn step(
+        &mut self,
+        now: f64,
+        modes: &[ValueId],
+        estimates: &[PlantEstimate],
+        reconfiguration: &Reconfiguration,
+    ) -> (Vec<EventKind>, Formula) {
+        self.marginals(estimates);
+        let view = EstimateView {
+            modes,
+            beliefs: &self.beliefs,
+        };
+        let events = self.execution.step(now, view, reconfiguration);
+        let fired = events.iter().any(|e| {
+            matches!(
+                e,
+                GoalEvent::TimePointFired { .. } | GoalEvent::TimePointForced { .. }
+            )
+        });
+        let kinds = events
+            .into_iter()
+            .filter_map(|event| self.describe(event, modes))
+            .collect();
+        if fired {
+            self.refresh_windows();
+        }
+        let controllable = |sv: ComponentId| !reconfiguration.policy(sv).steps().is_empty();
+        let goal = self
+            .execution
+            .configuration_goal(reconfiguration, controllable);
+        (kinds, goal)
+    }
+
+    /// Sums the plant states' probabilities into each component's mode marginals.
+    fn marginals(&mut self, estimates: &[PlantEstimate]) {
+        self.beliefs.iter_mut().for_each(|b| b.fill(0.0));
+        for estimate in estimates {
+            for (belief, mode) in self.beliefs.iter_mut().zip(&estimate.modes) {
+                if let Some(p) = belief.get_mut(mode.index()) {
+                    *p += estimate.probability;
+                }
+            }
+        }
+    }
+
+    fn refresh_windows(&mut self) {
+        let network = &self.execution.executable().network;
+        self.windows = (0..network.points().len())
+            .map(|i| network.stn().window(TimePointId(i as u32)))
+            .collect();
+    }
+
+    /// The executive's event for a network event (`None` only for an XGoal the network does
+    /// not hold, which the execution never dispatches).
+    fn describe(&self, event: GoalEvent, modes: &[ValueId]) -> Option<EventKind> {
+        let plant = &self.mission.plant;
+        let executable = self.execution.executable();
+        let network = &executable.network;
+        let name = |p: TimePointId| network.point(p).name.clone();
+        let window = |p: TimePointId| {
+            self.windows
+                .get(p.index())
+                .copied()
+                .flatten()
+                .map_or((f64::NEG_INFINITY, f64::INFINITY), |w| (w.lb, w.ub))
+        };
+        let kind = match event {
+            GoalEvent::TimePointFired { point } => EventKind::TimePointFired {
+                point: name(point),
+                window: window(point),
+            },
+            GoalEvent::TimePointForced { point, late_by } => EventKind::TimePointForced {
+                point: name(point),
+                window: window(point),
+                late_by,
+            },
+            GoalEvent::XGoalDispatched { sv, index } => {
+                let x = executable.timeline(sv)?.xgoals.get(index)?;
+                EventKind::XGoalDispatched {
+                    sv,
+                    constraint: display::constraint_text(plant, sv, &x.constraint),
+                    kind: x.kind.name(),
+                    interval: (name(x.start), name(x.end)),
+                    goals: x
+                        .constituents
+                        .iter()
+                        .map(|g| network.goal(*g).name.clone())
+                        .collect(),
+                }
+            }
+            GoalEvent::GoalFailed { goal, reason } => {
+                let goal = network.goal(goal);
+                let sv = goal.sv.unwrap_or(ComponentId(0));
+                let mode = modes.get(sv.index()).copied().unwrap_or(ValueId(0));
+                EventKind::MissionGoalFailed {
+                    goal: goal.name.clone(),
+                    reason: failure_text(&reason, self.mission.knowledge_threshold),
+                    mode: mode_name(plant, sv, mode),
+                    probability: self.beliefs[sv.index()]
+                        .get(mode.index())
+                        .copied()
+                        .unwrap_or(0.0),
+                }
+            }
+            GoalEvent::TemporalInconsistency {
+                point,
+                inconsistency,
+            } => {
+                let text =
+                    display::explain(&ScheduleError::Inconsistent(inconsistency), network, plant);
+                EventKind::TemporalInconsistency {
+                    point: name(point),
+                    cycle: text.lines().skip(1).map(|l| l.trim().to_string()).collect(),
+                }
+            }
+        };
+        Some(kind)
+    }
+}
+
+/// A failure's reason in words; the mode ŝ is in is shown beside it.
+fn failure_text(reason: &FailureReason, threshold: f64) -> String {
+    match reason {
+        FailureReason::Excursion(_) => "ŝ left the maintained set".to_string(),
+        FailureReason::Unreachable(_) => "its set can no longer be reached".to_string(),
+        FailureReason::EndForced(_) => "its end point was forced before the set was reached".into(),
+        FailureReason::NotKnown => format!("not known (P below {threshold} or a least belief)"),
+    }
+}
+
+fn mode_name(plant: &Plant, sv: ComponentId, mode: ValueId) -> String {
+    let component = plant.component(sv);
+    format!("{} = {}", component.name(), component.mode(mode).name)
+}
