@@ -16,7 +16,7 @@ use super::events::EventKind;
 use crate::estimation::PlantEstimate;
 use crate::goalnet::{
     EstimateView, ExecutableNetwork, Execution, FailureReason, GoalEvent, Mission, ScheduleError,
-    TimePointId, Window, display, schedule,
+    TimePointId, Window, XGoal, display, schedule,
 };
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
@@ -69,6 +69,10 @@ pub(super) struct MissionControl {
     windows: Vec<Option<Window>>,
     /// Per component, the marginal of each of its modes (reused from cycle to cycle).
     beliefs: Vec<Vec<f64>>,
+    /// Cycles stepped so far: the first reports the XGoals active from the origin.
+    cycles: u64,
+    /// Whether completion has been reported.
+    completed: bool,
 }
 
 impl MissionControl {
@@ -89,6 +93,8 @@ impl MissionControl {
             execution,
             windows: Vec::new(),
             beliefs,
+            cycles: 0,
+            completed: false,
         };
         control.refresh_windows();
         control
@@ -130,13 +136,24 @@ impl MissionControl {
                 GoalEvent::TimePointFired { .. } | GoalEvent::TimePointForced { .. }
             )
         });
-        let kinds = events
-            .into_iter()
-            .filter_map(|event| self.describe(event, modes))
-            .collect();
+        let mut kinds = Vec::new();
+        if self.cycles == 0 {
+            // The origin fired at 0 when execution started, dispatching its XGoals.
+            kinds.extend(self.dispatched_from_origin());
+        }
+        kinds.extend(
+            events
+                .into_iter()
+                .filter_map(|event| self.describe(event, modes)),
+        );
         if fired {
             self.refresh_windows();
         }
+        if self.execution.is_complete() && !self.completed {
+            self.completed = true;
+            kinds.push(EventKind::ProgramCompleted);
+        }
+        self.cycles += 1;
         let controllable = |sv: ComponentId| !reconfiguration.policy(sv).steps().is_empty();
         let goal = self
             .execution
@@ -153,6 +170,37 @@ impl MissionControl {
                     *p += estimate.probability;
                 }
             }
+        }
+    }
+
+    /// The dispatch events of the XGoals active from the origin.
+    fn dispatched_from_origin(&self) -> Vec<EventKind> {
+        let executable = self.execution.executable();
+        executable
+            .timelines
+            .iter()
+            .filter_map(|t| self.execution.active(t.sv))
+            .filter(|x| x.start == TimePointId::ORIGIN)
+            .map(|x| self.dispatched(x))
+            .collect()
+    }
+
+    /// The event of an XGoal's dispatch.
+    fn dispatched(&self, xgoal: &XGoal) -> EventKind {
+        let network = &self.execution.executable().network;
+        EventKind::XGoalDispatched {
+            sv: xgoal.sv,
+            constraint: display::constraint_text(&self.mission.plant, xgoal.sv, &xgoal.constraint),
+            kind: xgoal.kind.name(),
+            interval: (
+                network.point(xgoal.start).name.clone(),
+                network.point(xgoal.end).name.clone(),
+            ),
+            goals: xgoal
+                .constituents
+                .iter()
+                .map(|g| network.goal(*g).name.clone())
+                .collect(),
         }
     }
 
@@ -188,18 +236,7 @@ impl MissionControl {
                 late_by,
             },
             GoalEvent::XGoalDispatched { sv, index } => {
-                let x = executable.timeline(sv)?.xgoals.get(index)?;
-                EventKind::XGoalDispatched {
-                    sv,
-                    constraint: display::constraint_text(plant, sv, &x.constraint),
-                    kind: x.kind.name(),
-                    interval: (name(x.start), name(x.end)),
-                    goals: x
-                        .constituents
-                        .iter()
-                        .map(|g| network.goal(*g).name.clone())
-                        .collect(),
-                }
+                self.dispatched(executable.timeline(sv)?.xgoals.get(index)?)
             }
             GoalEvent::GoalFailed { goal, reason } => {
                 let goal = network.goal(goal);

@@ -144,14 +144,24 @@ pub fn describe_event(
             kind,
             interval: (start, end),
             goals,
-        } => (
-            "dispatched",
-            format!(
-                "{} [{start}, {end}] {kind} {constraint}  ({})",
-                component(*sv),
+        } => {
+            // The constraint names its SV when it has a control part (`switch1 ∈ {..}`).
+            let sv = component(*sv);
+            let what = if constraint.starts_with(&sv) {
+                constraint.clone()
+            } else {
+                format!("{sv} {constraint}")
+            };
+            let goals = if goals.is_empty() {
+                "no goal".to_string()
+            } else {
                 goals.join(", ")
-            ),
-        ),
+            };
+            (
+                "dispatched",
+                format!("{kind} {what} over [{start}, {end}]  ({goals})"),
+            )
+        }
         E::MissionGoalFailed {
             goal,
             reason,
@@ -206,7 +216,12 @@ impl<'a> MissionLog<'a> {
         }
         let _ = writeln!(
             out,
-            "program   {}{}\nplant     {} ({})\ncycle     {} s until {} s, κ = {}{}",
+            "{}   {}{}\nplant     {} ({})\ncycle     {} s until {} s, κ = {}{}",
+            if s.program.mission().is_some() {
+                "mission"
+            } else {
+                "program"
+            },
             s.program_source.name,
             s.entry
                 .as_deref()

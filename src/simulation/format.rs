@@ -15,7 +15,10 @@ pub(super) struct ScenarioFile {
     pub(super) name: Option<String>,
     #[serde(default)]
     pub(super) description: String,
-    pub(super) program: String,
+    #[serde(default)]
+    pub(super) program: Option<String>,
+    #[serde(default)]
+    pub(super) mission: Option<String>,
     #[serde(default)]
     pub(super) entry: Option<String>,
     pub(super) plant: String,
@@ -193,6 +196,41 @@ pub(super) enum ExpectFile {
         from: Option<f64>,
         #[serde(default)]
         to: Option<f64>,
+    },
+    Fired {
+        point: String,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    NeverFired {
+        point: String,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+    Failed {
+        goal: String,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    NeverFailed {
+        #[serde(default)]
+        goal: Option<String>,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+    XGoalActive {
+        sv: String,
+        #[serde(default)]
+        goal: Option<String>,
+        time: f64,
     },
 }
 

@@ -184,8 +184,45 @@ pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
 pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
 
 use crate::diagnostic::{Source, SourceErrors};
+use crate::executive::{ControlProgram, ScheduledMission};
 use crate::plant::Plant;
 use crate::sequencer::Thca;
+
+/// What a scenario runs: an RMPL program or a mission (a goal network).
+#[derive(Debug, Clone)]
+pub enum ScenarioProgram {
+    /// An RMPL program, linked against the plant.
+    Rmpl(Thca),
+    /// A mission bound to the scenario's plant, its network scheduled (boxed: much larger).
+    Mission(Box<ScheduledMission>),
+}
+
+impl ScenarioProgram {
+    /// The RMPL program's automaton, if the scenario runs one.
+    pub fn thca(&self) -> Option<&Thca> {
+        match self {
+            ScenarioProgram::Rmpl(thca) => Some(thca),
+            ScenarioProgram::Mission(_) => None,
+        }
+    }
+
+    /// The scheduled mission, if the scenario runs one.
+    pub fn mission(&self) -> Option<&ScheduledMission> {
+        match self {
+            ScenarioProgram::Rmpl(_) => None,
+            ScenarioProgram::Mission(mission) => Some(mission),
+        }
+    }
+}
+
+impl From<ScenarioProgram> for ControlProgram {
+    fn from(program: ScenarioProgram) -> Self {
+        match program {
+            ScenarioProgram::Rmpl(thca) => thca.into(),
+            ScenarioProgram::Mission(mission) => (*mission).into(),
+        }
+    }
+}
 
 /// A loaded, validated scenario.
 #[derive(Debug, Clone)]
@@ -198,14 +235,14 @@ pub struct Scenario {
     pub source: Source,
     /// The plant model's path.
     pub plant_path: String,
-    /// The program file (its path is its name); events' spans point into it.
+    /// The program or mission file (its path is its name); events' spans point into it.
     pub program_source: Source,
     /// The entry program, when the scenario names one.
     pub entry: Option<String>,
     /// The plant model.
     pub plant: Plant,
-    /// The program, linked against the plant.
-    pub program: Thca,
+    /// The program, linked against the plant, or the mission, scheduled.
+    pub program: ScenarioProgram,
     /// The cycle period, in seconds.
     pub cycle: f64,
     /// The end time, in seconds.
