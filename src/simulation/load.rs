@@ -11,9 +11,9 @@ use crate::diagnostic::locate::{Locator, Step};
 use crate::diagnostic::{
     Diagnostic, ReadError, Source, SourceErrors, Span, did_you_mean, ron_error,
 };
-use crate::logic::{self, Formula, VarId, VarTable};
 use crate::executive::ScheduledMission;
 use crate::goalnet::{display, mission};
+use crate::logic::{self, Formula, VarId, VarTable};
 use crate::plant::Plant;
 use crate::reconfiguration::Reconfiguration;
 use crate::rmpl::{self, LinkOptions};
@@ -392,8 +392,15 @@ fn load_mission(
     let loaded = match mission::load(&resolve_path(dir, name)) {
         Ok(loaded) => loaded,
         Err(ScenarioErrors::Unreadable(message)) => {
-            let message = message.strip_prefix("error: ").unwrap_or(&message).to_string();
-            ctx.error(&at, message, "a path to a mission file, relative to the scenario file");
+            let message = message
+                .strip_prefix("error: ")
+                .unwrap_or(&message)
+                .to_string();
+            ctx.error(
+                &at,
+                message,
+                "a path to a mission file, relative to the scenario file",
+            );
             return None;
         }
         Err(ScenarioErrors::Invalid(errors)) => {
@@ -415,7 +422,11 @@ fn load_mission(
     let reconfiguration = match Reconfiguration::compile(plant) {
         Ok(reconfiguration) => reconfiguration,
         Err(e) => {
-            ctx.error(&at, format!("the plant model cannot be encoded: {e}"), "a plant model");
+            ctx.error(
+                &at,
+                format!("the plant model cannot be encoded: {e}"),
+                "a plant model",
+            );
             return None;
         }
     };
@@ -425,9 +436,12 @@ fn load_mission(
         Err(error) => {
             let why = display::explain(&error, &network, plant);
             ctx.push(
-                Diagnostic::new("the mission's goal network cannot be scheduled", ctx.span(&at))
-                    .expected("a mission whose network schedules from the plant's initial state")
-                    .note(why),
+                Diagnostic::new(
+                    "the mission's goal network cannot be scheduled",
+                    ctx.span(&at),
+                )
+                .expected("a mission whose network schedules from the plant's initial state")
+                .note(why),
             );
             None
         }

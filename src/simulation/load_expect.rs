@@ -1,12 +1,12 @@
 //! Loading a scenario's expectations, each problem located in the scenario file.
 
+use super::ScenarioProgram;
 use super::expect::{Expectation, ExpectationKind, Window};
 use super::format::{DelayFile, ExpectFile};
 use super::load::{FileCtx, VarClasses, Vars, formula};
 use super::script::{Delay, Script};
 use crate::diagnostic::locate::Step;
 use crate::diagnostic::{Diagnostic, did_you_mean};
-use super::ScenarioProgram;
 use crate::goalnet::GoalNetwork;
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, ModeKind, Plant};
@@ -25,7 +25,9 @@ pub(super) fn expectations(
         plant,
         script,
         classes: VarClasses::new(plant, script.hidden.clone()),
-        goals: program.thca().map_or_else(Vec::new, |t| program_goals(plant, t)),
+        goals: program
+            .thca()
+            .map_or_else(Vec::new, |t| program_goals(plant, t)),
         network: program.mission().map(|m| &m.mission().network),
         end,
     };

@@ -16,6 +16,8 @@
 //!     description: "What it shows.",        // optional
 //!     program: "fire.rmpl",                 // paths are relative to this file
 //!     entry: "Fire",                        // optional; default: the file's first program
+//!  // mission: "../../missions/m.ron",      // or a mission (a goal network) in place of
+//!                                           // `program`: exactly one of the two
 //!     plant: "../../models/propulsion.ron",
 //!     cycle: 1.0,                           // cycle period, seconds; cycle i is at i · cycle
 //!     end: 300.0,                           // the last cycle is at or before this time;
@@ -143,7 +145,26 @@
 //! Event kinds: `GoalAsserted`, `GoalAchieved`, `GoalFailed`, `GoalConflict`, `Preempted`,
 //! `ClockStarted`, `ModeChanged`, `Diagnosis`, `CommandIssued`, `Repair` (a command that repairs
 //! a fault), `Waiting`, `PlanFailed`, `EstimatorInconsistency`, `SearchCut`,
-//! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`.
+//! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`, and for
+//! missions `TimePointFired`, `TimePointForced`, `XGoalDispatched`, `MissionGoalFailed`,
+//! `TemporalInconsistency`.
+//!
+//! ## Missions
+//!
+//! A scenario with `mission:` runs a goal network (DESIGN.md §15; the format is in
+//! [`crate::goalnet::mission`]) in place of an RMPL program. The mission must bind to the
+//! scenario's `plant` (the same file); its network is scheduled when the scenario is loaded, from
+//! the plant's most likely initial modes, and a network that cannot be scheduled is an error at
+//! `mission` with the scheduler's reason. The mission completes when every time point has fired.
+//! Expectations on the network (names are checked against the mission):
+//! ```ron
+//! Fired(point: "TP_S", after: 71.0, by: 161.0),        // fired (on time or forced) in the window
+//! NeverFired(point: "TP_bgE", to: 999.0),
+//! Failed(goal: "heater1", by: 200.0),                  // the constituent goal reported failed
+//! NeverFailed(goal: "stay-warm", to: 204.0),           // `goal` optional: no goal failed
+//! XGoalActive(sv: "switch1", goal: "heater1", time: 200.0),  // at the first cycle at or after
+//!                                   // `time`, an XGoal is active on the SV (merging `goal`)
+//! ```
 //!
 //! ## The run
 //!
