@@ -13,10 +13,11 @@
 //! policy has a step): a sensor's health is monitored, never commanded.
 
 use super::events::EventKind;
+use super::submit::{Submission, SubmitError};
 use crate::estimation::PlantEstimate;
 use crate::goalnet::{
-    EstimateView, ExecutableNetwork, Execution, FailureReason, GoalEvent, Mission, ScheduleError,
-    TimePointId, Window, XGoal, display, schedule,
+    EstimateView, ExecutableNetwork, Execution, FailureReason, GoalEvent, GoalNetwork, Mission,
+    Provenance, ScheduleError, TemporalConstraint, TimePointId, Window, XGoal, display, schedule,
 };
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
@@ -62,6 +63,9 @@ impl ScheduledMission {
 #[derive(Debug, Clone)]
 pub(super) struct MissionControl {
     mission: Mission,
+    /// The unscheduled network: the mission's with every accepted submission added (what a new
+    /// submission is scheduled with).
+    network: GoalNetwork,
     execution: Execution,
     /// Every point's window as the network gives it before this cycle's firings (an event
     /// shows the window the point fired in, not the `[t, t]` grounding makes of it); refreshed
@@ -89,6 +93,7 @@ impl MissionControl {
             .collect();
         let execution = Execution::new(executable, mission.knowledge_threshold);
         let mut control = MissionControl {
+            network: mission.network.clone(),
             mission,
             execution,
             windows: Vec::new(),
@@ -159,6 +164,60 @@ impl MissionControl {
             .execution
             .configuration_goal(reconfiguration, controllable);
         (kinds, goal)
+    }
+
+    /// Adds `submission` to the network and reschedules it from ŝ (`modes`) with every fired
+    /// point held at its firing time and every new point no earlier than `now` (a point cannot
+    /// be submitted into the past); execution resumes on the new schedule (fired points stay
+    /// fired, failed goals failed). Refused, with the network unchanged, when a name does not
+    /// resolve or the result cannot be scheduled.
+    pub(super) fn submit(
+        &mut self,
+        submission: &Submission,
+        now: f64,
+        modes: &[ValueId],
+        reconfiguration: &Reconfiguration,
+    ) -> Result<(), SubmitError> {
+        let plant = &self.mission.plant;
+        for goal in &submission.goals {
+            let fits = plant
+                .components()
+                .get(goal.sv.index())
+                .is_some_and(|c| c.modes().len() == goal.constraint.domain());
+            if !fits {
+                return Err(SubmitError::Domain(goal.name.clone()));
+            }
+        }
+        let mut network = self.network.clone();
+        let existing = network.points().len();
+        submission.add_to(&mut network)?;
+        let mut grounded = network.clone();
+        let fired = self.execution.fired_times();
+        for i in 0..network.points().len() {
+            let point = TimePointId(i as u32);
+            let (min, max, provenance) = match fired.get(i).copied().flatten() {
+                Some(t) => (t, t, Provenance::Fired),
+                None if i >= existing => (now, f64::INFINITY, Provenance::Submitted),
+                None => continue,
+            };
+            let at = TemporalConstraint::new(TimePointId::ORIGIN, point, min, max, provenance);
+            // Points and bounds are valid: the network accepts it.
+            let _ = grounded.add_constraint(at);
+        }
+        let executable =
+            schedule(&grounded, reconfiguration, modes).map_err(|error| SubmitError::Refused {
+                explanation: display::explain(&error, &grounded, plant),
+                error,
+            })?;
+        self.execution = Execution::resume(
+            executable,
+            self.mission.knowledge_threshold,
+            self.execution.fired_times(),
+            self.execution.failed_goals(),
+        );
+        self.network = network;
+        self.refresh_windows();
+        Ok(())
     }
 
     /// Sums the plant states' probabilities into each component's mode marginals.

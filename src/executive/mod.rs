@@ -30,6 +30,7 @@ mod events;
 mod mission;
 mod observations;
 mod oracle;
+mod submit;
 mod timeline;
 
 use std::time::{Duration, Instant};
@@ -38,6 +39,7 @@ pub use control::ControlProgram;
 pub use events::{Event, EventKind};
 pub use mission::ScheduledMission;
 pub use observations::NamedValue;
+pub use submit::{Submission, SubmitError, SubmittedConstraint, SubmittedGoal};
 pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeline, Timelines};
 
 use crate::estimation::{
@@ -386,6 +388,27 @@ impl Executive {
     /// True once the program has completed (for a mission: every time point has fired).
     pub fn is_complete(&self) -> bool {
         self.control.is_complete()
+    }
+
+    /// Adds goals, with their time points and temporal constraints, to the running mission
+    /// (DESIGN.md §15.4) and reschedules it from ŝ with the points already fired held at their
+    /// times. A submission that does not resolve or cannot be scheduled (inconsistent,
+    /// unmergeable, unachievable) is refused with the reason, and the running network is left
+    /// unchanged. New points fire no earlier than the last cycle's time. Before the first cycle
+    /// ŝ is the plant's most likely initial state.
+    pub fn submit(&mut self, submission: &Submission) -> Result<(), SubmitError> {
+        let modes = if self.most_likely.is_empty() {
+            self.plant.most_likely_initial()
+        } else {
+            self.most_likely.clone()
+        };
+        let now = self.last_time.unwrap_or(0.0);
+        match &mut self.control.0 {
+            Program::Rmpl(_) => Err(SubmitError::NotAMission),
+            Program::Mission(mission) => {
+                mission.submit(submission, now, &modes, &self.reconfiguration)
+            }
+        }
     }
 
     /// Cycles run so far.

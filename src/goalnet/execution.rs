@@ -135,6 +135,48 @@ impl Execution {
         }
     }
 
+    /// Resumes execution on `executable`, a rescheduling of the network being executed with
+    /// points and goals added after the existing ones (a submission, DESIGN.md §15.4): the points
+    /// in `fired` fired at their times (the network already grounds them), the goals in
+    /// `failed` stay failed, and on each timeline the XGoal between a fired start and an unfired
+    /// end is active.
+    pub fn resume(
+        executable: ExecutableNetwork,
+        threshold: f64,
+        fired: &[Option<f64>],
+        failed: &[bool],
+    ) -> Self {
+        let mut execution = Execution::new(executable, threshold);
+        for (slot, time) in execution.fired.iter_mut().zip(fired) {
+            *slot = *time;
+        }
+        for (slot, failed) in execution.failed.iter_mut().zip(failed) {
+            *slot = *failed;
+        }
+        let is_fired = |p: TimePointId| execution.fired[p.index()].is_some();
+        execution.active = execution
+            .executable
+            .timelines
+            .iter()
+            .map(|t| {
+                t.xgoals
+                    .iter()
+                    .rposition(|x| is_fired(x.start) && !is_fired(x.end))
+            })
+            .collect();
+        execution
+    }
+
+    /// When each point fired, by point id (`None`: not yet).
+    pub fn fired_times(&self) -> &[Option<f64>] {
+        &self.fired
+    }
+
+    /// Whether each goal has failed, by goal id.
+    pub fn failed_goals(&self) -> &[bool] {
+        &self.failed
+    }
+
     /// The network being executed (windows shrink as points fire).
     pub fn executable(&self) -> &ExecutableNetwork {
         &self.executable
