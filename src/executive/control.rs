@@ -15,15 +15,16 @@ pub struct ControlProgram(pub(super) Program);
 /// The two kinds of control program.
 #[derive(Debug, Clone)]
 pub(super) enum Program {
-    /// RMPL: the sequencer over the program's THCA.
-    Rmpl(Sequencer),
-    /// A goal network (boxed: the network and its execution state are much larger).
+    /// RMPL: the sequencer over the program's THCA (boxed, as the mission: the two differ in
+    /// size and a program is moved only when it is built).
+    Rmpl(Box<Sequencer>),
+    /// A goal network and its execution state.
     Mission(Box<MissionControl>),
 }
 
 impl From<Thca> for ControlProgram {
     fn from(thca: Thca) -> Self {
-        ControlProgram(Program::Rmpl(Sequencer::new(thca)))
+        ControlProgram(Program::Rmpl(Box::new(Sequencer::new(thca))))
     }
 }
 

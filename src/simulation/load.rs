@@ -367,7 +367,7 @@ fn model_and_program(
     match rmpl::load(&program_source, &options) {
         Ok(program) => Some((
             plant,
-            ScenarioProgram::Rmpl(program),
+            ScenarioProgram::Rmpl(Box::new(program)),
             (plant_path, program_source),
         )),
         Err(errors) => {

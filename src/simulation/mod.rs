@@ -212,9 +212,9 @@ use crate::sequencer::Thca;
 /// What a scenario runs: an RMPL program or a mission (a goal network).
 #[derive(Debug, Clone)]
 pub enum ScenarioProgram {
-    /// An RMPL program, linked against the plant.
-    Rmpl(Thca),
-    /// A mission bound to the scenario's plant, its network scheduled (boxed: much larger).
+    /// An RMPL program, linked against the plant (boxed, as the mission: they differ in size).
+    Rmpl(Box<Thca>),
+    /// A mission bound to the scenario's plant, its network scheduled.
     Mission(Box<ScheduledMission>),
 }
 
@@ -239,7 +239,7 @@ impl ScenarioProgram {
 impl From<ScenarioProgram> for ControlProgram {
     fn from(program: ScenarioProgram) -> Self {
         match program {
-            ScenarioProgram::Rmpl(thca) => thca.into(),
+            ScenarioProgram::Rmpl(thca) => (*thca).into(),
             ScenarioProgram::Mission(mission) => (*mission).into(),
         }
     }
