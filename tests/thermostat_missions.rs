@@ -15,10 +15,11 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/thermostat";
 
 /// The mission scenarios of the directory, one test each below.
-const MISSIONS: [&str; 3] = [
+const MISSIONS: [&str; 4] = [
     "know_all.ron",
     "stay_warm_mission.ron",
     "switch1_sticks_open_mission.ron",
+    "switch1_stuck_open_mission.ron",
 ];
 
 fn run_mission(name: &str) -> String {
@@ -128,6 +129,28 @@ fn a_switch_sticking_open_fails_heater1_then_stay_warm() {
             "[ 376.000 s] #376",
             "fired TP_E (window [376, 376])",
             "PASS: 13 expectations hold",
+        ],
+    );
+}
+
+/// A forced point (mds-goal-networks.md §2.4 (b)): with switch 1 stuck open from power-on the
+/// device never warms, TP_S is forced at its latest time and the transition ending there unreached
+/// (`get-warm`) fails; `heater1` failed earlier, at the diagnosis.
+#[test]
+fn a_point_never_ready_is_forced_and_its_unreached_transition_fails() {
+    let log = run_mission("switch1_stuck_open_mission.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 87.000 s] #87",
+            "DIAGNOSIS switch1 = stuck-open (p 1.00)",
+            "GOAL FAILED heater1: ŝ left the maintained set; ŝ has switch1 = stuck-open (p 1.00)",
+            "[ 161.000 s] #161",
+            "FORCED TP_S at its latest time, not ready (window [71, 161], 0.000 s late)",
+            "GOAL FAILED get-warm: its end point was forced before the set was reached; ŝ has temperature = cold (p 1.00)",
+            "[ 162.000 s] #162",
+            "GOAL FAILED stay-warm: ŝ left the maintained set; ŝ has temperature = cold (p 1.00)",
+            "PASS: 11 expectations hold",
         ],
     );
 }
