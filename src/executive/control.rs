@@ -5,7 +5,7 @@
 use super::mission::{MissionControl, ScheduledMission};
 use crate::goalnet::{ExecutableNetwork, Mission};
 use crate::logic::{Atom, Formula, ValueId, VarId, VarTable};
-use crate::sequencer::{Sequencer, Thca};
+use crate::sequencer::{LocationId, Sequencer, Thca};
 
 /// What an executive runs: build one from a linked [`Thca`] or a [`ScheduledMission`]
 /// (`Executive::builder(plant, thca)` and `Executive::builder(plant, scheduled)` both convert).
@@ -66,6 +66,14 @@ impl ControlProgram {
         match &self.0 {
             Program::Rmpl(sequencer) => sequencer.is_complete(),
             Program::Mission(control) => control.is_complete(),
+        }
+    }
+
+    /// The marked program locations (none for a mission).
+    pub(super) fn marking(&self) -> Vec<LocationId> {
+        match &self.0 {
+            Program::Rmpl(sequencer) => sequencer.marking().map(|l| l.id).collect(),
+            Program::Mission(_) => Vec::new(),
         }
     }
 

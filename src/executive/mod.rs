@@ -390,27 +390,6 @@ impl Executive {
         self.control.is_complete()
     }
 
-    /// Adds goals, with their time points and temporal constraints, to the running mission
-    /// (DESIGN.md §15.4) and reschedules it from ŝ with the points already fired held at their
-    /// times. A submission that does not resolve or cannot be scheduled (inconsistent,
-    /// unmergeable, unachievable) is refused with the reason, and the running network is left
-    /// unchanged. New points fire no earlier than the last cycle's time. Before the first cycle
-    /// ŝ is the plant's most likely initial state.
-    pub fn submit(&mut self, submission: &Submission) -> Result<(), SubmitError> {
-        let modes = if self.most_likely.is_empty() {
-            self.plant.most_likely_initial()
-        } else {
-            self.most_likely.clone()
-        };
-        let now = self.last_time.unwrap_or(0.0);
-        match &mut self.control.0 {
-            Program::Rmpl(_) => Err(SubmitError::NotAMission),
-            Program::Mission(mission) => {
-                mission.submit(submission, now, &modes, &self.reconfiguration)
-            }
-        }
-    }
-
     /// Cycles run so far.
     pub fn cycles(&self) -> u64 {
         self.cycle
@@ -462,7 +441,7 @@ impl Executive {
             action,
             most_likely: self.most_likely(),
             estimates: std::mem::take(&mut self.estimates),
-            marking: self.marking(),
+            marking: self.control.marking(),
             events: log.events,
             completed: self.control.is_complete(),
             times: PhaseTimes {
@@ -592,14 +571,6 @@ impl Executive {
         }
         if changed {
             self.estimate.version += 1;
-        }
-    }
-
-    /// The marked program locations (none for a mission).
-    fn marking(&self) -> Vec<LocationId> {
-        match &self.control.0 {
-            Program::Rmpl(sequencer) => sequencer.marking().map(|l| l.id).collect(),
-            Program::Mission(_) => Vec::new(),
         }
     }
 

@@ -3,6 +3,8 @@
 //! network being executed and rescheduled with the points already fired held at their times. A
 //! submission that cannot be scheduled is refused and the running network is left as it was.
 
+use super::Executive;
+use super::control::Program;
 use crate::goalnet::{
     ConstraintSet, Goal, GoalKind, GoalNetwork, Provenance, ScheduleError, TemporalConstraint,
     TimePointId,
@@ -100,6 +102,29 @@ pub enum SubmitError {
         /// It in words, with the evidence (`goalnet::display::explain`).
         explanation: String,
     },
+}
+
+impl Executive {
+    /// Adds goals, with their time points and temporal constraints, to the running mission
+    /// (DESIGN.md §15.4) and reschedules it from ŝ with the points already fired held at their
+    /// times. A submission that does not resolve or cannot be scheduled (inconsistent,
+    /// unmergeable, unachievable) is refused with the reason, and the running network is left
+    /// unchanged. New points fire no earlier than the last cycle's time. Before the first cycle
+    /// ŝ is the plant's most likely initial state.
+    pub fn submit(&mut self, submission: &Submission) -> Result<(), SubmitError> {
+        let modes = if self.most_likely.is_empty() {
+            self.plant.most_likely_initial()
+        } else {
+            self.most_likely.clone()
+        };
+        let now = self.last_time.unwrap_or(0.0);
+        match &mut self.control.0 {
+            Program::Rmpl(_) => Err(SubmitError::NotAMission),
+            Program::Mission(mission) => {
+                mission.submit(submission, now, &modes, &self.reconfiguration)
+            }
+        }
+    }
 }
 
 impl Submission {
