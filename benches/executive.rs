@@ -6,8 +6,14 @@
 //! change, a goal, a command: something happens) and 250 *quiet* ones (the engine fires, nothing
 //! changes). Each benchmark reports the mean time per cycle of one phase over one class of
 //! cycles, from the executive's own per-phase timers (`Step::times`), so the phases are measured
-//! one by one on the very same cycles and building the executive is not counted. Run:
-//! `cargo bench --bench executive`; numbers in BENCHMARKS.md.
+//! one by one on the very same cycles and building the executive is not counted.
+//!
+//! The cost a goal network adds to a quiet cycle (issue 13 item 7; DESIGN.md §15.3): the
+//! thermostat's StayWarm run as RMPL (`scenarios/thermostat/stay_warm.ron`) and as a mission
+//! (`scenarios/thermostat/stay_warm_mission.ron`), same plant, same script, same tactic; the mean
+//! quiet cycle (no event: the device held warm) of each, whole and its control-program share (the
+//! sequencer, or the network's monitoring, firing and configuration goal). Run: `cargo bench
+//! --bench executive`; numbers in BENCHMARKS.md.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -20,11 +26,7 @@ use kairos::simulation::{self, RunOptions, Scenario};
 /// The scenario, kept running to its end time: an expectation that is never shown keeps the run
 /// from stopping once the engine fires.
 fn scenario() -> Scenario {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenarios/propulsion/pde_resettable.ron"
-    );
-    let mut scenario = simulation::load(Path::new(path)).expect("the scenario loads");
+    let mut scenario = load("scenarios/propulsion/pde_resettable.ron");
     let never = simulation::load_source(
         &kairos::diagnostic::Source::new(
             "keep-running.ron",
@@ -36,6 +38,12 @@ fn scenario() -> Scenario {
     .expect("loads");
     scenario.expectations = never.expectations;
     scenario
+}
+
+/// A scenario of the crate, by its path from the crate's root.
+fn load(path: &str) -> Scenario {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
+    simulation::load(&path).expect("the scenario loads")
 }
 
 #[derive(Clone, Copy, PartialEq)]
@@ -93,21 +101,43 @@ fn cycle(c: &mut Criterion) {
             let id = BenchmarkId::new(phase_name, class_name);
             // One iteration is one cycle: whole runs are made until `iters` cycles of the class
             // have been timed, and the per-cycle mean is scaled to `iters`.
-            group.bench_function(id, |b| {
-                b.iter_custom(|iters| {
-                    let (mut sum, mut cycles) = (Duration::ZERO, 0u64);
-                    while cycles < iters {
-                        let (run_sum, run_cycles) = one_run(black_box(&scenario), class, phase);
-                        sum += run_sum;
-                        cycles += u64::from(run_cycles.max(1));
-                    }
-                    sum.mul_f64(iters as f64 / cycles as f64)
-                })
-            });
+            group.bench_function(id, |b| per_cycle(b, &scenario, class, phase));
         }
     }
     group.finish();
 }
 
-criterion_group!(benches, cycle);
+/// One iteration is one cycle: whole runs are made until `iters` cycles of the class have been
+/// timed, and the per-cycle mean is scaled to `iters`.
+fn per_cycle(b: &mut criterion::Bencher<'_>, scenario: &Scenario, class: Class, phase: Phase) {
+    b.iter_custom(|iters| {
+        let (mut sum, mut cycles) = (Duration::ZERO, 0u64);
+        while cycles < iters {
+            let (run_sum, run_cycles) = one_run(black_box(scenario), class, phase);
+            sum += run_sum;
+            cycles += u64::from(run_cycles.max(1));
+        }
+        sum.mul_f64(iters as f64 / cycles as f64)
+    });
+}
+
+/// A quiet thermostat cycle under StayWarm, as RMPL and as a mission.
+fn thermostat(c: &mut Criterion) {
+    let mut group = c.benchmark_group("executive/thermostat_quiet");
+    group.sample_size(20);
+    group.measurement_time(Duration::from_secs(3));
+    for (program, path) in [
+        ("rmpl", "scenarios/thermostat/stay_warm.ron"),
+        ("mission", "scenarios/thermostat/stay_warm_mission.ron"),
+    ] {
+        let scenario = load(path);
+        for (phase, phase_name) in [(Phase::Total, "cycle"), (Phase::Sequencer, "program")] {
+            let id = BenchmarkId::new(phase_name, program);
+            group.bench_function(id, |b| per_cycle(b, &scenario, Class::Quiet, phase));
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, cycle, thermostat);
 criterion_main!(benches);

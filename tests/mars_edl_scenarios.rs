@@ -132,7 +132,7 @@ fn a_resettable_pde_is_reset_and_the_edl_continues() {
         &log,
         &[
             "DIAGNOSIS PDE = resettable",
-            "REPAIR PDE.cmd = reset (repair) (PDE: resettable -> on)",
+            "REPAIR PDE.cmd = reset (PDE: resettable -> on)",
             "command PDE.cmd = engine-standby (engine: off -> heating)",
             "goal achieved engine = standby",
             "clock t1 started",
@@ -151,7 +151,7 @@ fn a_primary_pyro_misfire_is_diagnosed_and_the_backup_separates_the_lander() {
             "command lander.cmd = fire-primary",
             "believed lander: connected -> unsuccessful-attempt",
             "DIAGNOSIS lander = unsuccessful-attempt",
-            "REPAIR lander.cmd = fire-backup (repair) (lander: unsuccessful-attempt -> separated)",
+            "REPAIR lander.cmd = fire-backup (lander: unsuccessful-attempt -> separated)",
             "believed lander: unsuccessful-attempt -> separated",
             "goal achieved lander = separated",
             "goal achieved landing = success",

@@ -51,7 +51,7 @@ impl Run {
     fn input<'a>(&'a self, title: &'a str) -> TimelineInput<'a> {
         TimelineInput {
             plant: self.executive.plant(),
-            program: Some(self.executive.program()),
+            program: self.executive.program(),
             timelines: self.executive.timelines(),
             events: &self.events,
             start: self.start,

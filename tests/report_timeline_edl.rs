@@ -22,7 +22,7 @@ fn the_edl_run_draws_its_lanes_faults_and_the_compressed_cruise() {
     let plant = &scenario.plant;
     let svg = render(&TimelineInput {
         plant,
-        program: Some(&scenario.program),
+        program: scenario.program.thca(),
         timelines: &run.timelines,
         events: &run.events,
         start: run.start,

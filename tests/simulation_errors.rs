@@ -110,3 +110,43 @@ bad_scenario!(
     "is not `component = mode @ time`",
     "noise 1.5 is not a probability"
 );
+// Issue 13: a scenario runs a program or a mission (DESIGN.md §15.4); the mission's problems and
+// the expectations on its network are located like the rest.
+bad_scenario!(
+    both_program_and_mission,
+    "both_program_and_mission.ron:4:15",
+    "names both"
+);
+bad_scenario!(
+    no_control_program,
+    "no_control_program.ron:2:1",
+    "names no control program"
+);
+bad_scenario!(
+    missing_mission,
+    "missing_mission.ron:3:15",
+    "cannot read missions/no_such_mission.ron"
+);
+bad_scenario!(
+    mission_other_plant,
+    "mission_other_plant.ron:3:15",
+    "binds to the plant model `models/thermostat.ron`"
+);
+bad_scenario!(
+    mission_unschedulable,
+    "mission_unschedulable.ron:3:15",
+    "unachievable: [origin, a] Transition switch1 ∈ {stuck-open}"
+);
+bad_scenario!(
+    mission_expectation_in_rmpl,
+    "mission_expectation_in_rmpl.ron:7:14",
+    "the scenario runs an RMPL program"
+);
+bad_scenario!(
+    unknown_mission_names,
+    "unknown_mission_names.ron:8:23",
+    "did you mean `TP_E`?",
+    "unknown_mission_names.ron:9:23",
+    "unknown_mission_names.ron:10:26",
+    "did you mean `stay-warm`?"
+);

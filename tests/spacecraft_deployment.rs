@@ -302,7 +302,7 @@ fn a_failed_solar_array_flags_the_deployment_a_failure() {
         &[
             "rule `SA_2 jams` takes effect: SA_2.motor = stalled (FAULT)",
             "DIAGNOSIS SA_2 = jammed",
-            "REPAIR SA_2.cmd = retry (repair) (SA_2: jammed -> deploying-backup)",
+            "REPAIR SA_2.cmd = retry (SA_2: jammed -> deploying-backup)",
             "rule `SA_2 jams again` takes effect: SA_2.motor = stalled (FAULT)",
             "believed SA_2: deploying-backup -> failed",
             "DIAGNOSIS SA_2 = failed",
@@ -326,7 +326,7 @@ fn a_jammed_solar_array_is_recovered_by_the_backup_winding() {
         &log,
         &[
             "DIAGNOSIS SA_2 = jammed",
-            "REPAIR SA_2.cmd = retry (repair) (SA_2: jammed -> deploying-backup)",
+            "REPAIR SA_2.cmd = retry (SA_2: jammed -> deploying-backup)",
             "believed SA_2: deploying-backup -> deployed",
             "goal achieved SA_2 = deployed",
             "command ACS.cmd = activate",

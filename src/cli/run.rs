@@ -204,7 +204,7 @@ fn draw(
 ) -> Result<(), Failure> {
     let svg = timeline::render(&TimelineInput {
         plant: &scenario.plant,
-        program: Some(&scenario.program),
+        program: scenario.program.thca(),
         timelines: &outcome.timelines,
         events: &outcome.events,
         start: outcome.start,

@@ -14,7 +14,6 @@ use kairos::goalnet::{
     ExecutableNetwork, GroundError, Projection, Provenance, ScheduleError, TimePointId, XGoal,
     display, mission, project, schedule,
 };
-use kairos::logic::ValueId;
 use kairos::plant::Plant;
 use kairos::reconfiguration::Reconfiguration;
 use kairos::report::dot::{Cluster, Edge, Graph, Node, Shape};
@@ -32,7 +31,7 @@ pub fn run(path: &Path, at: Option<f64>, dot: bool) -> Result<(), Failure> {
     let mission = mission::load(path).map_err(Failure::bad_input)?;
     let reconfiguration = Reconfiguration::compile(&mission.plant)
         .map_err(|e| Failure::bad_input(format!("error: {}: {e}", mission.plant_path)))?;
-    let current = most_likely_initial(&mission.plant);
+    let current = mission.plant.most_likely_initial();
     let executable = schedule(&mission.network, &reconfiguration, &current).map_err(|error| {
         Failure::failed(format!(
             "mission: {} (plant {})\n{}",
@@ -169,23 +168,4 @@ fn xgoal_label(executable: &ExecutableNetwork, plant: &Plant, xgoal: &XGoal) -> 
             goals.join(", ")
         }
     )
-}
-
-/// Each component's most likely initial mode (the first of equals).
-fn most_likely_initial(plant: &Plant) -> Vec<ValueId> {
-    plant
-        .components()
-        .iter()
-        .map(|c| {
-            let best = c
-                .initial()
-                .iter()
-                .enumerate()
-                .fold(
-                    (0, f64::MIN),
-                    |best, (i, p)| if *p > best.1 { (i, *p) } else { best },
-                );
-            ValueId(best.0 as u32)
-        })
-        .collect()
 }

@@ -138,6 +138,54 @@ pub enum EventKind {
     },
     /// No program location is marked any more: the program has finished.
     ProgramCompleted,
+    /// A time point of the mission's goal network fired on time (DESIGN.md §15.3).
+    TimePointFired {
+        /// The point's name.
+        point: String,
+        /// Its window `[earliest, latest]` when it fired, seconds.
+        window: (f64, f64),
+    },
+    /// A time point fired at its latest time with an XGoal starting there not ready.
+    TimePointForced {
+        /// The point's name.
+        point: String,
+        /// Its window when it fired, seconds.
+        window: (f64, f64),
+        /// How late past its latest time, seconds.
+        late_by: f64,
+    },
+    /// An XGoal became active on its state variable.
+    XGoalDispatched {
+        /// The state variable (a component).
+        sv: ComponentId,
+        /// Its merged constraint, as text (`switch1 ∈ {closed, stuck-closed}, known`).
+        constraint: String,
+        /// Its kind (`Maintain`, `Transition`, ...).
+        kind: &'static str,
+        /// The points it lies between.
+        interval: (String, String),
+        /// The goals merged into it.
+        goals: Vec<String>,
+    },
+    /// A goal of the mission's network failed (narrowed from its XGoal to the constituent goal
+    /// that fails on its own); it stays failed.
+    MissionGoalFailed {
+        /// The constituent goal's name.
+        goal: String,
+        /// Why, in words.
+        reason: String,
+        /// The mode ŝ gives its state variable.
+        mode: String,
+        /// That mode's marginal probability.
+        probability: f64,
+    },
+    /// Grounding a fired point contradicted the temporal constraints.
+    TemporalInconsistency {
+        /// The point.
+        point: String,
+        /// The constraints of the negative cycle, as text.
+        cycle: Vec<String>,
+    },
 }
 
 impl EventKind {

@@ -25,29 +25,36 @@
 //! [`adapters`] has the traits and the loop runner for embedding it in a flight loop.
 
 pub mod adapters;
+mod control;
 mod events;
 mod load;
+mod mission;
 mod named;
 mod observations;
 mod oracle;
+mod submit;
 mod timeline;
 
 use std::time::{Duration, Instant};
 
+pub use control::ControlProgram;
 pub use events::{Event, EventKind};
 pub use load::LoadError;
+pub use mission::ScheduledMission;
 pub use named::NamedEstimate;
 pub use observations::NamedValue;
+pub use submit::{Submission, SubmitError, SubmittedConstraint, SubmittedGoal};
 pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeline, Timelines};
 
 use crate::estimation::{
     Belief, EstimationError, EstimationEvent, ModeEstimator, PlantEstimate, TimedMe, TimedMeOptions,
 };
-use crate::logic::{Atom, Formula, ValueId, VarId};
+use crate::logic::{Formula, ValueId, VarId, VarTable};
 use crate::opsat::{Budget, Theory, TheoryError};
 use crate::plant::{Commands, ComponentId, ModeKind, Plant};
 use crate::reconfiguration::{Action, GoalFailed, GoalState, Reconfiguration};
-use crate::sequencer::{self, ConfigurationGoal, LocationId, Sequencer, SequencerError, Thca};
+use crate::sequencer::{self, ConfigurationGoal, LocationId, SequencerError, Thca};
+use control::Program;
 use observations::LastObservation;
 use oracle::{AnswerCache, CachedOracle, VersionedEstimate};
 
@@ -166,7 +173,7 @@ impl Step {
 /// Builds an [`Executive`]; see [`Executive::builder`].
 pub struct ExecutiveBuilder {
     plant: Plant,
-    program: Thca,
+    program: ControlProgram,
     options: ExecutiveOptions,
 }
 
@@ -209,12 +216,12 @@ impl ExecutiveBuilder {
             program,
             options,
         } = self;
-        check_linked(&plant, &program)?;
+        check_linked(&plant, program.table())?;
         let theory = plant.theory()?;
         let reconfiguration = Reconfiguration::compile(&plant)?;
         let mut estimation = TimedMeOptions::kappa(options.kappa);
         estimation.budget = options.estimation_budget;
-        let confidence_atoms = confidence_atoms(&program);
+        let confidence_atoms = program.confidence_atoms();
         let observables = plant.observables().to_vec();
         let timelines = Timelines::new(plant.components().len(), &observables, options.retention);
         Ok(Executive {
@@ -222,7 +229,7 @@ impl ExecutiveBuilder {
             theory,
             reconfiguration,
             estimator: TimedMe::new(estimation),
-            sequencer: Sequencer::new(program),
+            control: program,
             options,
             belief: None,
             most_likely: Vec::new(),
@@ -266,9 +273,10 @@ fn report_missing(
     }
 }
 
-/// The program's table must be the plant's, with clocks added (`rmpl::LinkOptions::plant`).
-fn check_linked(plant: &Plant, program: &Thca) -> Result<(), BuildError> {
-    let (ours, theirs) = (plant.table(), program.table());
+/// The program's table must be the plant's, with clocks added (`rmpl::LinkOptions::plant`); a
+/// mission's is its plant's.
+fn check_linked(plant: &Plant, theirs: &VarTable) -> Result<(), BuildError> {
+    let ours = plant.table();
     for (id, variable) in ours.variables() {
         let same = id.index() < theirs.len() && theirs.variable(id) == variable;
         if !same {
@@ -280,22 +288,6 @@ fn check_linked(plant: &Plant, program: &Thca) -> Result<(), BuildError> {
         return Err(BuildError::NotLinkedToPlant(extra));
     }
     Ok(())
-}
-
-/// The (variable, value) pairs the program's confidence atoms `P(x = v) op p` read.
-fn confidence_atoms(program: &Thca) -> Vec<(VarId, ValueId)> {
-    let mut pairs: Vec<(VarId, ValueId)> = program
-        .formulas()
-        .iter()
-        .flat_map(Formula::atoms)
-        .filter_map(|atom| match atom {
-            Atom::Confidence { var, value, .. } => Some((*var, *value)),
-            _ => None,
-        })
-        .collect();
-    pairs.sort_unstable();
-    pairs.dedup();
-    pairs
 }
 
 /// Goal interpretation's last answer, kept while the goal, ŝ and the kept configuration are
@@ -374,7 +366,7 @@ pub struct Executive {
     theory: Theory,
     reconfiguration: Reconfiguration,
     estimator: TimedMe,
-    sequencer: Sequencer,
+    control: ControlProgram,
     options: ExecutiveOptions,
     belief: Option<Belief>,
     /// ŝ of `belief`, computed once per update: the cycle reads it four times (mode changes,
@@ -397,12 +389,13 @@ pub struct Executive {
 }
 
 impl Executive {
-    /// Starts building an executive for `program`, which must have been linked against
-    /// `plant`'s variables (`rmpl::load` with `LinkOptions { plant: Some(plant.table()), .. }`).
-    pub fn builder(plant: Plant, program: Thca) -> ExecutiveBuilder {
+    /// Starts building an executive for `program`: an RMPL program's [`Thca`], which must have
+    /// been linked against `plant`'s variables (`rmpl::load` with `LinkOptions { plant:
+    /// Some(plant.table()), .. }`), or a [`ScheduledMission`] bound to the same plant model.
+    pub fn builder(plant: Plant, program: impl Into<ControlProgram>) -> ExecutiveBuilder {
         ExecutiveBuilder {
             plant,
-            program,
+            program: program.into(),
             options: ExecutiveOptions::default(),
         }
     }
@@ -412,9 +405,14 @@ impl Executive {
         &self.plant
     }
 
-    /// The program's automaton.
-    pub fn program(&self) -> &Thca {
-        self.sequencer.thca()
+    /// The RMPL program's automaton (`None` when the executive runs a mission).
+    pub fn program(&self) -> Option<&Thca> {
+        self.control.thca()
+    }
+
+    /// The control program: the RMPL program or the mission, with its execution state.
+    pub fn control(&self) -> &ControlProgram {
+        &self.control
     }
 
     /// The options it runs with.
@@ -437,9 +435,9 @@ impl Executive {
         &self.reconfiguration
     }
 
-    /// True once the program has completed.
+    /// True once the program has completed (for a mission: every time point has fired).
     pub fn is_complete(&self) -> bool {
-        self.sequencer.is_complete()
+        self.control.is_complete()
     }
 
     /// Cycles run so far.
@@ -493,9 +491,9 @@ impl Executive {
             action,
             most_likely: self.most_likely(),
             estimates: std::mem::take(&mut self.estimates),
-            marking: self.sequencer.marking().map(|l| l.id).collect(),
+            marking: self.control.marking(),
             events: log.events,
-            completed: self.sequencer.is_complete(),
+            completed: self.control.is_complete(),
             times: PhaseTimes {
                 estimation,
                 sequencer,
@@ -626,27 +624,43 @@ impl Executive {
         }
     }
 
-    /// Step 3: the sequencer ends the previous cycle with ŝ(i) and begins this one.
+    /// Step 3: the control program's configuration goal g(i) from ŝ(i) — the sequencer ends
+    /// the previous cycle and begins this one, or the mission's network is monitored and fired
+    /// (`mission.rs`).
     fn sequence(
         &mut self,
         now: f64,
         log: &mut EventLog,
     ) -> Result<Option<ConfigurationGoal>, StepError> {
+        let sequencer = match &mut self.control.0 {
+            Program::Rmpl(sequencer) => sequencer,
+            Program::Mission(mission) => {
+                let (events, formula) = mission.step(
+                    now,
+                    &self.most_likely,
+                    &self.estimates,
+                    &self.reconfiguration,
+                );
+                events.into_iter().for_each(|kind| log.push(kind));
+                return Ok((!mission.is_complete()).then_some(ConfigurationGoal {
+                    formula,
+                    conjuncts: Vec::new(),
+                }));
+            }
+        };
         let mut oracle = CachedOracle {
             theory: &mut self.theory,
             cache: &mut self.answers,
         };
         let mut events = Vec::new();
-        if log.cycle > 0 && !self.sequencer.is_complete() {
-            let end = self.sequencer.end_cycle(&self.estimate, &mut oracle)?;
+        if log.cycle > 0 && !sequencer.is_complete() {
+            let end = sequencer.end_cycle(&self.estimate, &mut oracle)?;
             events.extend(end.events);
         }
-        let goal = if self.sequencer.is_complete() {
+        let goal = if sequencer.is_complete() {
             None
         } else {
-            let start = self
-                .sequencer
-                .begin_cycle(now, &self.estimate, &mut oracle)?;
+            let start = sequencer.begin_cycle(now, &self.estimate, &mut oracle)?;
             events.extend(start.events);
             Some(start.goal)
         };
@@ -676,7 +690,7 @@ impl Executive {
         use sequencer::Event as S;
         let kind = match event {
             S::ClockStarted { clock, span, .. } => EventKind::ClockStarted {
-                clock: self.program().table().clock_name(clock).to_string(),
+                clock: self.control.table().clock_name(clock).to_string(),
                 span,
             },
             S::Preempted { location, span } | S::MaintenanceViolated { location, span } => {

@@ -182,6 +182,16 @@ impl Execution {
         self.retired.get(point.index()).copied().unwrap_or(false)
     }
 
+    /// When each point fired, by point id (`None`: not yet).
+    pub fn fired_times(&self) -> &[Option<f64>] {
+        &self.fired
+    }
+
+    /// Whether each goal has failed, by goal id.
+    pub fn failed_goals(&self) -> &[bool] {
+        &self.failed
+    }
+
     /// The network being executed (windows shrink as points fire).
     pub fn executable(&self) -> &ExecutableNetwork {
         &self.executable

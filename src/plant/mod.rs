@@ -218,6 +218,25 @@ impl Plant {
         &self.components
     }
 
+    /// Each component's most likely initial mode (the first of equals): the state a schedule
+    /// made before the first estimate starts from.
+    pub fn most_likely_initial(&self) -> Vec<ValueId> {
+        self.components
+            .iter()
+            .map(|c| {
+                let best = c
+                    .initial()
+                    .iter()
+                    .enumerate()
+                    .fold(
+                        (0, f64::MIN),
+                        |best, (i, p)| if *p > best.1 { (i, *p) } else { best },
+                    );
+                ValueId(best.0 as u32)
+            })
+            .collect()
+    }
+
     /// One component.
     pub fn component(&self, id: ComponentId) -> &Component {
         &self.components[id.index()]

@@ -134,6 +134,61 @@ pub fn describe_event(
             ),
         ),
         E::ProgramCompleted => ("completed", "the program has completed".to_string()),
+        E::TimePointFired { point, window } => (
+            "fired",
+            format!("{point}  (window {})", window_text(*window)),
+        ),
+        E::TimePointForced {
+            point,
+            window,
+            late_by,
+        } => (
+            "FORCED",
+            format!(
+                "{point} at its latest time, not ready  (window {}, {late_by:.3} s late)",
+                window_text(*window)
+            ),
+        ),
+        E::XGoalDispatched {
+            sv,
+            constraint,
+            kind,
+            interval: (start, end),
+            goals,
+        } => {
+            // The constraint names its SV when it has a control part (`switch1 ∈ {..}`).
+            let sv = component(*sv);
+            let what = if constraint.starts_with(&sv) {
+                constraint.clone()
+            } else {
+                format!("{sv} {constraint}")
+            };
+            let goals = if goals.is_empty() {
+                "no goal".to_string()
+            } else {
+                goals.join(", ")
+            };
+            (
+                "dispatched",
+                format!("{kind} {what} over [{start}, {end}]  ({goals})"),
+            )
+        }
+        E::MissionGoalFailed {
+            goal,
+            reason,
+            mode,
+            probability,
+        } => (
+            "GOAL FAILED",
+            format!("{goal}: {reason}; ŝ has {mode} (p {probability:.2})"),
+        ),
+        E::TemporalInconsistency { point, cycle } => (
+            "TEMPORAL",
+            format!(
+                "firing {point} contradicts the network: {}",
+                cycle.join("; ")
+            ),
+        ),
     }
 }
 
@@ -186,6 +241,15 @@ fn names_word(text: &str, word: &str) -> bool {
     })
 }
 
+/// `[71, 161]`: a time point's window, open sides as `−∞`/`+∞`.
+fn window_text((lb, ub): (f64, f64)) -> String {
+    format!(
+        "[{}, {}]",
+        crate::goalnet::mission::seconds(lb),
+        crate::goalnet::mission::seconds(ub)
+    )
+}
+
 /// Writes the mission log of one scenario run.
 pub struct MissionLog<'a> {
     scenario: &'a Scenario,
@@ -219,7 +283,12 @@ impl<'a> MissionLog<'a> {
         }
         let _ = writeln!(
             out,
-            "program   {}{}\nplant     {} ({})\ncycle     {} s until {} s, κ = {}{}",
+            "{}   {}{}\nplant     {} ({})\ncycle     {} s until {} s, κ = {}{}",
+            if s.program.mission().is_some() {
+                "mission"
+            } else {
+                "program"
+            },
             s.program_source.name,
             s.entry
                 .as_deref()

@@ -3,10 +3,11 @@
 //! SCENARIO` exits non-zero when one fails").
 //!
 //! *Eventual* expectations (`Estimated`, `Commanded`, `Diagnosed`, `Achieved`, `GoalFailed`,
-//! `Completed`, `Reported`, `EstimatedAt`) are met at the first cycle that shows them inside their
-//! window and fail if the run ends without one; *never* expectations (`NeverEstimated`,
-//! `NeverCommanded`, `NeverReported`) fail at the first cycle inside their window that shows
-//! what they exclude and hold otherwise.
+//! `Completed`, `Reported`, `Fired`, `Failed`, and `EstimatedAt`, `XGoalActive` at their time)
+//! are met at the first cycle that shows them inside their window and fail if the run ends
+//! without one; *never* expectations (`NeverEstimated`, `NeverCommanded`, `NeverReported`,
+//! `NeverFired`, `NeverFailed`) fail at the first cycle inside their window that shows what they
+//! exclude and hold otherwise.
 
 use super::format::EventName;
 use super::script::{Delay, ScriptedPlant, TIME_EPSILON};
@@ -144,6 +145,44 @@ pub enum ExpectationKind {
         /// When.
         window: Window,
     },
+    /// The mission's time point fires (on time or forced) in the window.
+    Fired {
+        /// The point's name.
+        point: String,
+        /// When.
+        window: Window,
+    },
+    /// The mission's time point does not fire in the window.
+    NeverFired {
+        /// The point's name.
+        point: String,
+        /// When.
+        window: Window,
+    },
+    /// The mission's goal (a constituent goal, by name) is reported failed in the window.
+    Failed {
+        /// The goal's name.
+        goal: String,
+        /// When.
+        window: Window,
+    },
+    /// No goal of the mission (or not this one) is reported failed in the window.
+    NeverFailed {
+        /// The goal's name; any goal when `None`.
+        goal: Option<String>,
+        /// When.
+        window: Window,
+    },
+    /// At the first cycle at or after `time`, an XGoal is active on the state variable (with
+    /// this constituent goal, if one is given).
+    XGoalActive {
+        /// The state variable.
+        sv: ComponentId,
+        /// A constituent goal's name.
+        goal: Option<String>,
+        /// The time.
+        time: f64,
+    },
 }
 
 impl ExpectationKind {
@@ -154,6 +193,8 @@ impl ExpectationKind {
             ExpectationKind::NeverEstimated { .. }
                 | ExpectationKind::NeverCommanded { .. }
                 | ExpectationKind::NeverReported { .. }
+                | ExpectationKind::NeverFired { .. }
+                | ExpectationKind::NeverFailed { .. }
         )
     }
 }
@@ -217,6 +258,16 @@ pub(crate) struct Checker<'a> {
     late: Vec<Option<f64>>,
     /// Commands matched so far, for each `CommandsInOrder` expectation.
     matched: Vec<usize>,
+    /// The mission's active XGoals: per state variable, its end point and constituent goals
+    /// (from the dispatch and firing events).
+    active: Vec<ActiveXGoal>,
+}
+
+/// An XGoal active on a state variable, as its dispatch reported it.
+struct ActiveXGoal {
+    sv: ComponentId,
+    end: String,
+    goals: Vec<String>,
 }
 
 impl<'a> Checker<'a> {
@@ -230,6 +281,7 @@ impl<'a> Checker<'a> {
             goals: Vec::new(),
             last_modes: Vec::new(),
             last_time: None,
+            active: Vec::new(),
         }
     }
 
@@ -244,10 +296,7 @@ impl<'a> Checker<'a> {
     /// Checks one cycle.
     pub(crate) fn observe(&mut self, step: &Step, plant: &ScriptedPlant<'_>) {
         for event in &step.events {
-            if let EventKind::GoalAsserted { goal, location, .. } = &event.kind {
-                self.goals.retain(|(l, _)| l != location);
-                self.goals.push((*location, goal.clone()));
-            }
+            self.track(&event.kind);
         }
         for i in 0..self.expectations.len() {
             if let ExpectationKind::CommandsInOrder { commands, window } =
@@ -262,6 +311,67 @@ impl<'a> Checker<'a> {
         }
         self.last_modes.clone_from(&step.most_likely);
         self.last_time = Some(step.time);
+    }
+
+    /// Keeps the goals the program asserts and the mission's active XGoals up to date.
+    fn track(&mut self, kind: &EventKind) {
+        match kind {
+            EventKind::GoalAsserted { goal, location, .. } => {
+                self.goals.retain(|(l, _)| l != location);
+                self.goals.push((*location, goal.clone()));
+            }
+            EventKind::TimePointFired { point, .. } | EventKind::TimePointForced { point, .. } => {
+                self.active.retain(|a| &a.end != point);
+            }
+            EventKind::XGoalDispatched {
+                sv,
+                interval: (_, end),
+                goals,
+                ..
+            } => {
+                self.active.retain(|a| a.sv != *sv);
+                self.active.push(ActiveXGoal {
+                    sv: *sv,
+                    end: end.clone(),
+                    goals: goals.clone(),
+                });
+            }
+            _ => {}
+        }
+    }
+
+    /// The point fired (on time or forced) in this cycle.
+    fn fired(point: &str, step: &Step) -> bool {
+        step.events.iter().any(|e| {
+            matches!(&e.kind, EventKind::TimePointFired { point: p, .. }
+                | EventKind::TimePointForced { point: p, .. } if p == point)
+        })
+    }
+
+    /// The mission goal `goal` (any, when `None`) was reported failed in this cycle.
+    fn failed(goal: Option<&str>, step: &Step) -> bool {
+        step.events.iter().any(|e| {
+            matches!(&e.kind, EventKind::MissionGoalFailed { goal: g, .. }
+                if goal.is_none_or(|goal| goal == g))
+        })
+    }
+
+    /// Whether an XGoal (with `goal` among its constituents) is active on `sv`; why not if not.
+    fn xgoal_active(&self, sv: ComponentId, goal: Option<&str>) -> Result<(), String> {
+        let Some(active) = self.active.iter().find(|a| a.sv == sv) else {
+            return Err("no XGoal was active on it".to_string());
+        };
+        match goal {
+            Some(goal) if !active.goals.iter().any(|g| g == goal) => Err(format!(
+                "its active XGoal merged {}",
+                if active.goals.is_empty() {
+                    "no goal".to_string()
+                } else {
+                    active.goals.join(", ")
+                }
+            )),
+            _ => Ok(()),
+        }
     }
 
     fn check(&mut self, i: usize, step: &Step, plant: &ScriptedPlant<'_>) -> Progress {
@@ -355,6 +465,29 @@ impl<'a> Checker<'a> {
             }
             K::Reported { event, window } => {
                 window.contains(t) && step.events.iter().any(|e| is(*event, e))
+            }
+            K::Fired { point, window } => window.contains(t) && Self::fired(point, step),
+            K::NeverFired { point, window } => {
+                if window.contains(t) && Self::fired(point, step) {
+                    return Progress::Failed(format!("fired at {}", seconds(t)));
+                }
+                return Progress::Open;
+            }
+            K::Failed { goal, window } => window.contains(t) && Self::failed(Some(goal), step),
+            K::NeverFailed { goal, window } => {
+                if window.contains(t) && Self::failed(goal.as_deref(), step) {
+                    return Progress::Failed(format!("a goal failed at {}", seconds(t)));
+                }
+                return Progress::Open;
+            }
+            K::XGoalActive { sv, goal, time } => {
+                if t < time - TIME_EPSILON {
+                    return Progress::Open;
+                }
+                return match self.xgoal_active(*sv, goal.as_deref()) {
+                    Ok(()) => Progress::Met(t),
+                    Err(why) => Progress::Failed(format!("at {}, {why}", seconds(t))),
+                };
             }
             K::NeverReported { event, window } => {
                 if let Some(e) = step
@@ -498,7 +631,9 @@ impl<'a> Checker<'a> {
                 "not shown; at the end ({end}) ŝ had {}",
                 self.modes_of(state, &self.last_modes)
             ),
-            K::EstimatedAt { .. } => format!("the run ended at {end}, before that time"),
+            K::EstimatedAt { .. } | K::XGoalActive { .. } => {
+                format!("the run ended at {end}, before that time")
+            }
             K::CommandsInOrder { commands, .. } => format!(
                 "only {} of the {} commands were issued by the end ({end})",
                 self.matched[i],

@@ -15,7 +15,10 @@ pub(super) struct ScenarioFile {
     pub(super) name: Option<String>,
     #[serde(default)]
     pub(super) description: String,
-    pub(super) program: String,
+    #[serde(default)]
+    pub(super) program: Option<String>,
+    #[serde(default)]
+    pub(super) mission: Option<String>,
     #[serde(default)]
     pub(super) entry: Option<String>,
     pub(super) plant: String,
@@ -194,6 +197,41 @@ pub(super) enum ExpectFile {
         #[serde(default)]
         to: Option<f64>,
     },
+    Fired {
+        point: String,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    NeverFired {
+        point: String,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+    Failed {
+        goal: String,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    NeverFailed {
+        #[serde(default)]
+        goal: Option<String>,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+    XGoalActive {
+        sv: String,
+        #[serde(default)]
+        goal: Option<String>,
+        time: f64,
+    },
 }
 
 /// The kinds of executive event an expectation can name (`Reported(event: Diagnosis)`).
@@ -235,6 +273,16 @@ pub enum EventName {
     DeadlineOverrun,
     /// The program completed.
     ProgramCompleted,
+    /// A time point of the mission fired on time.
+    TimePointFired,
+    /// A time point of the mission was forced at its latest time.
+    TimePointForced,
+    /// An XGoal became active on its state variable.
+    XGoalDispatched,
+    /// A goal of the mission's network failed.
+    MissionGoalFailed,
+    /// Firing a time point contradicted the temporal constraints.
+    TemporalInconsistency,
 }
 
 impl EventName {
@@ -260,6 +308,11 @@ impl EventName {
             E::ObservationsMissing { .. } => EventName::ObservationsMissing,
             E::DeadlineOverrun { .. } => EventName::DeadlineOverrun,
             E::ProgramCompleted => EventName::ProgramCompleted,
+            E::TimePointFired { .. } => EventName::TimePointFired,
+            E::TimePointForced { .. } => EventName::TimePointForced,
+            E::XGoalDispatched { .. } => EventName::XGoalDispatched,
+            E::MissionGoalFailed { .. } => EventName::MissionGoalFailed,
+            E::TemporalInconsistency { .. } => EventName::TemporalInconsistency,
         }
     }
 }

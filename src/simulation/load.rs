@@ -6,15 +6,17 @@ use std::time::Duration;
 
 use super::format::{ScenarioFile, ScriptFile, ScriptParts};
 use super::script::Script;
-use super::{Scenario, ScenarioErrors};
+use super::{Scenario, ScenarioErrors, ScenarioProgram};
 use crate::diagnostic::locate::{Locator, Step};
 use crate::diagnostic::{
     Diagnostic, ReadError, Source, SourceErrors, Span, did_you_mean, ron_error,
 };
+use crate::executive::ScheduledMission;
+use crate::goalnet::{display, mission};
 use crate::logic::{self, Formula, VarId, VarTable};
 use crate::plant::Plant;
+use crate::reconfiguration::Reconfiguration;
 use crate::rmpl::{self, LinkOptions};
-use crate::sequencer::Thca;
 
 /// κ when the scenario does not say.
 pub const DEFAULT_KAPPA: usize = 10;
@@ -309,9 +311,10 @@ fn read_named(
     }
 }
 
-type Loaded = (Plant, Thca, (String, Source));
+type Loaded = (Plant, ScenarioProgram, (String, Source));
 
-/// Loads the plant model and links the program against it.
+/// Loads the plant model and the control program: the RMPL program linked against the plant,
+/// or the mission bound to it, scheduled. Exactly one of `program` and `mission` is given.
 fn model_and_program(
     ctx: &mut FileCtx,
     file: &ScenarioFile,
@@ -319,7 +322,28 @@ fn model_and_program(
     all: &mut Vec<SourceErrors>,
 ) -> Option<Loaded> {
     let plant_source = read_named(ctx, &[Step::Field("plant")], dir, &file.plant, all);
-    let program_source = read_named(ctx, &[Step::Field("program")], dir, &file.program, all);
+    let program_name = match (&file.program, &file.mission) {
+        (Some(_), Some(_)) => {
+            ctx.error(
+                &[Step::Field("mission")],
+                "a scenario runs an RMPL program or a mission, and this one names both",
+                "either `program: \"file.rmpl\"` or `mission: \"file.ron\"`, not both",
+            );
+            None
+        }
+        (None, None) => {
+            ctx.error(
+                &[],
+                "the scenario names no control program",
+                "`program: \"file.rmpl\"` (RMPL) or `mission: \"file.ron\"` (a goal network)",
+            );
+            None
+        }
+        (Some(program), None) => Some(program),
+        (None, Some(_)) => None,
+    };
+    let program_source =
+        program_name.and_then(|name| read_named(ctx, &[Step::Field("program")], dir, name, all));
     let plant = match Plant::load(&plant_source?) {
         Ok(plant) => plant,
         Err(errors) => {
@@ -327,19 +351,95 @@ fn model_and_program(
             return None;
         }
     };
+    let plant_path = resolve_path(dir, &file.plant).display().to_string();
+    if let (None, Some(mission)) = (&file.program, &file.mission) {
+        let (program, source) = load_mission(ctx, dir, mission, &plant, &plant_path, all)?;
+        return Some((plant, program, (plant_path, source)));
+    }
     let program_source = program_source?;
     let options = LinkOptions {
         entry: file.entry.as_deref(),
         plant: Some(plant.table()),
     };
     match rmpl::load(&program_source, &options) {
-        Ok(program) => {
-            let plant_path = resolve_path(dir, &file.plant).display().to_string();
-            let paths = (plant_path, program_source);
-            Some((plant, program, paths))
-        }
+        Ok(program) => Some((
+            plant,
+            ScenarioProgram::Rmpl(Box::new(program)),
+            (plant_path, program_source),
+        )),
         Err(errors) => {
             all.push(errors);
+            None
+        }
+    }
+}
+
+/// Loads the mission named at `mission`, checks it binds to the scenario's plant model and
+/// schedules its network from the plant's most likely initial modes; every problem is located
+/// (in the mission file, or at `mission` in the scenario).
+fn load_mission(
+    ctx: &mut FileCtx,
+    dir: &Path,
+    name: &str,
+    plant: &Plant,
+    plant_path: &str,
+    all: &mut Vec<SourceErrors>,
+) -> Option<(ScenarioProgram, Source)> {
+    let at = [Step::Field("mission")];
+    let loaded = match mission::load(&resolve_path(dir, name)) {
+        Ok(loaded) => loaded,
+        Err(ScenarioErrors::Unreadable(message)) => {
+            let message = message
+                .strip_prefix("error: ")
+                .unwrap_or(&message)
+                .to_string();
+            ctx.error(
+                &at,
+                message,
+                "a path to a mission file, relative to the scenario file",
+            );
+            return None;
+        }
+        Err(ScenarioErrors::Invalid(errors)) => {
+            all.extend(errors);
+            return None;
+        }
+    };
+    if loaded.plant_path != plant_path {
+        ctx.error(
+            &at,
+            format!(
+                "the mission binds to the plant model `{}`, the scenario to `{plant_path}`",
+                loaded.plant_path
+            ),
+            "a mission bound to the scenario's plant model",
+        );
+        return None;
+    }
+    let reconfiguration = match Reconfiguration::compile(plant) {
+        Ok(reconfiguration) => reconfiguration,
+        Err(e) => {
+            ctx.error(
+                &at,
+                format!("the plant model cannot be encoded: {e}"),
+                "a plant model",
+            );
+            return None;
+        }
+    };
+    let (source, network) = (loaded.source.clone(), loaded.network.clone());
+    match ScheduledMission::schedule(loaded, &reconfiguration) {
+        Ok(scheduled) => Some((ScenarioProgram::Mission(Box::new(scheduled)), source)),
+        Err(error) => {
+            let why = display::explain(&error, &network, plant);
+            ctx.push(
+                Diagnostic::new(
+                    "the mission's goal network cannot be scheduled",
+                    ctx.span(&at),
+                )
+                .expected("a mission whose network schedules from the plant's initial state")
+                .note(why),
+            );
             None
         }
     }

@@ -1,11 +1,13 @@
 //! Loading a scenario's expectations, each problem located in the scenario file.
 
+use super::ScenarioProgram;
 use super::expect::{Expectation, ExpectationKind, Window};
 use super::format::{DelayFile, ExpectFile};
 use super::load::{FileCtx, VarClasses, Vars, formula};
 use super::script::{Delay, Script};
 use crate::diagnostic::locate::Step;
 use crate::diagnostic::{Diagnostic, did_you_mean};
+use crate::goalnet::GoalNetwork;
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, ModeKind, Plant};
 use crate::sequencer::Thca;
@@ -15,7 +17,7 @@ pub(super) fn expectations(
     ctx: &mut FileCtx,
     files: &[ExpectFile],
     plant: &Plant,
-    program: &Thca,
+    program: &ScenarioProgram,
     script: &Script,
     end: f64,
 ) -> Vec<Expectation> {
@@ -23,7 +25,10 @@ pub(super) fn expectations(
         plant,
         script,
         classes: VarClasses::new(plant, script.hidden.clone()),
-        goals: program_goals(plant, program),
+        goals: program
+            .thca()
+            .map_or_else(Vec::new, |t| program_goals(plant, t)),
+        network: program.mission().map(|m| &m.mission().network),
         end,
     };
     files
@@ -55,6 +60,8 @@ struct ExpectLoader<'a> {
     script: &'a Script,
     classes: VarClasses,
     goals: Vec<String>,
+    /// The mission's goal network (`None` for an RMPL program).
+    network: Option<&'a GoalNetwork>,
     end: f64,
 }
 
@@ -204,6 +211,64 @@ impl ExpectLoader<'_> {
                 },
                 format!("never reported {event:?}{}", during(*from, *to)),
             ),
+            F::Fired { point, after, by } => (
+                K::Fired {
+                    point: self.point(ctx, i, point)?,
+                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                },
+                format!("time point {point} fired{}", eventual(*after, *by)),
+            ),
+            F::NeverFired { point, from, to } => (
+                K::NeverFired {
+                    point: self.point(ctx, i, point)?,
+                    window: self.window(ctx, i, ("from", *from), ("to", *to))?,
+                },
+                format!("time point {point} never fired{}", during(*from, *to)),
+            ),
+            F::Failed { goal, after, by } => (
+                K::Failed {
+                    goal: self.network_goal(ctx, i, goal)?,
+                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                },
+                format!("mission goal {goal} failed{}", eventual(*after, *by)),
+            ),
+            F::NeverFailed { goal, from, to } => {
+                self.network(ctx, i)?;
+                let checked = match goal {
+                    Some(goal) => Some(self.network_goal(ctx, i, goal)?),
+                    None => None,
+                };
+                let what = goal.as_deref().map_or_else(
+                    || "no mission goal failed".to_string(),
+                    |g| format!("mission goal {g} never failed"),
+                );
+                (
+                    K::NeverFailed {
+                        goal: checked,
+                        window: self.window(ctx, i, ("from", *from), ("to", *to))?,
+                    },
+                    format!("{what}{}", during(*from, *to)),
+                )
+            }
+            F::XGoalActive { sv, goal, time } => {
+                self.network(ctx, i)?;
+                let component = self.component(ctx, i, sv)?;
+                let checked = match goal {
+                    Some(goal) => Some(self.network_goal(ctx, i, goal)?),
+                    None => None,
+                };
+                let with = goal
+                    .as_deref()
+                    .map_or_else(String::new, |g| format!(" with {g}"));
+                (
+                    K::XGoalActive {
+                        sv: component,
+                        goal: checked,
+                        time: self.time(ctx, i, "time", *time)?,
+                    },
+                    format!("an XGoal{with} active on {sv} at {time} s"),
+                )
+            }
         };
         Some(Expectation { label, kind })
     }
@@ -385,6 +450,69 @@ impl ExpectLoader<'_> {
             .expected("a goal written in the program")
             .note(format!("its goals: {}", self.goals.join("; "))),
         );
+        None
+    }
+}
+
+/// The mission's names, for `Fired`, `NeverFired`, `Failed`, `NeverFailed`, `XGoalActive`.
+impl ExpectLoader<'_> {
+    /// The mission's network; an error at the expectation when the scenario runs RMPL.
+    fn network(&self, ctx: &mut FileCtx, i: usize) -> Option<&GoalNetwork> {
+        if self.network.is_none() {
+            ctx.error(
+                &[Step::Field("expect"), Step::Index(i)],
+                "this expectation is about a goal network, and the scenario runs an RMPL program",
+                "a scenario with `mission: \"...\"` for time points, goals and XGoals",
+            );
+        }
+        self.network
+    }
+
+    /// A time point of the mission, by name.
+    fn point(&self, ctx: &mut FileCtx, i: usize, name: &str) -> Option<String> {
+        let network = self.network(ctx, i)?;
+        let names = network.points().iter().map(|p| p.name.as_str());
+        self.known(ctx, &field(i, "point"), name, names, "time point")
+    }
+
+    /// A goal of the mission (not a macro), by name.
+    fn network_goal(&self, ctx: &mut FileCtx, i: usize, name: &str) -> Option<String> {
+        let network = self.network(ctx, i)?;
+        let names = network
+            .goals()
+            .iter()
+            .filter(|g| !g.is_macro())
+            .map(|g| g.name.as_str());
+        self.known(ctx, &field(i, "goal"), name, names, "goal")
+    }
+
+    /// A component (a state variable), by name.
+    fn component(&self, ctx: &mut FileCtx, i: usize, name: &str) -> Option<ComponentId> {
+        let names = self.plant.components().iter().map(|c| c.name());
+        self.known(ctx, &field(i, "sv"), name, names, "state variable")?;
+        self.plant.component_named(name)
+    }
+
+    /// `name` when it is among `names`; otherwise a located error listing them.
+    fn known<'n>(
+        &self,
+        ctx: &mut FileCtx,
+        path: &[Step],
+        name: &str,
+        names: impl Iterator<Item = &'n str> + Clone,
+        what: &str,
+    ) -> Option<String> {
+        if names.clone().any(|n| n == name) {
+            return Some(name.to_string());
+        }
+        let listed: Vec<&str> = names.collect();
+        let mut diagnostic = Diagnostic::new(format!("no {what} named `{name}`"), ctx.span(path))
+            .expected(format!("the name of a {what} of the mission"))
+            .note(format!("{what}s: {}", listed.join(", ")));
+        if let Some(close) = did_you_mean(name, listed.iter().copied()) {
+            diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+        }
+        ctx.push(diagnostic);
         None
     }
 }

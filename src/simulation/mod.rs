@@ -16,6 +16,8 @@
 //!     description: "What it shows.",        // optional
 //!     program: "fire.rmpl",                 // paths are relative to this file
 //!     entry: "Fire",                        // optional; default: the file's first program
+//!  // mission: "../../missions/m.ron",      // or a mission (a goal network) in place of
+//!                                           // `program`: exactly one of the two
 //!     plant: "../../models/propulsion.ron",
 //!     cycle: 1.0,                           // cycle period, seconds; cycle i is at i · cycle
 //!     end: 300.0,                           // the last cycle is at or before this time;
@@ -143,7 +145,26 @@
 //! Event kinds: `GoalAsserted`, `GoalAchieved`, `GoalFailed`, `GoalConflict`, `Preempted`,
 //! `ClockStarted`, `ModeChanged`, `Diagnosis`, `CommandIssued`, `Repair` (a command that repairs
 //! a fault), `Waiting`, `PlanFailed`, `EstimatorInconsistency`, `SearchCut`,
-//! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`.
+//! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`, and for
+//! missions `TimePointFired`, `TimePointForced`, `XGoalDispatched`, `MissionGoalFailed`,
+//! `TemporalInconsistency`.
+//!
+//! ## Missions
+//!
+//! A scenario with `mission:` runs a goal network (DESIGN.md §15; the format is in
+//! [`crate::goalnet::mission`]) in place of an RMPL program. The mission must bind to the
+//! scenario's `plant` (the same file); its network is scheduled when the scenario is loaded, from
+//! the plant's most likely initial modes, and a network that cannot be scheduled is an error at
+//! `mission` with the scheduler's reason. The mission completes when every time point has fired.
+//! Expectations on the network (names are checked against the mission):
+//! ```ron
+//! Fired(point: "TP_S", after: 71.0, by: 161.0),        // fired (on time or forced) in the window
+//! NeverFired(point: "TP_bgE", to: 999.0),
+//! Failed(goal: "heater1", by: 200.0),                  // the constituent goal reported failed
+//! NeverFailed(goal: "stay-warm", to: 204.0),           // `goal` optional: no goal failed
+//! XGoalActive(sv: "switch1", goal: "heater1", time: 200.0),  // at the first cycle at or after
+//!                                   // `time`, an XGoal is active on the SV (merging `goal`)
+//! ```
 //!
 //! ## The run
 //!
@@ -184,8 +205,45 @@ pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
 pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
 
 use crate::diagnostic::{Source, SourceErrors};
+use crate::executive::{ControlProgram, ScheduledMission};
 use crate::plant::Plant;
 use crate::sequencer::Thca;
+
+/// What a scenario runs: an RMPL program or a mission (a goal network).
+#[derive(Debug, Clone)]
+pub enum ScenarioProgram {
+    /// An RMPL program, linked against the plant (boxed, as the mission: they differ in size).
+    Rmpl(Box<Thca>),
+    /// A mission bound to the scenario's plant, its network scheduled.
+    Mission(Box<ScheduledMission>),
+}
+
+impl ScenarioProgram {
+    /// The RMPL program's automaton, if the scenario runs one.
+    pub fn thca(&self) -> Option<&Thca> {
+        match self {
+            ScenarioProgram::Rmpl(thca) => Some(thca),
+            ScenarioProgram::Mission(_) => None,
+        }
+    }
+
+    /// The scheduled mission, if the scenario runs one.
+    pub fn mission(&self) -> Option<&ScheduledMission> {
+        match self {
+            ScenarioProgram::Rmpl(_) => None,
+            ScenarioProgram::Mission(mission) => Some(mission),
+        }
+    }
+}
+
+impl From<ScenarioProgram> for ControlProgram {
+    fn from(program: ScenarioProgram) -> Self {
+        match program {
+            ScenarioProgram::Rmpl(thca) => (*thca).into(),
+            ScenarioProgram::Mission(mission) => (*mission).into(),
+        }
+    }
+}
 
 /// A loaded, validated scenario.
 #[derive(Debug, Clone)]
@@ -198,14 +256,14 @@ pub struct Scenario {
     pub source: Source,
     /// The plant model's path.
     pub plant_path: String,
-    /// The program file (its path is its name); events' spans point into it.
+    /// The program or mission file (its path is its name); events' spans point into it.
     pub program_source: Source,
     /// The entry program, when the scenario names one.
     pub entry: Option<String>,
     /// The plant model.
     pub plant: Plant,
-    /// The program, linked against the plant.
-    pub program: Thca,
+    /// The program, linked against the plant, or the mission, scheduled.
+    pub program: ScenarioProgram,
     /// The cycle period, in seconds.
     pub cycle: f64,
     /// The end time, in seconds.

@@ -232,6 +232,12 @@ impl Builder<'_, '_> {
             EventKind::DeadlineOverrun { .. } => self.omit("cycle deadline overruns"),
             EventKind::SearchCut(_) => self.omit("estimation search cuts"),
             EventKind::ModeChanged { .. } | EventKind::ClockStarted { .. } => {}
+            // Drawn by the goal-network timeline (issue 13 item 5), not here.
+            EventKind::TimePointFired { .. }
+            | EventKind::TimePointForced { .. }
+            | EventKind::XGoalDispatched { .. }
+            | EventKind::MissionGoalFailed { .. }
+            | EventKind::TemporalInconsistency { .. } => self.omit("goal-network events"),
         }
     }
 

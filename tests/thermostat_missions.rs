@@ -1,0 +1,194 @@
+//! The thermostat's goal-network missions run by the executive through `kairos run` (issue 13
+//! item 6; DESIGN.md §15.3, §15.5; mds-goal-networks.md §3.3): system test 1 (knowledge over
+//! KnowAll), system test 4 (StayWarm, tactic 1) and a maintain failure (switch 1 sticks open
+//! during the hold). Each scenario's expectations pass, and its mission log shows the
+//! goal-network events in order. The trace carries them too.
+
+#[path = "support/cli.rs"]
+mod cli;
+#[path = "support/scenario_run.rs"]
+mod scenario_run;
+
+use cli::kairos;
+use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
+
+const DIR: &str = "scenarios/thermostat";
+
+/// The mission scenarios of the directory, one test each below.
+const MISSIONS: [&str; 4] = [
+    "know_all.ron",
+    "stay_warm_mission.ron",
+    "switch1_sticks_open_mission.ron",
+    "switch1_stuck_open_mission.ron",
+];
+
+fn run_mission(name: &str) -> String {
+    run_passing(&format!("{DIR}/{name}"))
+}
+
+/// Every file of the directory is a mission scenario tested here, or one of the RMPL scenarios
+/// `tests/thermostat_model.rs` runs, or the script and README they share.
+#[test]
+fn every_mission_scenario_of_the_directory_is_run() {
+    assert_every_file_is_tested(
+        DIR,
+        &MISSIONS,
+        &[
+            "README.md",
+            "plant.ron",
+            "stay_warm.ron",
+            "switch1_sticks_open.ron",
+            "switch2_sticks_closed.ron",
+            "sensor_fails.ron",
+            "switch1_stuck_open_from_start.ron",
+            "switch1_sticks_open_tactic_2.ron",
+            "switch2_sticks_closed_tactic_2.ron",
+        ],
+        "tests/thermostat_missions.rs",
+    );
+}
+
+/// System test 1 (seed 000 App. A, Table 7): every SV known for 1,000 s, the points fire at their
+/// fixed times, zero commands, zero failures; the XGoals of [TP_k1, TP_k2] merge both knowledge
+/// activities.
+#[test]
+fn system_test_1_knows_every_state_variable_with_no_command() {
+    let log = run_mission("know_all.ron");
+    assert_in_order(
+        &log,
+        &[
+            "mission missions/thermostat_know_all.ron",
+            "[ 0.000 s] #0",
+            "dispatched Knowledge switch1 known over [origin, TP_k1] (know-switch1)",
+            "[ 10.000 s] #10",
+            "fired TP_k1 (window [10, 10])",
+            "dispatched Knowledge switch1 known over [TP_k1, TP_k2] (know-switch1, know-switch1-2)",
+            "[ 70.000 s] #70",
+            "fired TP_k2 (window [70, 70])",
+            "[ 1000.000 s] #1000",
+            "fired TP_bgE (window [1000, 1000])",
+            "completed the program has completed",
+            "PASS: 12 expectations hold",
+        ],
+    );
+    for absent in ["command", "GOAL FAILED", "FORCED", "DIAGNOSIS"] {
+        assert!(
+            !log.lines().any(|l| l.trim_start().starts_with(absent)),
+            "`{absent}` in:\n{log}"
+        );
+    }
+}
+
+/// System test 4 (seed 000 App. A, Table 7; mds-goal-networks.md §3.3): one command closing
+/// switch 1 when TP_H dispatches the switch transitions, TP_A once switch 1 is believed closed,
+/// TP_S once the device is WARM (76 s, inside [71, 161]), TP_E on time (376 s), no failure.
+#[test]
+fn system_test_4_closes_switch_1_once_and_fires_tp_s_once_warm() {
+    let log = run_mission("stay_warm_mission.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 10.000 s] #10",
+            "fired TP_H (window [10, 10])",
+            "dispatched Transition switch1 ∈ {closed, stuck-closed}, known over [TP_H, TP_A] (know-switch1, close-switch1)",
+            "command switch1.cmd = close (switch1: open -> closed)",
+            "[ 11.000 s] #11",
+            "believed switch1: open -> closed (p 1.00)",
+            "fired TP_A (window [10, 15])",
+            "dispatched Maintain switch1 ∈ {closed, stuck-closed}, known over [TP_A, TP_E] (know-switch1, heater1)",
+            "[ 76.000 s] #76",
+            "believed temperature: warming -> warm-low (p 1.00)",
+            "fired TP_S (window [71, 161])",
+            "dispatched Maintain temperature ∈ {warm-low, warm, warm-high}, known over [TP_S, TP_E] (know-temperature, stay-warm)",
+            "[ 376.000 s] #376",
+            "fired TP_E (window [376, 376])",
+            "PASS: 18 expectations hold",
+        ],
+    );
+    let commands = log
+        .lines()
+        .filter(|l| l.trim_start().starts_with("command"))
+        .count();
+    assert_eq!(commands, 1, "{log}");
+}
+
+/// A maintain failure (issue 13 item 6): switch 1 sticks open at 181 s; in the cycle it is
+/// diagnosed (187 s) the maintain XGoal on switch 1 fails and is narrowed to `heater1`, with the
+/// mode ŝ is in; `stay-warm` fails only when the device reads cold (205 s).
+#[test]
+fn a_switch_sticking_open_fails_heater1_then_stay_warm() {
+    let log = run_mission("switch1_sticks_open_mission.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 187.000 s] #187",
+            "DIAGNOSIS switch1 = stuck-open (p 1.00)",
+            "GOAL FAILED heater1: ŝ left the maintained set; ŝ has switch1 = stuck-open (p 1.00)",
+            "[ 205.000 s] #205",
+            "GOAL FAILED stay-warm: ŝ left the maintained set; ŝ has temperature = cold (p 1.00)",
+            "[ 376.000 s] #376",
+            "fired TP_E (window [376, 376])",
+            "PASS: 13 expectations hold",
+        ],
+    );
+}
+
+/// A forced point (mds-goal-networks.md §2.4 (b)): with switch 1 stuck open from power-on the
+/// device never warms, TP_S is forced at its latest time and the transition ending there unreached
+/// (`get-warm`) fails; `heater1` failed earlier, at the diagnosis.
+#[test]
+fn a_point_never_ready_is_forced_and_its_unreached_transition_fails() {
+    let log = run_mission("switch1_stuck_open_mission.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 87.000 s] #87",
+            "DIAGNOSIS switch1 = stuck-open (p 1.00)",
+            "GOAL FAILED heater1: ŝ left the maintained set; ŝ has switch1 = stuck-open (p 1.00)",
+            "[ 161.000 s] #161",
+            "FORCED TP_S at its latest time, not ready (window [71, 161], 0.000 s late)",
+            "GOAL FAILED get-warm: its end point was forced before the set was reached; ŝ has temperature = cold (p 1.00)",
+            "[ 162.000 s] #162",
+            "GOAL FAILED stay-warm: ŝ left the maintained set; ŝ has temperature = cold (p 1.00)",
+            "PASS: 11 expectations hold",
+        ],
+    );
+}
+
+/// The JSON trace carries the goal-network events with their kinds and the log's text.
+#[test]
+fn the_trace_carries_the_goal_network_events() {
+    let trace =
+        std::env::temp_dir().join(format!("kairos-mission-trace-{}.jsonl", std::process::id()));
+    let trace_arg = trace.to_string_lossy().to_string();
+    let scenario = format!("{DIR}/switch1_sticks_open_mission.ron");
+    let (code, stdout, stderr) = kairos(&["run", &scenario, "--trace", &trace_arg]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    let text = std::fs::read_to_string(&trace).expect("the trace is written");
+    let _ = std::fs::remove_file(&trace);
+    let events: Vec<(String, String)> = text
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).expect("a JSON line"))
+        .flat_map(|line| line["events"].as_array().cloned().unwrap_or_default())
+        .map(|e| {
+            let field = |k: &str| e[k].as_str().unwrap_or_default().to_string();
+            (field("kind"), field("text"))
+        })
+        .collect();
+    for (kind, text) in [
+        (
+            "XGoalDispatched",
+            "Maintain switch1 ∈ {closed, stuck-closed}, known over [TP_A, TP_E]  (know-switch1, heater1)",
+        ),
+        ("TimePointFired", "TP_S  (window [71, 161])"),
+        (
+            "MissionGoalFailed",
+            "heater1: ŝ left the maintained set; ŝ has switch1 = stuck-open (p 1.00)",
+        ),
+    ] {
+        assert!(
+            events.iter().any(|(k, t)| k == kind && t == text),
+            "no {kind} `{text}` in the trace: {events:?}"
+        );
+    }
+}
