@@ -196,34 +196,31 @@ impl Ambiguity {
     /// same from cycle to cycle (the executive reports a failure once).
     pub fn explain(&self, plant: &Plant, failed: &GoalFailed) -> String {
         let mut reason = failed.reason.clone();
-        let groups: [(&str, fn(&Tried) -> bool); 3] = [
-            ("also tried", |t| t.unserved.is_none()),
-            ("unreachable also if", |t| {
-                t.unserved == Some(Unserved::Unreachable)
-            }),
-            ("nothing to command if", |t| {
-                t.unserved == Some(Unserved::NoCommand)
-            }),
-        ];
-        for (lead, member) in groups {
-            for (k, tried) in self.tried().filter(|t| member(t)).enumerate() {
-                let separator = if k == 0 { "; " } else { ", " };
-                let lead = if k == 0 { lead } else { "" };
-                let _ = write!(
-                    reason,
-                    "{separator}{lead}{}{} (p {:.2}{})",
-                    if k == 0 { " " } else { "" },
-                    tried.describe(plant),
-                    tried.probability,
-                    match tried.commands {
-                        0 => String::new(),
-                        1 => ", 1 retry".to_string(),
-                        n => format!(", {n} retries"),
-                    }
-                );
-            }
-        }
+        self.list(plant, &mut reason, "also tried", None);
+        let unreachable = Some(Unserved::Unreachable);
+        self.list(plant, &mut reason, "unreachable also if", unreachable);
+        let no_command = Some(Unserved::NoCommand);
+        self.list(plant, &mut reason, "nothing to command if", no_command);
         reason
+    }
+
+    /// Appends `; LEAD h1 (p ..), h2 (p ..)` for the hypotheses with this `unserved`.
+    fn list(&self, plant: &Plant, out: &mut String, lead: &str, unserved: Option<Unserved>) {
+        let group = self.tried().filter(|t| t.unserved == unserved);
+        for (k, tried) in group.enumerate() {
+            let lead = if k == 0 {
+                format!("; {lead} ")
+            } else {
+                ", ".into()
+            };
+            let retries = match tried.commands {
+                0 => String::new(),
+                1 => ", 1 retry".to_string(),
+                n => format!(", {n} retries"),
+            };
+            let what = tried.describe(plant);
+            let _ = write!(out, "{lead}{what} (p {:.2}{retries})", tried.probability);
+        }
     }
 
     /// Starts a fresh record when the goal or the kept configuration changed.
