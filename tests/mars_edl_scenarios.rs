@@ -213,7 +213,7 @@ fn a_valve_stuck_closed_is_retried_once_then_the_goal_fails_naming_the_hypothese
     );
     assert_eq!(log.matches("RETRY").count(), 1, "{log}");
     assert_eq!(log.matches("GOAL FAILED").count(), 1, "{log}");
-    assert!(!log.contains("engine-fire"), "{log}");
+    assert!(!log.contains("PDE.cmd = engine-fire ("), "{log}");
 }
 
 /// §1.1 and §7.2.3: the Mars Polar Lander's latched touchdown spike is reset and the engine
