@@ -748,7 +748,12 @@ impl Executive {
         log: &mut EventLog,
     ) -> (Option<GoalState>, Option<Action>) {
         let keep = self.keep(modes);
-        let hypotheses = self.estimates.iter().map(|e| Hypothesis {
+        let plausible = if Ambiguity::may_help(failed) {
+            self.estimates.as_slice()
+        } else {
+            &[]
+        };
+        let hypotheses = plausible.iter().map(|e| Hypothesis {
             modes: &e.modes,
             probability: e.probability,
         });

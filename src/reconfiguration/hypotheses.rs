@@ -26,7 +26,7 @@
 
 use std::fmt::Write;
 
-use super::{Action, GoalFailed, GoalState, Reconfiguration};
+use super::{Action, FailureCause, GoalFailed, GoalState, Reconfiguration};
 use crate::logic::{Formula, ValueId};
 use crate::opsat::Theory;
 use crate::plant::{ComponentId, Plant};
@@ -177,6 +177,16 @@ impl Ambiguity {
             ));
         }
         None
+    }
+
+    /// True when another plant state might serve a goal that failed from ŝ for this reason: the
+    /// goal was unreachable or not entailed there. A goal that contradicts itself or the model,
+    /// or that cannot be interpreted, fails from every state.
+    pub fn may_help(failed: &GoalFailed) -> bool {
+        matches!(
+            failed.cause,
+            FailureCause::Unreachable { .. } | FailureCause::NotEntailed
+        )
     }
 
     /// The hypotheses considered for the current goal, in the order first considered.
@@ -468,6 +478,26 @@ mod tests {
         assert_eq!(retry(&goal), None);
         let other = Formula::And(vec![goal.clone(), is(&f.plant, "switch", "on")]);
         assert_eq!(retry(&other), Some(1));
+    }
+
+    #[test]
+    fn only_an_unreachable_goal_may_be_served_from_another_state() {
+        let mut f = fixture();
+        let stuck = state(&f.plant, &["stuck", "a"]);
+        let unreachable = f
+            .reconfiguration
+            .interpret(&mut f.theory, &stuck, &gadget_b(&f.plant))
+            .expect_err("unreachable from ŝ");
+        assert!(Ambiguity::may_help(&unreachable), "{unreachable:?}");
+        let both = Formula::And(vec![
+            is(&f.plant, "gadget", "a"),
+            is(&f.plant, "gadget", "b"),
+        ]);
+        let contradictory = f
+            .reconfiguration
+            .interpret(&mut f.theory, &stuck, &both)
+            .expect_err("contradictory");
+        assert!(!Ambiguity::may_help(&contradictory), "{contradictory:?}");
     }
 
     #[test]
