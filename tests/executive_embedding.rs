@@ -8,6 +8,7 @@ use kairos::diagnostic::Source;
 use kairos::executive::adapters::{self, ControlAdapter, MonitorAdapter, SimulatedClock};
 use kairos::executive::{EventKind, Executive, NamedValue, Step};
 use kairos::plant::Plant;
+use kairos::reconfiguration::AmbiguityOptions;
 use kairos::rmpl::{self, LinkOptions};
 
 fn propulsion() -> Plant {
@@ -467,4 +468,89 @@ fn the_embedding_example_runs() {
     ] {
         assert!(stdout.contains(line), "missing `{line}` in\n{stdout}");
     }
+}
+
+/// The commands sent and the events of a run of `Fire()` with valve 2 stuck closed, with the
+/// given options for acting under ambiguity.
+fn fire_with_valve2_stuck(ambiguity: AmbiguityOptions) -> (Vec<String>, Vec<EventKind>) {
+    let plant = propulsion();
+    let source = Source::new("program.rmpl", "Fire() :: { engine = firing }");
+    let options = LinkOptions {
+        plant: Some(plant.table()),
+        ..LinkOptions::default()
+    };
+    let thca = rmpl::load(&source, &options).expect("the program links against the plant");
+    let mut executive = Executive::builder(plant, thca)
+        .kappa(5)
+        .ambiguity(ambiguity)
+        .build()
+        .expect("the executive builds");
+    let mut hardware = Hardware {
+        valve_stuck_closed: [false, true],
+        ..Hardware::default()
+    };
+    let steps = drive(&mut executive, &mut hardware, 120.0);
+    let events = steps.into_iter().flat_map(|s| s.events).map(|e| e.kind);
+    (
+        commands(&hardware).iter().map(|c| c.to_string()).collect(),
+        events.collect(),
+    )
+}
+
+/// The `Retrying` events and the goal failure's reason of a run.
+fn retries_and_failure(events: &[EventKind]) -> (usize, String) {
+    let retries = events
+        .iter()
+        .filter(|e| matches!(e, EventKind::Retrying { .. }))
+        .count();
+    let failure = events.iter().find_map(|e| match e {
+        EventKind::GoalFailed { reason, .. } => Some(reason.clone()),
+        _ => None,
+    });
+    (retries, failure.expect("the goal fails"))
+}
+
+/// Issue 16 item 5 through the embedding API, on propulsion.ron, whose valves stick closed more
+/// readily than the lander's: after one unanswered `open2`, "not taken" (valve2 = closed) holds
+/// only about 0.01. Below the default threshold (0.05) the goal fails on the diagnosis alone, as
+/// in the thesis; with the threshold lowered to 0.005 the two retries of the budget are spent on
+/// the two explanations left, and the failure names both; with no retries allowed none is sent.
+#[test]
+fn an_ambiguous_diagnosis_is_retried_only_above_the_threshold_and_within_the_budget() {
+    let low = AmbiguityOptions {
+        threshold: 0.005,
+        ..AmbiguityOptions::default()
+    };
+    let open2 = |sent: &[String]| sent.iter().filter(|c| *c == "open2").count();
+
+    let (sent, events) = fire_with_valve2_stuck(AmbiguityOptions::default());
+    let (retries, failure) = retries_and_failure(&events);
+    assert_eq!(retries, 0, "{events:?}");
+    assert_eq!(
+        failure,
+        "engine = firing is unreachable: valve2 is stuck-closed"
+    );
+    assert_eq!(open2(&sent), 1, "{sent:?}");
+
+    // Two hypotheses at about 0.01 each: the PDE latched (it did not relay `open2`) and the
+    // valve did not take the command. The more probable is served first — reset the PDE — then
+    // the other — `open2` again; the budget of two is then spent and the goal fails naming both.
+    let (sent, events) = fire_with_valve2_stuck(low);
+    let (retries, failure) = retries_and_failure(&events);
+    assert_eq!(retries, 2, "{events:?}");
+    assert_eq!(
+        failure,
+        "engine = firing is unreachable: valve2 is stuck-closed; also tried PDE = resettable and \
+         valve2 = closed (p 0.01, 1 retry), valve2 = closed (p 0.01, 1 retry)"
+    );
+    assert_eq!(
+        sent[sent.len() - 3..],
+        ["open2", "reset", "open2"],
+        "{sent:?}"
+    );
+    assert!(!sent.iter().any(|c| c == "engine-fire"), "{sent:?}");
+
+    let (sent, events) = fire_with_valve2_stuck(AmbiguityOptions { retries: 0, ..low });
+    assert_eq!(retries_and_failure(&events).0, 0, "{events:?}");
+    assert_eq!(open2(&sent), 1, "{sent:?}");
 }

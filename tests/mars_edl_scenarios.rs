@@ -16,13 +16,15 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/mars_edl";
 
 /// The scenarios this file runs, one test each.
-const SCENARIOS: [&str; 6] = [
+const SCENARIOS: [&str; 8] = [
     "nominal.ron",
     "engine_stuck_heating.ron",
     "engine_power_loss.ron",
     "pde_resettable.ron",
     "lander_pyro_misfire.ron",
     "mars_polar_lander.ron",
+    "valve2_ignores_open.ron",
+    "valve2_stuck_closed.ron",
 ];
 /// The other files there: the scripts the scenarios include, the requirement mapping, and the
 /// campaign scenario, whose runs `kairos campaign` judges one by one (docs/campaigns.md; at
@@ -158,6 +160,60 @@ fn a_primary_pyro_misfire_is_diagnosed_and_the_backup_separates_the_lander() {
             "completed the program has completed",
         ],
     );
+}
+
+/// Issue 16 item 5 (beyond the thesis's executive, which acts on ŝ alone): valve 2 ignores the
+/// first `open2`. Mode estimation prefers stuck-closed (its hazard accumulated over the mission)
+/// to "the command was not taken"; the diagnosis names the next candidates, the executive sends
+/// `open2` again on the closed hypothesis, the valve opens, the engine fires and the EDL lands.
+#[test]
+fn a_valve_that_ignores_the_first_open_command_is_commanded_again_and_the_edl_lands() {
+    let log = run("valve2_ignores_open.ron");
+    assert_in_order(
+        &log,
+        &[
+            "goal asserted engine = firing",
+            "command PDE.cmd = open1 (valve1: closed -> open)",
+            "command PDE.cmd = open2 (valve2: closed -> open)",
+            "[ 17109.000 s]",
+            "believed valve2: closed -> stuck-closed (p 0.59)",
+            "DIAGNOSIS valve2 = stuck-closed (p 0.59); next: valve2 = closed (p 0.35), valve2 = open (p 0.06)",
+            "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
+            "command PDE.cmd = open2 (valve2: closed -> open)",
+            "[ 17110.000 s]",
+            "believed valve2: stuck-closed -> open (p 1.00)",
+            "command PDE.cmd = engine-fire (engine: standby -> firing)",
+            "goal achieved engine = firing",
+            "goal achieved landing = success",
+            "completed the program has completed",
+        ],
+    );
+    assert_eq!(log.matches("RETRY").count(), 1, "{log}");
+    assert!(!log.contains("GOAL FAILED"), "{log}");
+}
+
+/// Issue 16 item 5: valve 2 is really stuck closed. One retry on the closed hypothesis; its
+/// silence leaves "not taken twice" below the threshold, and `engine = firing` fails, the failure
+/// naming both explanations — stuck-closed (ŝ) and closed (tried) — and the one left that cannot
+/// serve the goal (an empty tank behind an open valve). The engine is never fired.
+#[test]
+fn a_valve_stuck_closed_is_retried_once_then_the_goal_fails_naming_the_hypotheses() {
+    let log = run("valve2_stuck_closed.ron");
+    assert_in_order(
+        &log,
+        &[
+            "command PDE.cmd = open2 (valve2: closed -> open)",
+            "[ 17109.000 s]",
+            "DIAGNOSIS valve2 = stuck-closed (p 0.59); next: valve2 = closed (p 0.35)",
+            "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
+            "command PDE.cmd = open2 (valve2: closed -> open)",
+            "[ 17110.000 s]",
+            "GOAL FAILED engine = firing: engine = firing is unreachable: engine can reach only off, standby from standby (its transitions need components upstream: valve2 is stuck-closed); also tried valve2 = closed (p 0.35, 1 retry); unreachable also if valve2 = open and tank2 = empty (p 0.09)",
+        ],
+    );
+    assert_eq!(log.matches("RETRY").count(), 1, "{log}");
+    assert_eq!(log.matches("GOAL FAILED").count(), 1, "{log}");
+    assert!(!log.contains("PDE.cmd = engine-fire ("), "{log}");
 }
 
 /// §1.1 and §7.2.3: the Mars Polar Lander's latched touchdown spike is reset and the engine

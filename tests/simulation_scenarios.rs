@@ -145,6 +145,19 @@ fn propulsion_repairs_a_resettable_pde_and_the_trace_shows_the_diagnosis() {
         .expect("a cycle with the diagnosis");
     assert_eq!(diagnosis["estimate"]["PDE"], "resettable");
     assert_eq!(diagnosis["command"][0], "PDE.cmd = reset");
+    // Issue 16 item 5: the diagnosis names the next candidate, in its text and structured.
+    let event = diagnosis["events"]
+        .as_array()
+        .and_then(|es| es.iter().find(|e| e["kind"] == "Diagnosis"))
+        .expect("the diagnosis event");
+    let text = event["text"].as_str().expect("a text");
+    assert!(
+        text.starts_with("PDE = resettable (p 0.97); next: PDE = on (p 0.03)"),
+        "{text}"
+    );
+    assert_eq!(event["next"][0]["mode"], "on");
+    let p = event["next"][0]["p"].as_f64().expect("a probability");
+    assert!((0.025..0.035).contains(&p), "{p}");
     let last_estimate = lines
         .iter()
         .rev()

@@ -46,6 +46,23 @@ pub enum EventKind {
         /// Why, naming components and modes.
         reason: String,
     },
+    /// The goal is unreachable from ŝ but reachable from another tracked plant state: the
+    /// planner's command from that state is sent, so that the next estimate decides (issue 16
+    /// item 5). A `CommandIssued` with the command follows.
+    Retrying {
+        /// The configuration goal, as text.
+        goal: String,
+        /// The command's `variable = value` assignments, as text.
+        assignments: Vec<String>,
+        /// Where the state acted on differs from ŝ: `valve2 = closed`.
+        hypothesis: String,
+        /// That state's probability.
+        probability: f64,
+        /// Which retry of the goal this is, from 1.
+        attempt: u32,
+        /// How many retries a goal gets.
+        budget: u32,
+    },
     /// Two goals asserted in the same cycle contradict each other; neither is pursued.
     GoalConflict {
         /// One goal.
@@ -87,6 +104,9 @@ pub enum EventKind {
         mode: String,
         /// Its marginal probability.
         probability: f64,
+        /// The component's other modes the belief holds, with their marginals, most probable
+        /// first (the next candidates; the least likely are left out).
+        next: Vec<(String, f64)>,
     },
     /// A command was issued.
     CommandIssued {

@@ -52,7 +52,9 @@ use crate::estimation::{
 use crate::logic::{Formula, ValueId, VarId, VarTable};
 use crate::opsat::{Budget, Theory, TheoryError};
 use crate::plant::{Commands, ComponentId, ModeKind, Plant};
-use crate::reconfiguration::{Action, GoalFailed, GoalState, Reconfiguration};
+use crate::reconfiguration::{
+    Action, Ambiguity, AmbiguityOptions, GoalFailed, GoalState, Hypothesis, Reconfiguration,
+};
 use crate::sequencer::{self, ConfigurationGoal, LocationId, SequencerError, Thca};
 use control::Program;
 use observations::LastObservation;
@@ -69,6 +71,9 @@ pub struct ExecutiveOptions {
     pub estimation_budget: Budget,
     /// How much state, command and observation history to keep.
     pub retention: Retention,
+    /// When the goal is unreachable from ŝ: how probable another tracked plant state must be to
+    /// be acted on, and how many commands per goal may be sent on such states (issue 16 item 5).
+    pub ambiguity: AmbiguityOptions,
 }
 
 impl Default for ExecutiveOptions {
@@ -78,9 +83,17 @@ impl Default for ExecutiveOptions {
             cycle_deadline: None,
             estimation_budget: Budget::default(),
             retention: Retention::default(),
+            ambiguity: AmbiguityOptions::default(),
         }
     }
 }
+
+/// A diagnosis names at most this many other candidate modes of the component.
+const NEXT_DIAGNOSES: usize = 3;
+
+/// A candidate mode below this marginal is not named next to a diagnosis (it would show as
+/// p 0.00).
+const NEXT_DIAGNOSIS_MIN: f64 = 0.005;
 
 /// Why an executive could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -202,6 +215,13 @@ impl ExecutiveBuilder {
         self
     }
 
+    /// Sets how the executive acts when the goal is unreachable from ŝ but not from another
+    /// tracked plant state.
+    pub fn ambiguity(mut self, ambiguity: AmbiguityOptions) -> Self {
+        self.options.ambiguity = ambiguity;
+        self
+    }
+
     /// Sets every option at once.
     pub fn options(mut self, options: ExecutiveOptions) -> Self {
         self.options = options;
@@ -238,6 +258,7 @@ impl ExecutiveBuilder {
             observed: LastObservation::default(),
             answers: AnswerCache::default(),
             interpretation: None,
+            ambiguity: Ambiguity::default(),
             intended: None,
             reported: Reported::default(),
             confidence_atoms,
@@ -379,6 +400,8 @@ pub struct Executive {
     observed: LastObservation,
     answers: AnswerCache,
     interpretation: Option<Interpretation>,
+    /// The hypotheses other than ŝ acted on for the current goal (issue 16 item 5).
+    ambiguity: Ambiguity,
     intended: Option<GoalState>,
     reported: Reported,
     confidence_atoms: Vec<(VarId, ValueId)>,
@@ -595,9 +618,26 @@ impl Executive {
                     component: component_id,
                     mode: mode.name.clone(),
                     probability,
+                    next: self.next_diagnoses(component_id, to),
                 });
             }
         }
+    }
+
+    /// The component's other modes the belief holds, most probable first: the candidates a
+    /// diagnosis of `mode` is to be read against (issue 16 item 5). At most
+    /// [`NEXT_DIAGNOSES`], each at least [`NEXT_DIAGNOSIS_MIN`] (a log shows two decimals).
+    fn next_diagnoses(&self, component: ComponentId, mode: ValueId) -> Vec<(String, f64)> {
+        let modes = self.plant.component(component).modes();
+        let mut next: Vec<(String, f64)> = (0..modes.len() as u32)
+            .map(ValueId)
+            .filter(|&m| m != mode)
+            .map(|m| (modes[m.index()].name.clone(), self.marginal(component, m)))
+            .filter(|&(_, p)| p >= NEXT_DIAGNOSIS_MIN)
+            .collect();
+        next.sort_by(|a, b| b.1.total_cmp(&a.1));
+        next.truncate(NEXT_DIAGNOSES);
+        next
     }
 
     /// Rebuilds the sequencer's view of ŝ, bumping its version when it changed (the
@@ -748,16 +788,7 @@ impl Executive {
                     self.reported.goal_failure = None;
                     self.intended = Some(self.reconfiguration.settle(&goal_state, &modes));
                 }
-                Err(reason) => {
-                    if self.reported.goal_failure.as_ref() != Some(&reason) {
-                        log.push(EventKind::GoalFailed {
-                            goal: goal.formula.display(self.plant.table()).to_string(),
-                            reason: reason.clone(),
-                        });
-                        self.reported.goal_failure = Some(reason);
-                    }
-                    return (None, None);
-                }
+                Err(failed) => return self.retry_or_fail(goal, &modes, &failed, log),
             }
         } else {
             self.reported.goal_failure = None;
@@ -769,17 +800,79 @@ impl Executive {
         (Some(intended.clone()), Some(action))
     }
 
+    /// The goal is unreachable from ŝ: the planner's command from another tracked plant state
+    /// that can serve it, while the retry budget lasts (`reconfiguration::Ambiguity`, issue 16
+    /// item 5), or the goal failure, naming the hypotheses tried. The intended configuration is
+    /// left as it was: a hypothesis is acted on, not believed.
+    fn retry_or_fail(
+        &mut self,
+        goal: &ConfigurationGoal,
+        modes: &[ValueId],
+        failed: &GoalFailed,
+        log: &mut EventLog,
+    ) -> (Option<GoalState>, Option<Action>) {
+        let keep = self.keep(modes);
+        let plausible = if Ambiguity::may_help(failed) {
+            self.estimates.as_slice()
+        } else {
+            &[]
+        };
+        let hypotheses = plausible.iter().map(|e| Hypothesis {
+            modes: &e.modes,
+            probability: e.probability,
+        });
+        let retry = self.ambiguity.retry(
+            (&self.reconfiguration, &mut self.theory),
+            &goal.formula,
+            (modes, &keep),
+            hypotheses,
+            &self.options.ambiguity,
+        );
+        if let Some(retry) = retry {
+            let assignments = match &retry.action {
+                Action::Command(command) => command.assignments.as_slice(),
+                _ => &[],
+            };
+            let table = self.plant.table();
+            log.push(EventKind::Retrying {
+                goal: goal.formula.display(table).to_string(),
+                assignments: (assignments.iter())
+                    .map(|&(x, v)| table.assignment(x, v).to_string())
+                    .collect(),
+                hypothesis: retry.describe_hypothesis(&self.plant),
+                probability: retry.probability,
+                attempt: retry.attempt,
+                budget: self.options.ambiguity.retries,
+            });
+            return (Some(retry.goal_state), Some(retry.action));
+        }
+        let reason = self.ambiguity.explain(&self.plant, failed);
+        if self.reported.goal_failure.as_ref() != Some(&reason) {
+            log.push(EventKind::GoalFailed {
+                goal: goal.formula.display(self.plant.table()).to_string(),
+                reason: reason.clone(),
+            });
+            self.reported.goal_failure = Some(reason);
+        }
+        (None, None)
+    }
+
+    /// The configuration goal interpretation keeps where the goal allows: the intended one, or
+    /// ŝ before there is one.
+    fn keep(&self, modes: &[ValueId]) -> Vec<ValueId> {
+        self.intended
+            .as_ref()
+            .map_or_else(|| modes.to_vec(), |state| state.modes().to_vec())
+    }
+
     /// Goal interpretation of `goal` from ŝ, keeping the intended configuration where the goal
     /// allows; the answer is reused while its inputs do not change.
     fn interpret(
         &mut self,
         goal: &ConfigurationGoal,
         modes: &[ValueId],
-    ) -> Result<GoalState, String> {
-        let keep = self
-            .intended
-            .as_ref()
-            .map_or_else(|| modes.to_vec(), |state| state.modes().to_vec());
+    ) -> Result<GoalState, GoalFailed> {
+        let keep = self.keep(modes);
         let fresh = self
             .interpretation
             .as_ref()
@@ -800,8 +893,11 @@ impl Executive {
         }
         match self.interpretation.as_ref().map(|i| &i.result) {
             Some(Ok(state)) => Ok(state.clone()),
-            Some(Err(failed)) => Err(failed.to_string()),
-            None => Err("goal interpretation did not run".to_string()),
+            Some(Err(failed)) => Err(failed.clone()),
+            None => Err(GoalFailed {
+                reason: "goal interpretation did not run".to_string(),
+                cause: crate::reconfiguration::FailureCause::BadInput,
+            }),
         }
     }
 

@@ -25,11 +25,16 @@
 //! planner can really reach and hold given what the components upstream can reach, so that it
 //! never proposes a state the planner cannot achieve. [`Reconfiguration::simulate_nominal`] runs
 //! the planner against nominal transitions (`kairos plan`).
+//!
+//! When the goal is unreachable from ŝ, [`Ambiguity`] (`hypotheses.rs`, issue 16 item 5) looks
+//! at the other plant states mode estimation tracks and returns the planner's next command from
+//! the most probable one that can serve the goal, a bounded number of times per goal.
 
 mod causal;
 mod display;
 mod feasible;
 mod goal;
+mod hypotheses;
 mod planner;
 mod policy;
 mod reachability;
@@ -40,6 +45,7 @@ mod testing;
 
 pub use causal::CausalGraph;
 pub use goal::{FailureCause, GoalFailed, GoalState, HOLD_COST, MOVE_COST};
+pub use hypotheses::{Ambiguity, AmbiguityOptions, Hypothesis, Retry, Tried, Unserved};
 pub use planner::{Action, Command, PlanFailure, Progress, Wait};
 pub use policy::{ConcurrentPolicy, PolicyEntry, PolicyStep};
 pub use reachability::Reachability;

@@ -7,7 +7,7 @@
 //! [  12.000 s] #12
 //!   plant     rule `PDE latches up` takes effect: pde = latched  (FAULT)
 //!   believed  PDE: on -> resettable (p 0.91)
-//!   DIAGNOSIS PDE = resettable (p 0.91)
+//!   DIAGNOSIS PDE = resettable (p 0.91); next: PDE = on (p 0.09)
 //!   REPAIR    PDE.cmd = reset (PDE: resettable -> on)
 //! ```
 
@@ -44,6 +44,20 @@ pub fn describe_event(
             ),
         ),
         E::GoalFailed { goal, reason } => ("GOAL FAILED", format!("{goal}: {reason}")),
+        E::Retrying {
+            assignments,
+            hypothesis,
+            probability,
+            attempt,
+            budget,
+            ..
+        } => (
+            "RETRY",
+            format!(
+                "{}: the goal is reachable if {hypothesis} (p {probability:.2}); retry {attempt} of {budget}",
+                assignments.join(", ")
+            ),
+        ),
         E::GoalConflict { first, second } => (
             "CONFLICT",
             format!(
@@ -67,10 +81,16 @@ pub fn describe_event(
             component: c,
             mode,
             probability,
-        } => (
-            "DIAGNOSIS",
-            format!("{} = {mode} (p {probability:.2})", component(*c)),
-        ),
+            next,
+        } => {
+            let name = component(*c);
+            let mut text = format!("{name} = {mode} (p {probability:.2})");
+            for (k, (other, p)) in next.iter().enumerate() {
+                let lead = if k == 0 { "; next: " } else { ", " };
+                let _ = write!(text, "{lead}{name} = {other} (p {p:.2})");
+            }
+            ("DIAGNOSIS", text)
+        }
         E::CommandIssued {
             assignments,
             purpose,

@@ -15,8 +15,10 @@
 //! - `command`: μ, the non-idle control assignments, as `"PDE.cmd = on"`;
 //! - `estimate`: ŝ, the most likely mode of each component, `{"engine": "heating", ..}`;
 //! - `belief`: the tracked plant states, most likely first, `[{"p": .., "modes": {..}}]`;
-//! - `events`: the executive's events, `[{"kind": "Diagnosis", "text": "PDE = resettable (p 0.91)"}]`
-//!   (kinds as `simulation::EventName` spells them; text as the mission log shows it);
+//! - `events`: the executive's events, `[{"kind": "Diagnosis", "text": "PDE = resettable (p 0.91);
+//!   next: PDE = on (p 0.09)", "next": [{"mode": "on", "p": 0.09}]}]` (kinds as
+//!   `simulation::EventName` spells them; text as the mission log shows it; `next`, a
+//!   diagnosis's other candidate modes of the component, only on a `Diagnosis`);
 //! - `plant`: the scripted plant's rules that fired or took effect, `[{"rule": .., "kind":
 //!   "fired" | "applied", "fault": bool}]`;
 //! - `micros`: wall time of estimation, the sequencer, reconfiguration and the whole cycle.
@@ -26,7 +28,7 @@ use std::borrow::Borrow;
 use serde::Serialize;
 
 use super::log::describe_event;
-use crate::executive::NamedValue;
+use crate::executive::{EventKind, NamedValue};
 use crate::simulation::{CycleRecord, EventName, PlantEventKind, Scenario};
 
 #[derive(Serialize)]
@@ -60,6 +62,37 @@ struct Belief {
 struct TraceEvent {
     kind: String,
     text: String,
+    /// A diagnosis's next candidates, structured for tools (the text has them too).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    next: Option<Vec<Candidate>>,
+}
+
+/// Another mode of a diagnosed component with its marginal.
+#[derive(Serialize)]
+struct Candidate {
+    mode: String,
+    p: f64,
+}
+
+impl TraceEvent {
+    fn new(scenario: &Scenario, kind: &EventKind) -> TraceEvent {
+        let next = match kind {
+            EventKind::Diagnosis { next, .. } => Some(
+                next.iter()
+                    .map(|(mode, p)| Candidate {
+                        mode: mode.clone(),
+                        p: *p,
+                    })
+                    .collect(),
+            ),
+            _ => None,
+        };
+        TraceEvent {
+            kind: format!("{:?}", EventName::of(kind)),
+            text: describe_event(&scenario.plant, &scenario.program_source, kind).1,
+            next,
+        }
+    }
 }
 
 #[derive(Serialize)]
@@ -194,10 +227,7 @@ fn line<'a>(scenario: &'a Scenario, record: &CycleRecord<'a>) -> Line<'a> {
         events: Some(
             step.events
                 .iter()
-                .map(|e| TraceEvent {
-                    kind: format!("{:?}", EventName::of(&e.kind)),
-                    text: describe_event(plant, &scenario.program_source, &e.kind).1,
-                })
+                .map(|e| TraceEvent::new(scenario, &e.kind))
                 .collect(),
         ),
         plant: Some(

@@ -243,6 +243,9 @@ pub enum EventName {
     GoalAchieved,
     /// Goal interpretation failed.
     GoalFailed,
+    /// A command was sent on a tracked plant state other than ŝ (the goal was unreachable
+    /// from ŝ).
+    Retrying,
     /// Two goals contradicted each other.
     GoalConflict,
     /// A `do … watching` or `maintaining` construct was preempted.
@@ -294,6 +297,7 @@ impl EventName {
             E::GoalAsserted { .. } => EventName::GoalAsserted,
             E::GoalAchieved { .. } => EventName::GoalAchieved,
             E::GoalFailed { .. } => EventName::GoalFailed,
+            E::Retrying { .. } => EventName::Retrying,
             E::GoalConflict { .. } => EventName::GoalConflict,
             E::Preempted { .. } => EventName::Preempted,
             E::ClockStarted { .. } => EventName::ClockStarted,

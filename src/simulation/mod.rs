@@ -142,7 +142,7 @@
 //! Reported(event: ObservationRejected),                // any executive event, by kind
 //! NeverReported(event: EstimatorInconsistency),
 //! ```
-//! Event kinds: `GoalAsserted`, `GoalAchieved`, `GoalFailed`, `GoalConflict`, `Preempted`,
+//! Event kinds: `GoalAsserted`, `GoalAchieved`, `GoalFailed`, `Retrying`, `GoalConflict`, `Preempted`,
 //! `ClockStarted`, `ModeChanged`, `Diagnosis`, `CommandIssued`, `Repair` (a command that repairs
 //! a fault), `Waiting`, `PlanFailed`, `EstimatorInconsistency`, `SearchCut`,
 //! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`, and for

@@ -220,7 +220,10 @@ impl Builder<'_, '_> {
                 component,
                 mode,
                 probability,
+                ..
             } => self.diagnosis(time, *component, mode, *probability),
+            // The retried command is drawn by its `CommandIssued`.
+            EventKind::Retrying { .. } => self.omit("retries on a less likely diagnosis"),
             EventKind::EstimatorInconsistency { fallback } => self.inconsistency(time, *fallback),
             EventKind::PlanFailed { reason } => {
                 self.trouble(time, "plan-failed", "plan failed", reason)
