@@ -26,6 +26,7 @@
 
 pub mod adapters;
 mod events;
+mod fingerprint;
 mod observations;
 mod oracle;
 mod timeline;
@@ -296,6 +297,7 @@ fn confidence_atoms(program: &Thca) -> Vec<(VarId, ValueId)> {
 
 /// Goal interpretation's last answer, kept while the goal, ŝ and the kept configuration are
 /// unchanged.
+#[derive(Clone)]
 struct Interpretation {
     goal: Formula,
     modes: Vec<ValueId>,
@@ -304,7 +306,7 @@ struct Interpretation {
 }
 
 /// What has been reported already, so repeated conditions are reported once.
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Reported {
     goal_locations: Vec<LocationId>,
     /// The locations whose goal the sequencer found achieved in the previous cycle: a
@@ -318,7 +320,10 @@ struct Reported {
     missing: Vec<VarId>,
 }
 
-/// A timed model-based executive: a linked program, a plant model, and the state of both.
+/// A timed model-based executive: a linked program, a plant model, and the state of both. A
+/// clone is an independent executive in the same state (explicit-state exploration branches
+/// with it); [`Executive::fingerprint`] hashes the part of the state that decides the future.
+#[derive(Clone)]
 pub struct Executive {
     plant: Plant,
     theory: Theory,
