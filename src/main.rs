@@ -125,6 +125,11 @@ enum Command {
         #[arg(long)]
         seed: Option<u64>,
     },
+    /// Explore every path a scenario's `Optional` rules allow (each may fire at any cycle of its
+    /// window, or not, at most `--faults` per path), checking every expectation on each; print
+    /// the shortest counterexample of each violated one, its mission log and a replay file.
+    /// Exit 0 when none is violated, 1 when one is, 2 on bad input.
+    Explore(cli::explore::ExploreArgs),
     /// A Monte Carlo campaign: many seeded runs of a scenario with a model-driven plant, in
     /// parallel, tabulated (pass rate, failures with the seeds that replay them, diagnosis
     /// latencies, cycle times); or `campaign merge DIR...` to join shards.
@@ -204,6 +209,7 @@ fn main() -> ExitCode {
             seed,
         }),
         Command::Campaign(args) => cli::campaign::run(&args),
+        Command::Explore(args) => cli::explore::run(&args),
         Command::Bench {
             scenario,
             plant,

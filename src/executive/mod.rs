@@ -34,6 +34,7 @@ mod timeline;
 use std::time::{Duration, Instant};
 
 pub use events::{Event, EventKind};
+pub use fingerprint::PROBABILITY_RESOLUTION;
 pub use observations::NamedValue;
 pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeline, Timelines};
 

@@ -195,6 +195,7 @@ pub(super) enum ExpectFile {
         #[serde(default)]
         by: Option<f64>,
     },
+    AnyOf(Vec<ExpectFile>),
     NeverReported {
         event: EventName,
         #[serde(default)]

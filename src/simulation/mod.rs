@@ -175,11 +175,13 @@ mod script;
 use std::fmt;
 use std::time::Duration;
 
+pub(crate) use expect::{Checker, Names};
 pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
 pub use format::EventName;
 pub(crate) use load::resolve_path;
 pub use load::{DEFAULT_KAPPA, MAX_CYCLES, load, load_source};
 pub use model_plant::{FaultDrawn, ForcedFault, ModelPlant, ModelPlantConfig};
+pub(crate) use run::build as build_executive;
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
 pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
 
