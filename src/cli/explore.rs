@@ -15,7 +15,7 @@ use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use kairos::exploration::{
-    self, Budget, Counterexample, ExploreOptions, Exploration, Finding, replay_scenario,
+    self, Budget, Counterexample, Exploration, ExploreOptions, Finding, replay_scenario,
     replay_text,
 };
 use kairos::report::log::MissionLog;
@@ -88,7 +88,12 @@ pub fn run(args: &ExploreArgs) -> Result<(), Failure> {
         let replay = (!args.no_replay)
             .then(|| write_replay(&args.scenario, &scenario, counterexample, k + 1))
             .transpose()?;
-        emit(&describe(&scenario, counterexample, k + 1, replay.as_deref()))?;
+        emit(&describe(
+            &scenario,
+            counterexample,
+            k + 1,
+            replay.as_deref(),
+        ))?;
         if !args.quiet {
             emit(&mission_log(&scenario, counterexample))?;
         }
@@ -207,9 +212,8 @@ fn write_replay(
         |s| s.to_string_lossy().to_string(),
     );
     let replay = path.with_file_name(format!("{stem}.counterexample-{k}.ron"));
-    std::fs::write(&replay, text).map_err(|e| {
-        Failure::failed(format!("error: cannot write {}: {e}", replay.display()))
-    })?;
+    std::fs::write(&replay, text)
+        .map_err(|e| Failure::failed(format!("error: cannot write {}: {e}", replay.display())))?;
     Ok(replay)
 }
 

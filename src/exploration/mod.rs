@@ -284,10 +284,9 @@ pub fn explore(
 /// kept.
 fn keep_shortest(found: &mut Vec<Counterexample>, candidate: Counterexample) {
     let same = |c: &Counterexample| match (&c.finding, &candidate.finding) {
-        (
-            Finding::Violated { expectation: a, .. },
-            Finding::Violated { expectation: b, .. },
-        ) => a == b,
+        (Finding::Violated { expectation: a, .. }, Finding::Violated { expectation: b, .. }) => {
+            a == b
+        }
         (Finding::Error(_), Finding::Error(_)) => true,
         _ => false,
     };

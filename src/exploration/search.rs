@@ -215,7 +215,7 @@ impl<'s, 'p> Worker<'s, 'p> {
     }
 
     /// Runs `node`'s next cycle with the `forced` optional rules, checks the expectations and
-    /// whether the path ends, merges, or goes on. `counted`: a state of the fault-free path,
+    /// whether the path ends, merges, or goes on. `spine`: a cycle of the fault-free path,
     /// which only worker 0 counts (every worker walks it).
     fn advance(&mut self, node: &mut Node<'s>, forced: &[usize], spine: bool) -> Next {
         let cycle = node.cycle;
@@ -223,15 +223,17 @@ impl<'s, 'p> Worker<'s, 'p> {
         let step = match run_cycle(node, forced, time) {
             Ok(step) => step,
             Err(message) => {
-                self.paths.errors += 1;
+                self.paths.errors += u64::from(self.counts(spine));
                 let finding = Finding::Error(message);
                 self.record(finding, cycle, &node.choices);
                 return Next::Stop;
             }
         };
-        let took = forced
-            .iter()
-            .filter(|&&rule| node.plant.first_fired(rule).is_some_and(|(c, _)| c == cycle));
+        let took = forced.iter().filter(|&&rule| {
+            node.plant
+                .first_fired(rule)
+                .is_some_and(|(c, _)| c == cycle)
+        });
         if took.clone().count() < forced.len() {
             // A rule whose condition did not hold: the path is another one's (firing fewer).
             return Next::Stop;
@@ -251,7 +253,13 @@ impl<'s, 'p> Worker<'s, 'p> {
             self.paths.merged += 1;
             return Next::Stop;
         }
-        self.path_end(node, &step, time)
+        self.path_end(node, &step, time, spine)
+    }
+
+    /// Whether this worker counts what happens on the path: every worker walks the fault-free
+    /// path, worker 0 counts it.
+    fn counts(&self, spine: bool) -> bool {
+        !spine || self.worker == 0
     }
 
     /// True when `node`'s state is new, or was reached before only with more faults spent.
@@ -262,11 +270,15 @@ impl<'s, 'p> Worker<'s, 'p> {
         node.checker.fingerprint(&mut hasher);
         let key = hasher.finish();
         let spent = node.choices.len();
-        if self.visited.get(&key).is_some_and(|&before| before <= spent) {
+        if self
+            .visited
+            .get(&key)
+            .is_some_and(|&before| before <= spent)
+        {
             return false;
         }
         self.visited.insert(key, spent);
-        if !spine || self.worker == 0 {
+        if self.counts(spine) {
             self.states += 1;
             self.unreported += 1;
             if self.unreported >= PROGRESS_BATCH {
@@ -278,16 +290,17 @@ impl<'s, 'p> Worker<'s, 'p> {
     }
 
     /// Whether the path ends after the cycle at `time`, judging its eventual expectations if so.
-    fn path_end(&mut self, node: &Node<'s>, step: &Step, time: f64) -> Next {
+    fn path_end(&mut self, node: &Node<'s>, step: &Step, time: f64, spine: bool) -> Next {
+        let counted = u64::from(self.counts(spine));
         let end = self.scenario.end;
         let last = self.time(node.cycle) > end + TIME_EPSILON || time >= end - TIME_EPSILON;
         if last {
-            self.paths.ended += 1;
-            self.finish(node);
+            self.paths.ended += counted;
+            self.finish(node, counted);
             return Next::Stop;
         }
         if self.limits.depth.is_some_and(|depth| node.cycle >= depth) {
-            self.paths.truncated += 1;
+            self.paths.truncated += counted;
             return Next::Stop;
         }
         let settled = step.is_settled()
@@ -295,8 +308,8 @@ impl<'s, 'p> Worker<'s, 'p> {
             && !node.checker.awaits_something()
             && !self.may_branch_later(node);
         if settled {
-            self.paths.settled += 1;
-            self.finish(node);
+            self.paths.settled += counted;
+            self.finish(node, counted);
             return Next::Stop;
         }
         Next::Continue
@@ -309,21 +322,25 @@ impl<'s, 'p> Worker<'s, 'p> {
         }
         let now = self.time(node.cycle);
         let script = &self.scenario.script;
-        script.rules().iter().enumerate().any(|(i, rule)| match rule.trigger {
-            crate::simulation::Trigger::Optional { to, .. } => {
-                node.plant.times_fired(i) == 0 && to >= now - TIME_EPSILON
-            }
-            _ => false,
-        })
+        script
+            .rules()
+            .iter()
+            .enumerate()
+            .any(|(i, rule)| match rule.trigger {
+                crate::simulation::Trigger::Optional { to, .. } => {
+                    node.plant.times_fired(i) == 0 && to >= now - TIME_EPSILON
+                }
+                _ => false,
+            })
     }
 
-    /// Judges the path's expectations at its end.
-    fn finish(&mut self, node: &Node<'s>) {
+    /// Judges the path's expectations at its end (`counted`: 1 if this worker counts the path).
+    fn finish(&mut self, node: &Node<'s>, counted: u64) {
         let last = node.cycle.saturating_sub(1);
         let verdicts: Vec<Verdict> = node.checker.finish(&node.plant);
         for (expectation, verdict) in verdicts.into_iter().enumerate() {
             if let crate::simulation::Outcome::Failed { reason } = verdict.outcome {
-                self.failing_paths[expectation] += 1;
+                self.failing_paths[expectation] += counted;
                 let finding = self.violated(expectation, reason);
                 self.record(finding, last, &node.choices);
             }

@@ -252,10 +252,13 @@ impl<'a> Checker<'a> {
     /// The expectations that have failed already (a never-expectation violated, a sequence
     /// broken, a time passed): a path that shows one is a counterexample at once.
     pub(crate) fn failed(&self) -> impl Iterator<Item = (usize, &str)> {
-        self.progress.iter().enumerate().filter_map(|(i, p)| match p {
-            Progress::Failed(reason) => Some((i, reason.as_str())),
-            _ => None,
-        })
+        self.progress
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| match p {
+                Progress::Failed(reason) => Some((i, reason.as_str())),
+                _ => None,
+            })
     }
 
     /// Feeds what decides the verdicts still to come to `state` (exploration's deduplication):

@@ -69,7 +69,12 @@ fn field<'a>(at: &[Step<'a>], name: &'a str) -> Vec<Step<'a>> {
 }
 
 impl ExpectLoader<'_> {
-    fn expectation(&self, ctx: &mut FileCtx, at: &[Step<'_>], file: &ExpectFile) -> Option<Expectation> {
+    fn expectation(
+        &self,
+        ctx: &mut FileCtx,
+        at: &[Step<'_>],
+        file: &ExpectFile,
+    ) -> Option<Expectation> {
         use ExpectFile as F;
         use ExpectationKind as K;
         let (kind, label) = match file {
@@ -330,7 +335,12 @@ impl ExpectLoader<'_> {
     }
 
     /// `component = fault-mode`.
-    fn fault(&self, ctx: &mut FileCtx, at: &[Step<'_>], text: &str) -> Option<(ComponentId, ValueId)> {
+    fn fault(
+        &self,
+        ctx: &mut FileCtx,
+        at: &[Step<'_>],
+        text: &str,
+    ) -> Option<(ComponentId, ValueId)> {
         let formula = self.formula(ctx, at, "fault", text, Vars::Modes)?;
         let assignment = formula
             .as_assignments()

@@ -263,11 +263,18 @@ impl RuleLoader<'_> {
         let field = |name: &'static str| with(path.to_vec(), Step::Field(name));
         let before = ctx.errors.len();
         if !(from.is_finite() && from >= 0.0) {
-            ctx.error(&field("from"), format!("time {from} is not a time"), "seconds, 0 or more");
+            ctx.error(
+                &field("from"),
+                format!("time {from} is not a time"),
+                "seconds, 0 or more",
+            );
         } else if from > self.end && self.own {
             ctx.error(
                 &field("from"),
-                format!("the window opens at {from} s, after the run ends at {} s", self.end),
+                format!(
+                    "the window opens at {from} s, after the run ends at {} s",
+                    self.end
+                ),
                 "a time within the run",
             );
         }
@@ -419,7 +426,11 @@ fn delay(
 }
 
 /// The scenario's `choose`: each name an optional rule, each time within its window.
-pub(super) fn pinned(ctx: &mut FileCtx, choose: &Entries<f64>, script: &Script) -> Vec<(usize, f64)> {
+pub(super) fn pinned(
+    ctx: &mut FileCtx,
+    choose: &Entries<f64>,
+    script: &Script,
+) -> Vec<(usize, f64)> {
     let mut pinned = Vec::new();
     for &(ref name, at) in &choose.0 {
         let key = [Step::Field("choose"), Step::Key(name)];
@@ -429,14 +440,14 @@ pub(super) fn pinned(ctx: &mut FileCtx, choose: &Entries<f64>, script: &Script) 
             .filter(|r| r.trigger.is_optional())
             .map(|r| r.name.as_str())
             .collect();
-        let Some(i) = script.rule_named(name).filter(|&i| script.rules[i].trigger.is_optional())
+        let Some(i) = script
+            .rule_named(name)
+            .filter(|&i| script.rules[i].trigger.is_optional())
         else {
-            let mut diagnostic = Diagnostic::new(
-                format!("no optional rule `{name}`"),
-                ctx.span(&key),
-            )
-            .expected("the name of a rule with an `Optional(...)` trigger")
-            .note(format!("optional rules: {}", optional.join(", ")));
+            let mut diagnostic =
+                Diagnostic::new(format!("no optional rule `{name}`"), ctx.span(&key))
+                    .expected("the name of a rule with an `Optional(...)` trigger")
+                    .note(format!("optional rules: {}", optional.join(", ")));
             if let Some(close) = did_you_mean(name, optional.iter().copied()) {
                 diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
             }
