@@ -92,7 +92,7 @@ impl Trigger {
             Trigger::Optional { from, to, every } => {
                 time >= from - TIME_EPSILON
                     && time <= to + TIME_EPSILON
-                    && cycle.is_multiple_of(every.max(1))
+                    && cycle % every.max(1) == 0
             }
             _ => false,
         }
@@ -476,10 +476,9 @@ impl<'s> ScriptedPlant<'s> {
                 Trigger::Command(_) | Trigger::Estimate(_) => continue,
                 Trigger::Optional { .. } => {
                     let pinned = self.pin(i).is_some_and(|at| self.time >= at - TIME_EPSILON);
-                    if (pinned || self.forced.contains(&i)) && self.fired[i] == 0 {
-                        if self.condition_holds(rule) {
-                            self.fire(i);
-                        }
+                    let chosen = pinned || self.forced.contains(&i);
+                    if chosen && self.fired[i] == 0 && self.condition_holds(rule) {
+                        self.fire(i);
                     }
                     continue;
                 }
