@@ -38,6 +38,11 @@ enum Command {
         /// The files to check (plant models, OCSP files, missions, RMPL programs).
         #[arg(required = true)]
         files: Vec<PathBuf>,
+        /// Check each program against each plant model given (thesis §8.1): goals the program
+        /// can assert in the same cycle that the model makes inconsistent, and modes no
+        /// transition reaches; exit 1 when there is a finding.
+        #[arg(long)]
+        deep: bool,
     },
     /// Schedule a mission's goal network (the format is documented in
     /// `src/goalnet/mission.rs`) from the plant's most likely initial modes and print every time
@@ -166,7 +171,8 @@ fn usage_error(message: &str) -> ExitCode {
 fn main() -> ExitCode {
     let outcome = match Cli::parse().command {
         Command::Solve { file, k, json } => cli::solve::run(&file, k, json),
-        Command::Check { files } => cli::check::run(&files),
+        Command::Check { files, deep: false } => cli::check::run(&files),
+        Command::Check { files, deep: true } => cli::check::run_deep(&files),
         Command::Schedule { mission } => cli::schedule::run(&mission),
         Command::Compile {
             program,

@@ -36,6 +36,7 @@
 //! so a search gives the same answer for any number of workers and on any run (a time budget
 //! aside, which cuts where the clock says). A state budget is split evenly among the workers.
 
+pub mod deep;
 mod replay;
 mod search;
 
