@@ -167,3 +167,17 @@ fn a_cloned_executive_runs_as_the_original() {
     }
     assert!(original.is_complete(), "the burn was run through");
 }
+
+/// Item 4 in small (the full search is scenarios/mars_edl/explore_faults.ron, BENCHMARKS.md):
+/// the nominal EDL at 1 s with the engine's and the radar's power loss optional in the descent,
+/// up to both on one path. No path is silent: each lands or reports the failure.
+#[test]
+fn no_edl_path_fails_silently() {
+    let scenario = scenario("tests/scenarios/explore_edl_small.ron");
+    let explored = explore(&scenario, &options(2, 2), &|_| {}).expect("explores");
+    assert_eq!(explored.cut_at, None);
+    assert_eq!(explored.failing_paths[0], 0, "a silent path");
+    assert!(explored.paths.complete() > 1);
+    // The engine's power loss leaves no way down: landing fails, and is reported.
+    assert!(explored.failing_paths[1] > 0);
+}
