@@ -3,6 +3,9 @@
 //! checked on each, the shortest counterexample kept and replayable; the executive's `Clone`
 //! and fingerprint that the search rests on.
 
+#[path = "support/cli.rs"]
+mod cli;
+
 use std::collections::hash_map::DefaultHasher;
 use std::hash::Hasher;
 use std::path::Path;
@@ -180,4 +183,24 @@ fn no_edl_path_fails_silently() {
     assert!(explored.paths.complete() > 1);
     // The engine's power loss leaves no way down: landing fails, and is reported.
     assert!(explored.failing_paths[1] > 0);
+}
+
+/// The command: exit 1 with the counterexample's path and its mission log; exit 0 when no
+/// fault is allowed (the nominal path holds); exit 2 on a budget that is no budget.
+#[test]
+fn kairos_explore_exits_by_what_it_found() {
+    let file = "tests/scenarios/explore_flameout.ron";
+    let (code, stdout, stderr) = cli::kairos(&["explore", file, "--no-replay", "--jobs", "1"]);
+    assert_eq!(code, 1, "{stdout}\n{stderr}");
+    assert!(stdout.contains("covered: every path"), "{stdout}");
+    assert!(
+        stdout.contains("path: `flame-out` at 41 s (cycle 410)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("DIAGNOSIS    engine = failed"), "{stdout}");
+    let (code, stdout, _) = cli::kairos(&["explore", file, "--faults", "0", "--quiet"]);
+    assert_eq!(code, 0, "{stdout}");
+    let (code, _, stderr) = cli::kairos(&["explore", file, "--budget", "soon"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("a number of states"), "{stderr}");
 }
