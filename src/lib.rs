@@ -12,6 +12,7 @@ pub mod campaign;
 pub mod diagnostic;
 pub mod estimation;
 pub mod executive;
+pub mod exploration;
 pub mod goalnet;
 pub mod logic;
 pub mod opsat;

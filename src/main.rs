@@ -39,6 +39,11 @@ enum Command {
         /// The files to check (plant models, OCSP files, missions, RMPL programs).
         #[arg(required = true)]
         files: Vec<PathBuf>,
+        /// Check each program against each plant model given (thesis §8.1): goals the program
+        /// can assert in the same cycle that the model makes inconsistent, and modes no
+        /// transition reaches; exit 1 when there is a finding.
+        #[arg(long)]
+        deep: bool,
     },
     /// Schedule a mission's goal network (the format is documented in
     /// `src/goalnet/mission.rs`) from the plant's most likely initial modes and print every time
@@ -146,6 +151,11 @@ enum Command {
         #[arg(long, value_name = "SECONDS")]
         to: Option<f64>,
     },
+    /// Explore every path a scenario's `Optional` rules allow (each may fire at any cycle of its
+    /// window, or not, at most `--faults` per path), checking every expectation on each; print
+    /// the shortest counterexample of each violated one, its mission log and a replay file.
+    /// Exit 0 when none is violated, 1 when one is, 2 on bad input.
+    Explore(cli::explore::ExploreArgs),
     /// A Monte Carlo campaign: many seeded runs of a scenario with a model-driven plant, in
     /// parallel, tabulated (pass rate, failures with the seeds that replay them, diagnosis
     /// latencies, cycle times); or `campaign merge DIR...` to join shards.
@@ -182,7 +192,8 @@ fn usage_error(message: &str) -> ExitCode {
 fn main() -> ExitCode {
     let outcome = match Cli::parse().command {
         Command::Solve { file, k, json } => cli::solve::run(&file, k, json),
-        Command::Check { files } => cli::check::run(&files),
+        Command::Check { files, deep: false } => cli::check::run(&files),
+        Command::Check { files, deep: true } => cli::check::run_deep(&files),
         Command::Schedule { mission, at, dot } => cli::schedule::run(&mission, at, dot),
         Command::Compile {
             program,
@@ -235,6 +246,7 @@ fn main() -> ExitCode {
             },
         }),
         Command::Campaign(args) => cli::campaign::run(&args),
+        Command::Explore(args) => cli::explore::run(&args),
         Command::Bench {
             scenario,
             plant,

@@ -150,3 +150,17 @@ bad_scenario!(
     "unknown_mission_names.ron:10:26",
     "did you mean `stay-warm`?"
 );
+
+// Issue 17: `Optional` rules, `choose` and `AnyOf` (the formats of `kairos explore`).
+bad_scenario!(
+    optional_window,
+    "optional_window.ron:9:57",
+    "a time at or after `from`",
+    "1 or more cycles"
+);
+bad_scenario!(
+    choose_unknown,
+    "no optional rule `PDE powers up`",
+    "outside the rule's window",
+    "cannot be one of `AnyOf`"
+);

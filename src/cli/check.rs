@@ -5,6 +5,7 @@
 
 use std::path::Path;
 
+use kairos::exploration::deep;
 use kairos::plant::Plant;
 use kairos::rmpl::{self, LinkOptions};
 
@@ -142,6 +143,70 @@ fn check_program(path: &Path, plant: Option<(&Path, &Plant)>) -> Result<String, 
         count(thca.table().len(), "variable"),
         count(thca.table().clocks().len(), "clock"),
     ))
+}
+
+/// At most this many markings are enumerated per program (the output says when it stopped).
+const DEEP_MARKINGS: usize = 200_000;
+
+/// `kairos check --deep PROGRAM... MODEL...`: each program linked against each model and
+/// checked statically (`kairos::exploration::deep`); every finding located in its file.
+pub fn run_deep(paths: &[impl AsRef<Path>]) -> Result<(), Failure> {
+    let (models, programs): (Vec<&Path>, Vec<&Path>) = paths
+        .iter()
+        .map(AsRef::as_ref)
+        .partition(|p| extension(p) == Some("ron"));
+    if models.is_empty() || programs.is_empty() {
+        return Err(Failure::bad_input(
+            "error: --deep checks programs against plant models: give at least one .rmpl program and one .ron model",
+        ));
+    }
+    let mut findings = Vec::new();
+    for model in models {
+        let source = read_source(model)?;
+        let plant = Plant::load(&source).map_err(Failure::bad_input)?;
+        for &program in &programs {
+            let text = read_source(program)?;
+            let options = LinkOptions {
+                plant: Some(plant.table()),
+                ..LinkOptions::default()
+            };
+            let thca = rmpl::load(&text, &options).map_err(Failure::bad_input)?;
+            let found = deep::deep_check(&thca, &plant, DEEP_MARKINGS)
+                .map_err(|e| Failure::bad_input(format!("error: {}: {e}", model.display())))?;
+            println!(
+                "{}: {}: against {}: {} reachable, {}, {}{}",
+                if found.conflicts.is_empty() && found.unreachable.is_empty() {
+                    "ok"
+                } else {
+                    "findings"
+                },
+                program.display(),
+                model.display(),
+                count(found.markings, "marking"),
+                count(found.conflicts.len(), "goal conflict"),
+                count(found.unreachable.len(), "unreachable mode"),
+                match (found.complete, found.undecided) {
+                    (false, _) => format!(
+                        "; stopped at {DEEP_MARKINGS} markings: conflicts beyond them are not looked for"
+                    ),
+                    (true, 0) => String::new(),
+                    (true, n) => format!(
+                        "; {} with clock or confidence atoms not decided",
+                        count(n, "goal pair")
+                    ),
+                }
+            );
+            let described = deep::describe(&found, &thca, &plant, &source);
+            if !described.is_empty() {
+                findings.push(described);
+            }
+        }
+    }
+    if findings.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure::failed(findings.join("\n")))
+    }
 }
 
 pub(super) fn count(n: usize, what: &str) -> String {

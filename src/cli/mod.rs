@@ -5,6 +5,7 @@ pub mod campaign;
 pub mod check;
 pub mod compile;
 pub mod estimate;
+pub mod explore;
 pub mod graph;
 pub mod output;
 pub mod plan;

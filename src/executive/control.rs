@@ -69,6 +69,14 @@ impl ControlProgram {
         }
     }
 
+    /// Feeds the program's state to `state` (`Executive::fingerprint`).
+    pub(super) fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
+        match &self.0 {
+            Program::Rmpl(sequencer) => sequencer.fingerprint(state),
+            Program::Mission(control) => control.fingerprint(state),
+        }
+    }
+
     /// The marked program locations (none for a mission).
     pub(super) fn marking(&self) -> Vec<LocationId> {
         match &self.0 {

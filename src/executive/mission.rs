@@ -105,6 +105,18 @@ impl MissionControl {
         control
     }
 
+    /// Feeds what decides the mission's future to `state`: the execution's state, the size of
+    /// the network submissions have grown, and whether the first cycle and completion have
+    /// been reported.
+    pub(super) fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
+        use std::hash::Hash;
+        self.execution.fingerprint(state);
+        self.network.points().len().hash(state);
+        self.network.goals().len().hash(state);
+        (self.cycles == 0).hash(state);
+        self.completed.hash(state);
+    }
+
     /// The mission as loaded.
     pub(super) fn mission(&self) -> &Mission {
         &self.mission

@@ -27,6 +27,7 @@
 pub mod adapters;
 mod control;
 mod events;
+mod fingerprint;
 mod load;
 mod mission;
 mod named;
@@ -39,6 +40,7 @@ use std::time::{Duration, Instant};
 
 pub use control::ControlProgram;
 pub use events::{Event, EventKind};
+pub use fingerprint::PROBABILITY_RESOLUTION;
 pub use load::LoadError;
 pub use mission::ScheduledMission;
 pub use named::NamedEstimate;
@@ -313,6 +315,7 @@ fn check_linked(plant: &Plant, theirs: &VarTable) -> Result<(), BuildError> {
 
 /// Goal interpretation's last answer, kept while the goal, ŝ and the kept configuration are
 /// unchanged.
+#[derive(Clone)]
 struct Interpretation {
     goal: Formula,
     modes: Vec<ValueId>,
@@ -321,7 +324,7 @@ struct Interpretation {
 }
 
 /// What has been reported already, so repeated conditions are reported once.
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Reported {
     goal_locations: Vec<LocationId>,
     /// The locations whose goal the sequencer found achieved in the previous cycle: a
@@ -335,7 +338,9 @@ struct Reported {
     missing: Vec<VarId>,
 }
 
-/// A timed model-based executive: a linked program, a plant model, and the state of both.
+/// A timed model-based executive: a linked program, a plant model, and the state of both. A
+/// clone is an independent executive in the same state (explicit-state exploration branches
+/// with it); [`Executive::fingerprint`] hashes the part of the state that decides the future.
 ///
 /// # Examples
 ///
@@ -382,6 +387,7 @@ struct Reported {
 ///
 /// `examples/embed.rs` is the same loop with the device written out; [`adapters`] has traits
 /// and a runner for a loop driven by a clock.
+#[derive(Clone)]
 pub struct Executive {
     plant: Plant,
     theory: Theory,

@@ -50,6 +50,7 @@ impl<A: Into<String>, B: Into<String>> From<(A, B)> for NamedValue {
 }
 
 /// The observation of one cycle, typed, and the events its checking raised.
+#[derive(Clone)]
 pub(crate) struct CheckedObservation {
     pub(crate) values: Vec<(VarId, ValueId)>,
     pub(crate) rejected: Vec<EventKind>,
@@ -59,7 +60,7 @@ pub(crate) struct CheckedObservation {
 /// (every quiet cycle) gets the same answer without resolving names again. Certified:
 /// [`check_observation`] and [`Observation::new`] are pure functions of the plant — the
 /// executive's, fixed for its life — and the report, which is compared in full.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub(crate) struct LastObservation {
     last: Option<(Vec<NamedValue>, CheckedObservation, Observation)>,
 }

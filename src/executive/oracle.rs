@@ -21,7 +21,7 @@ pub(crate) struct VersionedEstimate {
 }
 
 /// Answers kept across cycles.
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub(crate) struct AnswerCache {
     version: u64,
     entailed: HashMap<Formula, bool>,

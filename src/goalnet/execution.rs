@@ -110,6 +110,19 @@ pub struct Execution {
 }
 
 impl Execution {
+    /// Feeds what decides the execution's future to `state` (exploration's deduplication): the
+    /// firing times, the active XGoal per timeline, the failed goals and the retired points. The
+    /// windows and predecessors follow from the network and the firing times.
+    pub fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
+        use std::hash::Hash;
+        for time in &self.fired {
+            time.map(f64::to_bits).hash(state);
+        }
+        self.active.hash(state);
+        self.failed.hash(state);
+        self.retired.hash(state);
+    }
+
     /// Starts executing `executable` with the mission's knowledge threshold; the origin has
     /// fired at time 0.
     pub fn new(executable: ExecutableNetwork, threshold: f64) -> Self {

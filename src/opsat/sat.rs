@@ -60,8 +60,65 @@ pub(crate) trait SatSolver {
     fn solve(&mut self, assumptions: &[SatLit]) -> Outcome;
 }
 
+/// A solver that keeps every variable and clause it was given, so that it can be cloned by
+/// building a fresh solver of the same kind from them: the copy has the same clauses, hence the
+/// same satisfiable assumption sets (it lacks only the learned clauses, which are consequences).
+/// Explicit-state exploration (`crate::exploration`) clones the executive, whose theory holds
+/// one.
+pub(crate) struct RecordedSolver {
+    backend: SatBackend,
+    solver: Box<dyn SatSolver>,
+    vars: u32,
+    /// Every clause, in the order given.
+    clauses: Vec<Box<[SatLit]>>,
+}
+
+impl RecordedSolver {
+    /// A fresh solver of the chosen kind.
+    pub(crate) fn new(backend: SatBackend) -> Self {
+        RecordedSolver {
+            backend,
+            solver: new_solver(backend),
+            vars: 0,
+            clauses: Vec::new(),
+        }
+    }
+}
+
+impl Clone for RecordedSolver {
+    fn clone(&self) -> Self {
+        let mut solver = new_solver(self.backend);
+        (0..self.vars).for_each(|_| {
+            solver.new_var();
+        });
+        self.clauses.iter().for_each(|c| solver.add_clause(c));
+        RecordedSolver {
+            backend: self.backend,
+            solver,
+            vars: self.vars,
+            clauses: self.clauses.clone(),
+        }
+    }
+}
+
+impl SatSolver for RecordedSolver {
+    fn new_var(&mut self) -> SatLit {
+        self.vars += 1;
+        self.solver.new_var()
+    }
+
+    fn add_clause(&mut self, clause: &[SatLit]) {
+        self.clauses.push(clause.into());
+        self.solver.add_clause(clause);
+    }
+
+    fn solve(&mut self, assumptions: &[SatLit]) -> Outcome {
+        self.solver.solve(assumptions)
+    }
+}
+
 /// A fresh solver of the chosen kind.
-pub(crate) fn new_solver(backend: SatBackend) -> Box<dyn SatSolver> {
+fn new_solver(backend: SatBackend) -> Box<dyn SatSolver> {
     match backend {
         SatBackend::Batsat => Box::new(Batsat::default()),
         SatBackend::Varisat => Box::new(Varisat::default()),

@@ -17,7 +17,7 @@ use std::collections::HashMap;
 
 use petgraph::unionfind::UnionFind;
 
-use super::sat::{Outcome, SatBackend, SatLit, SatSolver, new_solver};
+use super::sat::{Outcome, RecordedSolver, SatBackend, SatLit, SatSolver};
 use crate::logic::{Atom, Formula, ValueId, VarId, VarTable};
 
 /// Above this many values, "at most one" is the product encoding rather than one clause per
@@ -140,10 +140,14 @@ pub struct TheoryStats {
     pub sat_calls: u64,
 }
 
-/// Constraints over finite-domain variables, encoded once, queried many times.
+/// Constraints over finite-domain variables, encoded once, queried many times. A clone is a
+/// theory with the same clauses and definitions on a fresh solver ([`RecordedSolver`]): every
+/// consistency and entailment question gets the original's answer (a conflict returned may be
+/// another inconsistent subset, the solver's learned clauses being gone).
+#[derive(Clone)]
 pub struct Theory {
     table: VarTable,
-    solver: Box<dyn SatSolver>,
+    solver: RecordedSolver,
     options: TheoryOptions,
     /// `value_lits[x][v]` is true exactly when `x = v`.
     value_lits: Vec<Vec<SatLit>>,
@@ -169,7 +173,7 @@ impl Theory {
         constraints: &[Formula],
         options: TheoryOptions,
     ) -> Result<Theory, TheoryError> {
-        let mut solver = new_solver(options.backend);
+        let mut solver = RecordedSolver::new(options.backend);
         let constant_true = solver.new_var();
         solver.add_clause(&[constant_true]);
         let mut value_lits = Vec::with_capacity(table.len());
@@ -178,7 +182,7 @@ impl Theory {
                 .map(|_| solver.new_var())
                 .collect();
             solver.add_clause(&lits);
-            at_most_one(solver.as_mut(), &lits);
+            at_most_one(&mut solver, &lits);
             value_lits.push(lits);
         }
         let mut links = UnionFind::new(table.len());

@@ -14,6 +14,7 @@
 //! one descending pass propagates "still busy" up it.
 
 use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
 
 use super::oracle::{Entailment, entailed_in_every_case};
 use super::thca::{Condition, FormulaId, Location, LocationId, LocationKind, Sense, Thca};
@@ -164,6 +165,13 @@ pub struct Sequencer {
     completed: bool,
 }
 
+/// Hashes optional times by their bits.
+fn hash_times<H: Hasher>(times: &[Option<f64>], state: &mut H) {
+    for time in times {
+        time.map(f64::to_bits).hash(state);
+    }
+}
+
 /// What the first half of a cycle leaves for the second.
 #[derive(Debug, Clone)]
 struct OpenCycle {
@@ -223,6 +231,24 @@ impl Sequencer {
     /// When a clock was initialised, if it has been.
     pub fn clock_start(&self, clock: ClockId) -> Option<f64> {
         self.clock_started.get(clock.index()).copied().flatten()
+    }
+
+    /// Feeds the execution state — marking m(i), clock references t^init(i), the open half
+    /// cycle, completion — to `state`, for explicit-state exploration's deduplication. Times
+    /// are hashed exactly: they are products of the cycle period, equal on equal paths.
+    pub fn fingerprint<H: Hasher>(&self, state: &mut H) {
+        self.marked.hash(state);
+        hash_times(&self.clock_started, state);
+        self.completed.hash(state);
+        self.last_time.map(f64::to_bits).hash(state);
+        if let Some(open) = &self.open {
+            hash_times(&open.clocks, state);
+            open.violated.hash(state);
+            for (clock, time) in &open.started {
+                clock.hash(state);
+                time.to_bits().hash(state);
+            }
+        }
     }
 
     /// Steps 1–4 of Figure 5-3 at time t(i) with the current estimate ŝ(i): returns the

@@ -138,6 +138,12 @@ pub enum ExpectationKind {
         /// When.
         window: Window,
     },
+    /// One of these (eventual expectations that cannot fail before the end) is shown: a
+    /// property with alternatives, such as "lands, or reports the failure".
+    AnyOf {
+        /// The alternatives.
+        members: Vec<ExpectationKind>,
+    },
     /// No event of this kind is reported in the window.
     NeverReported {
         /// The kind.
@@ -238,6 +244,7 @@ enum Progress {
 }
 
 /// What the checker needs to know about the model.
+#[derive(Clone, Copy)]
 pub(crate) struct Names<'a> {
     pub(crate) plant: &'a Plant,
     pub(crate) world: &'a VarTable,
@@ -245,6 +252,7 @@ pub(crate) struct Names<'a> {
 }
 
 /// Checks a scenario's expectations cycle by cycle.
+#[derive(Clone)]
 pub(crate) struct Checker<'a> {
     expectations: &'a [Expectation],
     names: Names<'a>,
@@ -264,6 +272,7 @@ pub(crate) struct Checker<'a> {
 }
 
 /// An XGoal active on a state variable, as its dispatch reported it.
+#[derive(Clone)]
 struct ActiveXGoal {
     sv: ComponentId,
     end: String,
@@ -291,6 +300,37 @@ impl<'a> Checker<'a> {
             .iter()
             .zip(&self.progress)
             .any(|(e, p)| e.kind.is_eventual() && *p == Progress::Open)
+    }
+
+    /// The expectations that have failed already (a never-expectation violated, a sequence
+    /// broken, a time passed): a path that shows one is a counterexample at once.
+    pub(crate) fn failed(&self) -> impl Iterator<Item = (usize, &str)> {
+        self.progress
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| match p {
+                Progress::Failed(reason) => Some((i, reason.as_str())),
+                _ => None,
+            })
+    }
+
+    /// Feeds what decides the verdicts still to come to `state` (exploration's deduplication):
+    /// each expectation's progress (open, met or failed, not when or why), the commands of
+    /// each sequence matched so far, the goals asserted (an achievement is matched by its
+    /// text), whether a diagnosis came late, and the mission's active XGoals.
+    pub(crate) fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
+        use std::hash::Hash;
+        for progress in &self.progress {
+            std::mem::discriminant(progress).hash(state);
+        }
+        self.matched.hash(state);
+        self.goals.hash(state);
+        for late in &self.late {
+            late.is_some().hash(state);
+        }
+        for active in &self.active {
+            (active.sv, &active.end, &active.goals).hash(state);
+        }
     }
 
     /// Checks one cycle.
@@ -349,7 +389,7 @@ impl<'a> Checker<'a> {
     }
 
     /// The mission goal `goal` (any, when `None`) was reported failed in this cycle.
-    fn failed(goal: Option<&str>, step: &Step) -> bool {
+    fn mission_goal_failed(goal: Option<&str>, step: &Step) -> bool {
         step.events.iter().any(|e| {
             matches!(&e.kind, EventKind::MissionGoalFailed { goal: g, .. }
                 if goal.is_none_or(|goal| goal == g))
@@ -375,10 +415,29 @@ impl<'a> Checker<'a> {
     }
 
     fn check(&mut self, i: usize, step: &Step, plant: &ScriptedPlant<'_>) -> Progress {
+        let expectations = self.expectations;
+        self.check_kind(i, &expectations[i].kind, step, plant)
+    }
+
+    /// Checks `kind`, expectation `i` or one of its alternatives.
+    fn check_kind(
+        &mut self,
+        i: usize,
+        kind: &ExpectationKind,
+        step: &Step,
+        plant: &ScriptedPlant<'_>,
+    ) -> Progress {
         use ExpectationKind as K;
         let t = step.time;
-        let expectation = &self.expectations[i];
-        let shown = match &expectation.kind {
+        let shown = match kind {
+            K::AnyOf { members } => {
+                for member in members {
+                    if let Progress::Met(at) = self.check_kind(i, member, step, plant) {
+                        return Progress::Met(at);
+                    }
+                }
+                false
+            }
             K::Estimated { state, window } => window.contains(t) && self.estimated(state, step),
             K::EstimatedAt { state, time } => {
                 if t < time - TIME_EPSILON {
@@ -473,9 +532,11 @@ impl<'a> Checker<'a> {
                 }
                 return Progress::Open;
             }
-            K::Failed { goal, window } => window.contains(t) && Self::failed(Some(goal), step),
+            K::Failed { goal, window } => {
+                window.contains(t) && Self::mission_goal_failed(Some(goal), step)
+            }
             K::NeverFailed { goal, window } => {
-                if window.contains(t) && Self::failed(goal.as_deref(), step) {
+                if window.contains(t) && Self::mission_goal_failed(goal.as_deref(), step) {
                     return Progress::Failed(format!("a goal failed at {}", seconds(t)));
                 }
                 return Progress::Open;

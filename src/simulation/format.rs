@@ -40,6 +40,8 @@ pub(super) struct ScenarioFile {
     pub(super) expect: Vec<ExpectFile>,
     #[serde(default)]
     pub(super) simulator: Option<SimulatorFile>,
+    #[serde(default)]
+    pub(super) choose: Entries<f64>,
 }
 
 /// `Model(seed: 7, faults: ["valve1 = stuck-closed @ 17103 s"], noise: 0.01)`: the plant
@@ -99,6 +101,12 @@ pub(super) enum TriggerFile {
     Estimate(String),
     Time(f64),
     Cycle(i64),
+    Optional {
+        from: f64,
+        to: f64,
+        #[serde(default)]
+        every: Option<i64>,
+    },
 }
 
 /// How long after firing a rule's effect shows.
@@ -190,6 +198,7 @@ pub(super) enum ExpectFile {
         #[serde(default)]
         by: Option<f64>,
     },
+    AnyOf(Vec<ExpectFile>),
     NeverReported {
         event: EventName,
         #[serde(default)]

@@ -115,8 +115,9 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
         .map(|(ctx, script)| (ctx, script.script()))
         .collect();
     parts.push((&mut ctx, file.script()));
-    let script = super::load_script::script(&plant, &mut parts, settings.end);
+    let mut script = super::load_script::script(&plant, &mut parts, settings.end);
     drop(parts);
+    script.pinned = super::load_script::pinned(&mut ctx, &file.choose, &script);
     let model = super::load_model::model_config(&mut ctx, &file, &plant, settings.end);
     let expectations = super::load_expect::expectations(
         &mut ctx,
@@ -608,6 +609,7 @@ pub(super) fn empty_script(plant: &Plant) -> Script {
         hidden: Vec::new(),
         initial: Vec::new(),
         rules: Vec::new(),
+        pinned: Vec::new(),
     }
 }
 

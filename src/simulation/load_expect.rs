@@ -34,7 +34,10 @@ pub(super) fn expectations(
     files
         .iter()
         .enumerate()
-        .filter_map(|(i, file)| loader.expectation(ctx, i, file))
+        .filter_map(|(i, file)| {
+            let at = [Step::Field("expect"), Step::Index(i)];
+            loader.expectation(ctx, &at, file)
+        })
         .collect()
 }
 
@@ -65,41 +68,48 @@ struct ExpectLoader<'a> {
     end: f64,
 }
 
-/// The path to a field of expectation `i`.
-fn field(i: usize, name: &str) -> Vec<Step<'_>> {
-    vec![Step::Field("expect"), Step::Index(i), Step::Field(name)]
+/// The path to a field of the expectation at `at`.
+fn field<'a>(at: &[Step<'a>], name: &'a str) -> Vec<Step<'a>> {
+    let mut path = at.to_vec();
+    path.push(Step::Field(name));
+    path
 }
 
 impl ExpectLoader<'_> {
-    fn expectation(&self, ctx: &mut FileCtx, i: usize, file: &ExpectFile) -> Option<Expectation> {
+    fn expectation(
+        &self,
+        ctx: &mut FileCtx,
+        at: &[Step<'_>],
+        file: &ExpectFile,
+    ) -> Option<Expectation> {
         use ExpectFile as F;
         use ExpectationKind as K;
         let (kind, label) = match file {
             F::Estimated { state, after, by } => (
                 K::Estimated {
-                    state: self.formula(ctx, i, "state", state, Vars::Modes)?,
-                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                    state: self.formula(ctx, at, "state", state, Vars::Modes)?,
+                    window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                 },
                 format!("estimated {state}{}", eventual(*after, *by)),
             ),
             F::EstimatedAt { state, time } => (
                 K::EstimatedAt {
-                    state: self.formula(ctx, i, "state", state, Vars::Modes)?,
-                    time: self.time(ctx, i, "time", *time)?,
+                    state: self.formula(ctx, at, "state", state, Vars::Modes)?,
+                    time: self.time(ctx, at, "time", *time)?,
                 },
                 format!("estimated {state} at {time} s"),
             ),
             F::NeverEstimated { state, from, to } => (
                 K::NeverEstimated {
-                    state: self.formula(ctx, i, "state", state, Vars::Modes)?,
-                    window: self.window(ctx, i, ("from", *from), ("to", *to))?,
+                    state: self.formula(ctx, at, "state", state, Vars::Modes)?,
+                    window: self.window(ctx, at, ("from", *from), ("to", *to))?,
                 },
                 format!("never estimated {state}{}", during(*from, *to)),
             ),
             F::Commanded { command, after, by } => (
                 K::Commanded {
-                    command: self.formula(ctx, i, "command", command, Vars::Controls)?,
-                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                    command: self.formula(ctx, at, "command", command, Vars::Controls)?,
+                    window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                 },
                 format!("commanded {command}{}", eventual(*after, *by)),
             ),
@@ -112,7 +122,7 @@ impl ExpectLoader<'_> {
                     .iter()
                     .enumerate()
                     .map(|(k, text)| {
-                        let mut path = field(i, "commands");
+                        let mut path = field(at, "commands");
                         path.push(Step::Index(k));
                         formula(
                             ctx,
@@ -127,7 +137,7 @@ impl ExpectLoader<'_> {
                 (
                     K::CommandsInOrder {
                         commands: formulas.into_iter().collect::<Option<Vec<_>>>()?,
-                        window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                        window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                     },
                     format!(
                         "commands in order: {}{}",
@@ -138,8 +148,8 @@ impl ExpectLoader<'_> {
             }
             F::NeverCommanded { command, from, to } => (
                 K::NeverCommanded {
-                    command: self.formula(ctx, i, "command", command, Vars::Controls)?,
-                    window: self.window(ctx, i, ("from", *from), ("to", *to))?,
+                    command: self.formula(ctx, at, "command", command, Vars::Controls)?,
+                    window: self.window(ctx, at, ("from", *from), ("to", *to))?,
                 },
                 format!("never commanded {command}{}", during(*from, *to)),
             ),
@@ -150,8 +160,8 @@ impl ExpectLoader<'_> {
                 within,
                 of,
             } => {
-                let (component, mode) = self.fault(ctx, i, fault)?;
-                let within = self.tolerance(ctx, i, *within, of.as_deref())?;
+                let (component, mode) = self.fault(ctx, at, fault)?;
+                let within = self.tolerance(ctx, at, *within, of.as_deref())?;
                 let label = match (within, of) {
                     (Some((delay, _)), Some(rule)) => {
                         format!("diagnosed {fault} within {} of rule `{rule}`", show(delay))
@@ -162,7 +172,7 @@ impl ExpectLoader<'_> {
                     K::Diagnosed {
                         component,
                         mode,
-                        window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                        window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                         within,
                     },
                     label,
@@ -170,14 +180,14 @@ impl ExpectLoader<'_> {
             }
             F::Achieved { goal, after, by } => (
                 K::Achieved {
-                    goal: self.goal(ctx, i, goal)?,
-                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                    goal: self.goal(ctx, at, goal)?,
+                    window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                 },
                 format!("achieved {goal}{}", eventual(*after, *by)),
             ),
             F::GoalFailed { goal, after, by } => {
                 let displayed = match goal {
-                    Some(goal) => Some(self.goal(ctx, i, goal)?),
+                    Some(goal) => Some(self.goal(ctx, at, goal)?),
                     None => None,
                 };
                 let what = goal
@@ -186,56 +196,63 @@ impl ExpectLoader<'_> {
                 (
                     K::GoalFailed {
                         goal: displayed,
-                        window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                        window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                     },
                     format!("{what} failed{}", eventual(*after, *by)),
                 )
             }
             F::Completed { after, by } => (
                 K::Completed {
-                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                    window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                 },
                 format!("program completed{}", eventual(*after, *by)),
             ),
             F::Reported { event, after, by } => (
                 K::Reported {
                     event: *event,
-                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                    window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                 },
                 format!("reported {event:?}{}", eventual(*after, *by)),
             ),
+            F::AnyOf(members) => {
+                let (members, labels) = self.members(ctx, at, members)?;
+                (
+                    K::AnyOf { members },
+                    format!("any of: {}", labels.join("; ")),
+                )
+            }
             F::NeverReported { event, from, to } => (
                 K::NeverReported {
                     event: *event,
-                    window: self.window(ctx, i, ("from", *from), ("to", *to))?,
+                    window: self.window(ctx, at, ("from", *from), ("to", *to))?,
                 },
                 format!("never reported {event:?}{}", during(*from, *to)),
             ),
             F::Fired { point, after, by } => (
                 K::Fired {
-                    point: self.point(ctx, i, point)?,
-                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                    point: self.point(ctx, at, point)?,
+                    window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                 },
                 format!("time point {point} fired{}", eventual(*after, *by)),
             ),
             F::NeverFired { point, from, to } => (
                 K::NeverFired {
-                    point: self.point(ctx, i, point)?,
-                    window: self.window(ctx, i, ("from", *from), ("to", *to))?,
+                    point: self.point(ctx, at, point)?,
+                    window: self.window(ctx, at, ("from", *from), ("to", *to))?,
                 },
                 format!("time point {point} never fired{}", during(*from, *to)),
             ),
             F::Failed { goal, after, by } => (
                 K::Failed {
-                    goal: self.network_goal(ctx, i, goal)?,
-                    window: self.window(ctx, i, ("after", *after), ("by", *by))?,
+                    goal: self.network_goal(ctx, at, goal)?,
+                    window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                 },
                 format!("mission goal {goal} failed{}", eventual(*after, *by)),
             ),
             F::NeverFailed { goal, from, to } => {
-                self.network(ctx, i)?;
+                self.network(ctx, at)?;
                 let checked = match goal {
-                    Some(goal) => Some(self.network_goal(ctx, i, goal)?),
+                    Some(goal) => Some(self.network_goal(ctx, at, goal)?),
                     None => None,
                 };
                 let what = goal.as_deref().map_or_else(
@@ -245,16 +262,16 @@ impl ExpectLoader<'_> {
                 (
                     K::NeverFailed {
                         goal: checked,
-                        window: self.window(ctx, i, ("from", *from), ("to", *to))?,
+                        window: self.window(ctx, at, ("from", *from), ("to", *to))?,
                     },
                     format!("{what}{}", during(*from, *to)),
                 )
             }
             F::XGoalActive { sv, goal, time } => {
-                self.network(ctx, i)?;
-                let component = self.component(ctx, i, sv)?;
+                self.network(ctx, at)?;
+                let component = self.component(ctx, at, sv)?;
                 let checked = match goal {
-                    Some(goal) => Some(self.network_goal(ctx, i, goal)?),
+                    Some(goal) => Some(self.network_goal(ctx, at, goal)?),
                     None => None,
                 };
                 let with = goal
@@ -264,7 +281,7 @@ impl ExpectLoader<'_> {
                     K::XGoalActive {
                         sv: component,
                         goal: checked,
-                        time: self.time(ctx, i, "time", *time)?,
+                        time: self.time(ctx, at, "time", *time)?,
                     },
                     format!("an XGoal{with} active on {sv} at {time} s"),
                 )
@@ -273,17 +290,62 @@ impl ExpectLoader<'_> {
         Some(Expectation { label, kind })
     }
 
+    /// `AnyOf([...])`'s members: eventual expectations that cannot fail before the end
+    /// (`Estimated`, `Commanded`, `Diagnosed`, `Achieved`, `GoalFailed`, `Completed`,
+    /// `Reported`), and their labels.
+    fn members(
+        &self,
+        ctx: &mut FileCtx,
+        at: &[Step<'_>],
+        files: &[ExpectFile],
+    ) -> Option<(Vec<ExpectationKind>, Vec<String>)> {
+        let (mut members, mut labels) = (Vec::new(), Vec::new());
+        let before = ctx.errors.len();
+        for (k, file) in files.iter().enumerate() {
+            let mut path = at.to_vec();
+            path.extend([Step::Index(0), Step::Index(k)]);
+            let Some(member) = self.expectation(ctx, &path, file) else {
+                continue;
+            };
+            let eventual = member.kind.is_eventual()
+                && !matches!(
+                    member.kind,
+                    ExpectationKind::EstimatedAt { .. }
+                        | ExpectationKind::CommandsInOrder { .. }
+                        | ExpectationKind::AnyOf { .. }
+                );
+            if !eventual {
+                ctx.error(
+                    &path,
+                    format!("`{}` cannot be one of `AnyOf`", member.label),
+                    "an expectation that some cycle shows: Estimated, Commanded, Diagnosed, Achieved, GoalFailed, Completed or Reported",
+                );
+                continue;
+            }
+            members.push(member.kind);
+            labels.push(member.label);
+        }
+        if files.is_empty() {
+            ctx.error(
+                at,
+                "`AnyOf` of nothing never holds",
+                "at least one expectation in the list",
+            );
+        }
+        (ctx.errors.len() == before).then_some((members, labels))
+    }
+
     fn formula(
         &self,
         ctx: &mut FileCtx,
-        i: usize,
+        at: &[Step<'_>],
         name: &str,
         text: &str,
         vars: Vars,
     ) -> Option<Formula> {
         formula(
             ctx,
-            &field(i, name),
+            &field(at, name),
             text,
             &self.script.world,
             vars,
@@ -291,10 +353,10 @@ impl ExpectLoader<'_> {
         )
     }
 
-    fn time(&self, ctx: &mut FileCtx, i: usize, name: &str, time: f64) -> Option<f64> {
+    fn time(&self, ctx: &mut FileCtx, at: &[Step<'_>], name: &str, time: f64) -> Option<f64> {
         if !(time.is_finite() && time >= 0.0) {
             ctx.error(
-                &field(i, name),
+                &field(at, name),
                 format!("{time} is not a time"),
                 "seconds, 0 or more",
             );
@@ -302,7 +364,7 @@ impl ExpectLoader<'_> {
         }
         if time > self.end {
             ctx.error(
-                &field(i, name),
+                &field(at, name),
                 format!("{time} s is after the run ends at {} s", self.end),
                 "a time within the run",
             );
@@ -314,21 +376,21 @@ impl ExpectLoader<'_> {
     fn window(
         &self,
         ctx: &mut FileCtx,
-        i: usize,
+        at: &[Step<'_>],
         (from_name, from): (&str, Option<f64>),
         (to_name, to): (&str, Option<f64>),
     ) -> Option<Window> {
         let from = match from {
-            Some(t) => self.time(ctx, i, from_name, t)?,
+            Some(t) => self.time(ctx, at, from_name, t)?,
             None => f64::NEG_INFINITY,
         };
         let to = match to {
-            Some(t) => self.time(ctx, i, to_name, t)?,
+            Some(t) => self.time(ctx, at, to_name, t)?,
             None => f64::INFINITY,
         };
         if from > to {
             ctx.error(
-                &field(i, to_name),
+                &field(at, to_name),
                 format!("`{to_name}` ({to} s) is before `{from_name}` ({from} s)"),
                 "a window whose end is not before its start",
             );
@@ -338,13 +400,18 @@ impl ExpectLoader<'_> {
     }
 
     /// `component = fault-mode`.
-    fn fault(&self, ctx: &mut FileCtx, i: usize, text: &str) -> Option<(ComponentId, ValueId)> {
-        let formula = self.formula(ctx, i, "fault", text, Vars::Modes)?;
+    fn fault(
+        &self,
+        ctx: &mut FileCtx,
+        at: &[Step<'_>],
+        text: &str,
+    ) -> Option<(ComponentId, ValueId)> {
+        let formula = self.formula(ctx, at, "fault", text, Vars::Modes)?;
         let assignment = formula
             .as_assignments()
             .filter(|a| a.len() == 1)
             .and_then(|a| a.first().copied());
-        let span = ctx.span(&field(i, "fault"));
+        let span = ctx.span(&field(at, "fault"));
         let Some((var, value)) = assignment else {
             ctx.push(
                 Diagnostic::new(format!("`{text}` is not one component's mode"), span)
@@ -380,7 +447,7 @@ impl ExpectLoader<'_> {
     fn tolerance(
         &self,
         ctx: &mut FileCtx,
-        i: usize,
+        at: &[Step<'_>],
         within: Option<DelayFile>,
         of: Option<&str>,
     ) -> Option<Option<(Delay, usize)>> {
@@ -388,7 +455,7 @@ impl ExpectLoader<'_> {
             (None, None) => Some(None),
             (Some(_), None) => {
                 ctx.error(
-                    &field(i, "within"),
+                    &field(at, "within"),
                     "`within` needs `of`, the rule that injects the fault",
                     "`of: \"rule name\"` next to `within`",
                 );
@@ -396,7 +463,7 @@ impl ExpectLoader<'_> {
             }
             (None, Some(_)) => {
                 ctx.error(
-                    &field(i, "of"),
+                    &field(at, "of"),
                     "`of` needs `within`, how soon after the rule fires",
                     "`within: Cycles(n)` or `within: Seconds(s)` next to `of`",
                 );
@@ -408,7 +475,7 @@ impl ExpectLoader<'_> {
                         self.script.rules.iter().map(|r| r.name.as_str()).collect();
                     let mut diagnostic = Diagnostic::new(
                         format!("no rule named `{rule}`"),
-                        ctx.span(&field(i, "of")),
+                        ctx.span(&field(at, "of")),
                     )
                     .expected("the name of a rule of the scenario or its includes")
                     .note(format!("rules: {}", names.join(", ")));
@@ -423,7 +490,7 @@ impl ExpectLoader<'_> {
                     DelayFile::Seconds(s) if s.is_finite() && s >= 0.0 => Delay::Seconds(s),
                     _ => {
                         ctx.error(
-                            &field(i, "within"),
+                            &field(at, "within"),
                             "not a tolerance",
                             "0 or more cycles or seconds",
                         );
@@ -436,8 +503,8 @@ impl ExpectLoader<'_> {
     }
 
     /// A goal the program asserts, displayed as the executive reports it.
-    fn goal(&self, ctx: &mut FileCtx, i: usize, text: &str) -> Option<String> {
-        let formula = self.formula(ctx, i, "goal", text, Vars::Plant)?;
+    fn goal(&self, ctx: &mut FileCtx, at: &[Step<'_>], text: &str) -> Option<String> {
+        let formula = self.formula(ctx, at, "goal", text, Vars::Plant)?;
         let displayed = formula.display(self.plant.table()).to_string();
         if self.goals.contains(&displayed) {
             return Some(displayed);
@@ -445,7 +512,7 @@ impl ExpectLoader<'_> {
         ctx.push(
             Diagnostic::new(
                 format!("the program asserts no goal `{displayed}`"),
-                ctx.span(&field(i, "goal")),
+                ctx.span(&field(at, "goal")),
             )
             .expected("a goal written in the program")
             .note(format!("its goals: {}", self.goals.join("; "))),
@@ -457,10 +524,10 @@ impl ExpectLoader<'_> {
 /// The mission's names, for `Fired`, `NeverFired`, `Failed`, `NeverFailed`, `XGoalActive`.
 impl ExpectLoader<'_> {
     /// The mission's network; an error at the expectation when the scenario runs RMPL.
-    fn network(&self, ctx: &mut FileCtx, i: usize) -> Option<&GoalNetwork> {
+    fn network(&self, ctx: &mut FileCtx, at: &[Step<'_>]) -> Option<&GoalNetwork> {
         if self.network.is_none() {
             ctx.error(
-                &[Step::Field("expect"), Step::Index(i)],
+                at,
                 "this expectation is about a goal network, and the scenario runs an RMPL program",
                 "a scenario with `mission: \"...\"` for time points, goals and XGoals",
             );
@@ -469,27 +536,27 @@ impl ExpectLoader<'_> {
     }
 
     /// A time point of the mission, by name.
-    fn point(&self, ctx: &mut FileCtx, i: usize, name: &str) -> Option<String> {
-        let network = self.network(ctx, i)?;
+    fn point(&self, ctx: &mut FileCtx, at: &[Step<'_>], name: &str) -> Option<String> {
+        let network = self.network(ctx, at)?;
         let names = network.points().iter().map(|p| p.name.as_str());
-        self.known(ctx, &field(i, "point"), name, names, "time point")
+        self.known(ctx, &field(at, "point"), name, names, "time point")
     }
 
     /// A goal of the mission (not a macro), by name.
-    fn network_goal(&self, ctx: &mut FileCtx, i: usize, name: &str) -> Option<String> {
-        let network = self.network(ctx, i)?;
+    fn network_goal(&self, ctx: &mut FileCtx, at: &[Step<'_>], name: &str) -> Option<String> {
+        let network = self.network(ctx, at)?;
         let names = network
             .goals()
             .iter()
             .filter(|g| !g.is_macro())
             .map(|g| g.name.as_str());
-        self.known(ctx, &field(i, "goal"), name, names, "goal")
+        self.known(ctx, &field(at, "goal"), name, names, "goal")
     }
 
     /// A component (a state variable), by name.
-    fn component(&self, ctx: &mut FileCtx, i: usize, name: &str) -> Option<ComponentId> {
+    fn component(&self, ctx: &mut FileCtx, at: &[Step<'_>], name: &str) -> Option<ComponentId> {
         let names = self.plant.components().iter().map(|c| c.name());
-        self.known(ctx, &field(i, "sv"), name, names, "state variable")?;
+        self.known(ctx, &field(at, "sv"), name, names, "state variable")?;
         self.plant.component_named(name)
     }
 

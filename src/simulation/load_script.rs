@@ -3,8 +3,8 @@
 
 use super::format::{DelayFile, RuleFile, ScriptParts, TriggerFile};
 use super::load::{FileCtx, VarClasses, Vars, empty_script, formula};
-use super::script::{Delay, Effect, Rule, Script, Trigger};
-use crate::diagnostic::locate::Step;
+use super::script::{Delay, Effect, Rule, Script, TIME_EPSILON, Trigger};
+use crate::diagnostic::locate::{Entries, Step};
 use crate::diagnostic::{Diagnostic, did_you_mean};
 use crate::executive::NamedValue;
 use crate::logic::{ValueId, VarId, VarTable};
@@ -189,14 +189,16 @@ impl RuleLoader<'_> {
         let trigger = trigger?;
         let delay = delay(ctx, &at(&[Step::Field("after")]), file.after, &trigger);
         let effect = self.effect(ctx, &at, file);
+        let optional = trigger.is_optional();
         Some(Rule {
             name: file.name.clone(),
             trigger,
             condition,
             delay: delay?,
             effect: effect?,
-            once: file.once,
-            fault: file.fault,
+            // An optional rule is a fault the plant may have: the log highlights it as one.
+            once: file.once || optional,
+            fault: file.fault || optional,
         })
     }
 
@@ -234,6 +236,7 @@ impl RuleLoader<'_> {
                 }
                 Some(Trigger::Time(at))
             }
+            &TriggerFile::Optional { from, to, every } => self.window(ctx, path, from, to, every),
             &TriggerFile::Cycle(n) => match u64::try_from(n) {
                 Ok(n) => Some(Trigger::Cycle(n)),
                 Err(_) => {
@@ -246,6 +249,56 @@ impl RuleLoader<'_> {
                 }
             },
         }
+    }
+
+    /// `Optional(from:, to:, every:)`: a window within the run, `every` at least 1.
+    fn window(
+        &self,
+        ctx: &mut FileCtx,
+        path: &[Step],
+        from: f64,
+        to: f64,
+        every: Option<i64>,
+    ) -> Option<Trigger> {
+        let field = |name: &'static str| with(path.to_vec(), Step::Field(name));
+        let before = ctx.errors.len();
+        if !(from.is_finite() && from >= 0.0) {
+            ctx.error(
+                &field("from"),
+                format!("time {from} is not a time"),
+                "seconds, 0 or more",
+            );
+        } else if from > self.end && self.own {
+            ctx.error(
+                &field("from"),
+                format!(
+                    "the window opens at {from} s, after the run ends at {} s",
+                    self.end
+                ),
+                "a time within the run",
+            );
+        }
+        if !(to.is_finite() && to >= from) {
+            ctx.error(
+                &field("to"),
+                format!("the window closes at {to} s, before it opens at {from} s"),
+                "a time at or after `from`",
+            );
+        }
+        let every = match every.map(u64::try_from) {
+            None => 1,
+            Some(Ok(n)) if n > 0 => n,
+            Some(_) => {
+                let n = every.unwrap_or_default();
+                ctx.error(
+                    &field("every"),
+                    format!("every {n} cycles is not a stride"),
+                    "1 or more cycles",
+                );
+                return None;
+            }
+        };
+        (ctx.errors.len() == before).then_some(Trigger::Optional { from, to, every })
     }
 
     fn effect(
@@ -370,4 +423,48 @@ fn delay(
         return None;
     }
     Some(delay)
+}
+
+/// The scenario's `choose`: each name an optional rule, each time within its window.
+pub(super) fn pinned(
+    ctx: &mut FileCtx,
+    choose: &Entries<f64>,
+    script: &Script,
+) -> Vec<(usize, f64)> {
+    let mut pinned = Vec::new();
+    for &(ref name, at) in &choose.0 {
+        let key = [Step::Field("choose"), Step::Key(name)];
+        let optional: Vec<&str> = script
+            .rules
+            .iter()
+            .filter(|r| r.trigger.is_optional())
+            .map(|r| r.name.as_str())
+            .collect();
+        let Some(i) = script
+            .rule_named(name)
+            .filter(|&i| script.rules[i].trigger.is_optional())
+        else {
+            let mut diagnostic =
+                Diagnostic::new(format!("no optional rule `{name}`"), ctx.span(&key))
+                    .expected("the name of a rule with an `Optional(...)` trigger")
+                    .note(format!("optional rules: {}", optional.join(", ")));
+            if let Some(close) = did_you_mean(name, optional.iter().copied()) {
+                diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+            }
+            ctx.push(diagnostic);
+            continue;
+        };
+        if let Trigger::Optional { from, to, .. } = script.rules[i].trigger {
+            if !(at >= from - TIME_EPSILON && at <= to + TIME_EPSILON) {
+                ctx.error(
+                    &[Step::Field("choose"), Step::Value(name)],
+                    format!("{at} s is outside the rule's window, {from} s to {to} s"),
+                    "a time within the rule's `Optional` window",
+                );
+                continue;
+            }
+        }
+        pinned.push((i, at));
+    }
+    pinned
 }

@@ -76,6 +76,14 @@
 //!   holds; once. In the scenario itself a time after `end` is an error; an included script's
 //!   may lie beyond a short scenario's end, and never fire.
 //! - `Cycle(30)` — likewise at or after that cycle (numbered from 0).
+//! - `Optional(from: 16800.0, to: 17157.0, every: 10)` — open nondeterminism for `kairos
+//!   explore` ([`crate::exploration`]): the rule may fire once at any cycle of the window whose
+//!   number is a multiple of `every` (optional, default 1), when its condition holds — or never.
+//!   An optional rule is a fault (`fault` and `once` are implied). A run fires it only where the
+//!   scenario pins it: `choose: { "engine loses power": 16850.0 }` fires it at the first cycle
+//!   at or after that time (a name that is not an optional rule, or a time outside its window,
+//!   is a located error). `kairos explore` writes its counterexamples as the scenario with such
+//!   a `choose`.
 //!
 //! The effect shows after the delay, counted from the cycle the rule fired: `Cycles(n)`, or
 //! `Seconds(s)` (the first cycle at least s later). Without `after`, as early as possible: the
@@ -139,6 +147,10 @@
 //! GoalFailed(goal: "engine = standby"),                // goal interpretation failed, for a
 //!                                                      // goal containing this one (optional)
 //! Completed(by: 300.0),                                // the program completed
+//! AnyOf([Completed(), Reported(event: GoalFailed)]),   // one of these is shown: eventual
+//!                                   // expectations that cannot fail before the end
+//!                                   // (Estimated, Commanded, Diagnosed, Achieved,
+//!                                   // GoalFailed, Completed, Reported)
 //! Reported(event: ObservationRejected),                // any executive event, by kind
 //! NeverReported(event: EstimatorInconsistency),
 //! ```
@@ -196,11 +208,13 @@ mod script;
 use std::fmt;
 use std::time::Duration;
 
+pub(crate) use expect::{Checker, Names};
 pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
 pub use format::EventName;
 pub(crate) use load::resolve_path;
 pub use load::{DEFAULT_KAPPA, MAX_CYCLES, load, load_source};
 pub use model_plant::{FaultDrawn, ForcedFault, ModelPlant, ModelPlantConfig};
+pub(crate) use run::build as build_executive;
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
 pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
 

@@ -299,7 +299,8 @@ impl<'s> Simulator<'s> {
     }
 }
 
-fn build(scenario: &Scenario, options: RunOptions) -> Result<Executive, BuildError> {
+/// The scenario's executive (κ, deadline, and the options' retention).
+pub(crate) fn build(scenario: &Scenario, options: RunOptions) -> Result<Executive, BuildError> {
     let mut builder =
         Executive::builder(scenario.plant.clone(), scenario.program.clone()).kappa(scenario.kappa);
     if let Some(deadline) = scenario.deadline {

@@ -43,6 +43,9 @@ pub struct Script {
     pub(crate) initial: Vec<(VarId, ValueId)>,
     /// The rules, included files' first, in declaration order.
     pub(crate) rules: Vec<Rule>,
+    /// Optional rules a run fires, at the first cycle at or after the time (rule index, time):
+    /// the scenario's `choose`.
+    pub(crate) pinned: Vec<(usize, f64)>,
 }
 
 impl Script {
@@ -69,6 +72,30 @@ impl Script {
     /// The hidden variables.
     pub fn hidden(&self) -> &[VarId] {
         &self.hidden
+    }
+
+    /// The optional rules a run fires and the times it fires them at (the scenario's `choose`).
+    pub fn pinned(&self) -> &[(usize, f64)] {
+        &self.pinned
+    }
+}
+
+impl Trigger {
+    /// True when the rule is open nondeterminism ([`Trigger::Optional`]).
+    pub fn is_optional(&self) -> bool {
+        matches!(self, Trigger::Optional { .. })
+    }
+
+    /// True when an optional rule may fire at this cycle and time.
+    pub fn may_fire_at(&self, cycle: u64, time: f64) -> bool {
+        match *self {
+            Trigger::Optional { from, to, every } => {
+                time >= from - TIME_EPSILON
+                    && time <= to + TIME_EPSILON
+                    && cycle % every.max(1) == 0
+            }
+            _ => false,
+        }
     }
 }
 
@@ -104,6 +131,17 @@ pub enum Trigger {
     Time(f64),
     /// The first cycle at or after this one (numbered from 0) at which the condition holds.
     Cycle(u64),
+    /// Open nondeterminism: the rule may fire once at any cycle of `from..=to` (seconds) whose
+    /// number is a multiple of `every`, or never. `kairos explore` tries every choice; a run
+    /// fires it only where the scenario's `choose` pins it ([`Script::pinned`]).
+    Optional {
+        /// The window's first time.
+        from: f64,
+        /// The window's last time.
+        to: f64,
+        /// Only cycles whose number is a multiple of this (a coarser search).
+        every: u64,
+    },
 }
 
 impl Trigger {
@@ -217,6 +255,8 @@ pub struct ScriptedPlant<'s> {
     /// How many times each rule fired.
     fired: Vec<u64>,
     events: Vec<PlantEvent>,
+    /// Optional rules to fire at the next cycle ([`ScriptedPlant::force`]).
+    forced: Vec<usize>,
 }
 
 impl<'s> ScriptedPlant<'s> {
@@ -238,6 +278,38 @@ impl<'s> ScriptedPlant<'s> {
             first_fired: vec![None; rules],
             fired: vec![0; rules],
             events: Vec::new(),
+            forced: Vec::new(),
+        }
+    }
+
+    /// Fires these optional rules at the next cycle (in [`observe`](MonitorAdapter::observe),
+    /// with the time rules, in declaration order), each if its condition holds and it has not
+    /// fired yet: the choice `kairos explore` makes for a path.
+    pub fn force(&mut self, rules: &[usize]) {
+        self.forced.clear();
+        self.forced.extend_from_slice(rules);
+    }
+
+    /// Feeds the plant's state — values, garbled words, pending effects, edge-trigger memory,
+    /// which rules fired and when first (expectations read it) — to `state`, for
+    /// exploration's deduplication. How often a rule fired beyond the first is left out: only
+    /// `once` and quiescence read it, as "fired at all".
+    pub fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
+        use std::hash::Hash;
+        self.values.hash(state);
+        self.garbled.hash(state);
+        self.cycle.hash(state);
+        for pending in &self.pending {
+            pending.rule.hash(state);
+            match pending.due {
+                Due::Cycle(n) => (0u8, n).hash(state),
+                Due::Time { at, not_before } => (1u8, at.to_bits(), not_before).hash(state),
+            }
+        }
+        self.held.hash(state);
+        for (count, first) in self.fired.iter().zip(&self.first_fired) {
+            (*count > 0).hash(state);
+            first.map(|(cycle, _)| cycle).hash(state);
         }
     }
 
@@ -276,6 +348,7 @@ impl<'s> ScriptedPlant<'s> {
                     Trigger::Time(at) => spent || at > end + TIME_EPSILON,
                     Trigger::Cycle(_) => spent,
                     Trigger::Command(_) | Trigger::Estimate(_) => true,
+                    Trigger::Optional { .. } => spent || self.pin(i).is_none_or(|at| at > end),
                 }
             })
     }
@@ -401,6 +474,14 @@ impl<'s> ScriptedPlant<'s> {
                 Trigger::Time(at) => self.time >= at - TIME_EPSILON,
                 Trigger::Cycle(n) => cycle >= n,
                 Trigger::Command(_) | Trigger::Estimate(_) => continue,
+                Trigger::Optional { .. } => {
+                    let pinned = self.pin(i).is_some_and(|at| self.time >= at - TIME_EPSILON);
+                    let chosen = pinned || self.forced.contains(&i);
+                    if chosen && self.fired[i] == 0 && self.condition_holds(rule) {
+                        self.fire(i);
+                    }
+                    continue;
+                }
             };
             let now = reached && self.condition_holds(rule);
             let rising = now && !self.held[i];
@@ -409,6 +490,12 @@ impl<'s> ScriptedPlant<'s> {
                 self.fire(i);
             }
         }
+    }
+
+    /// The time the scenario pins optional rule `i` at, if it does.
+    fn pin(&self, i: usize) -> Option<f64> {
+        let pinned = self.script.pinned.iter().find(|(rule, _)| *rule == i);
+        pinned.map(|&(_, at)| at)
     }
 
     /// The observation: every observable with a value, garbled pairs in place of or beside them.
@@ -463,6 +550,7 @@ impl MonitorAdapter for ScriptedPlant<'_> {
         self.time = time;
         self.apply_due();
         self.fire_timed();
+        self.forced.clear();
         self.report()
     }
 }

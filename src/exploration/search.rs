@@ -1,0 +1,397 @@
+//! One worker's depth-first walk (the module documentation of `exploration` has the design).
+
+use std::collections::hash_map::DefaultHasher;
+use std::hash::Hasher;
+use std::time::Instant;
+
+use rustc_hash::FxHashMap;
+
+use super::{Choice, Counterexample, Finding, PathCounts, keep_shortest};
+use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
+use crate::executive::{BuildError, Executive, NamedValue, Retention, Step};
+use crate::simulation::{
+    Checker, Names, RunOptions, Scenario, ScriptedPlant, Verdict, build_executive,
+};
+
+/// Two times closer than this are the same instant (as in the scripted plant).
+const TIME_EPSILON: f64 = 1e-6;
+
+/// New states are reported to the progress callback in batches of this many.
+const PROGRESS_BATCH: u64 = 1024;
+
+/// What bounds a worker's walk.
+pub(super) struct Limits {
+    pub(super) faults: usize,
+    pub(super) depth: Option<u64>,
+    pub(super) states: Option<u64>,
+    pub(super) deadline: Option<Instant>,
+}
+
+/// What a worker found.
+pub(super) struct Outcome {
+    pub(super) states: u64,
+    pub(super) paths: PathCounts,
+    pub(super) longest: u64,
+    pub(super) found: Vec<Counterexample>,
+    pub(super) failing_paths: Vec<u64>,
+    pub(super) cut_at: Option<u64>,
+}
+
+/// A state of the search: the executive, the plant and the checker, with the path's choices.
+#[derive(Clone)]
+struct Node<'s> {
+    executive: Executive,
+    plant: ScriptedPlant<'s>,
+    checker: Checker<'s>,
+    choices: Vec<Choice>,
+    /// The next cycle to run.
+    cycle: u64,
+}
+
+/// Whether a path goes on after a cycle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Next {
+    Continue,
+    Stop,
+}
+
+/// One worker: the fault-free path (every worker walks it) and the branches off it it owns.
+pub(super) struct Worker<'s, 'p> {
+    scenario: &'s Scenario,
+    limits: Limits,
+    worker: usize,
+    jobs: usize,
+    progress: &'p (dyn Fn(u64) + Sync),
+    /// Fingerprint → fewest optional rules fired on a path that reached the state.
+    visited: FxHashMap<u64, usize>,
+    states: u64,
+    unreported: u64,
+    paths: PathCounts,
+    longest: u64,
+    found: Vec<Counterexample>,
+    /// Per expectation, the paths followed to their end on which it fails.
+    failing_paths: Vec<u64>,
+    /// Branches met along the fault-free path so far (they are dealt out by this number).
+    ordinal: usize,
+    /// The fault-free path's current cycle: paths whose first firing is earlier are covered.
+    spine_cycle: u64,
+    cut_at: Option<u64>,
+}
+
+impl<'s, 'p> Worker<'s, 'p> {
+    pub(super) fn new(
+        scenario: &'s Scenario,
+        limits: Limits,
+        worker: usize,
+        jobs: usize,
+        progress: &'p (dyn Fn(u64) + Sync),
+    ) -> Self {
+        Worker {
+            scenario,
+            limits,
+            worker,
+            jobs,
+            progress,
+            visited: FxHashMap::default(),
+            states: 0,
+            unreported: 0,
+            paths: PathCounts::default(),
+            longest: 0,
+            found: Vec::new(),
+            failing_paths: vec![0; scenario.expectations.len()],
+            ordinal: 0,
+            spine_cycle: 0,
+            cut_at: None,
+        }
+    }
+
+    /// Walks every path this worker owns.
+    pub(super) fn run(mut self) -> Result<Outcome, BuildError> {
+        let scenario = self.scenario;
+        // The timelines are history no decision reads: a short one keeps the clones small.
+        let retention = Retention {
+            intervals: 1,
+            commands: 1,
+            observations: 1,
+        };
+        let options = RunOptions {
+            retention: Some(retention),
+            ..RunOptions::default()
+        };
+        let root = Node {
+            executive: build_executive(scenario, options)?,
+            plant: ScriptedPlant::new(&scenario.script),
+            checker: Checker::new(
+                &scenario.expectations,
+                Names {
+                    plant: &scenario.plant,
+                    world: &scenario.script.world,
+                    controls: &scenario.script.controls,
+                },
+            ),
+            choices: Vec::new(),
+            cycle: 0,
+        };
+        self.walk(root, true);
+        (self.progress)(self.unreported);
+        Ok(Outcome {
+            states: self.states,
+            paths: self.paths,
+            longest: self.longest,
+            found: self.found,
+            failing_paths: self.failing_paths,
+            cut_at: self.cut_at,
+        })
+    }
+
+    /// Follows `node`'s path to its end, branching into every alternative at every cycle (on
+    /// the fault-free path, into the alternatives this worker owns).
+    fn walk(&mut self, mut node: Node<'s>, spine: bool) {
+        loop {
+            if spine {
+                self.spine_cycle = node.cycle;
+            }
+            if self.out_of_budget() {
+                self.cut_at = Some(self.spine_cycle);
+                return;
+            }
+            for forced in self.alternatives(&node) {
+                let owned = !spine || {
+                    let ordinal = self.ordinal;
+                    self.ordinal += 1;
+                    ordinal % self.jobs == self.worker
+                };
+                if !owned {
+                    continue;
+                }
+                let mut child = node.clone();
+                if self.advance(&mut child, &forced, false) == Next::Continue {
+                    self.walk(child, false);
+                }
+                if self.cut_at.is_some() {
+                    return;
+                }
+            }
+            if self.advance(&mut node, &[], spine) == Next::Stop {
+                return;
+            }
+        }
+    }
+
+    fn out_of_budget(&self) -> bool {
+        let states = self
+            .limits
+            .states
+            .is_some_and(|limit| self.visited.len() as u64 >= limit);
+        states || self.limits.deadline.is_some_and(|d| Instant::now() >= d)
+    }
+
+    /// The sets of optional rules that may fire at `node`'s next cycle, besides none: every
+    /// non-empty set of at most the faults left, smallest first, in rule order.
+    fn alternatives(&self, node: &Node<'s>) -> Vec<Vec<usize>> {
+        let left = self.limits.faults.saturating_sub(node.choices.len());
+        if left == 0 {
+            return Vec::new();
+        }
+        let time = self.time(node.cycle);
+        let script = &self.scenario.script;
+        let candidates: Vec<usize> = (script.rules().iter().enumerate())
+            .filter(|(i, rule)| {
+                rule.trigger.may_fire_at(node.cycle, time)
+                    && node.plant.times_fired(*i) == 0
+                    && !script.pinned().iter().any(|(p, _)| p == i)
+            })
+            .map(|(i, _)| i)
+            .collect();
+        let mut sets = Vec::new();
+        for size in 1..=left.min(candidates.len()) {
+            subsets(&candidates, size, &mut Vec::new(), &mut sets);
+        }
+        sets
+    }
+
+    fn time(&self, cycle: u64) -> f64 {
+        cycle as f64 * self.scenario.cycle
+    }
+
+    /// Runs `node`'s next cycle with the `forced` optional rules, checks the expectations and
+    /// whether the path ends, merges, or goes on. `spine`: a cycle of the fault-free path,
+    /// which only worker 0 counts (every worker walks it).
+    fn advance(&mut self, node: &mut Node<'s>, forced: &[usize], spine: bool) -> Next {
+        let cycle = node.cycle;
+        let time = self.time(cycle);
+        let step = match run_cycle(node, forced, time) {
+            Ok(step) => step,
+            Err(message) => {
+                self.paths.errors += u64::from(self.counts(spine));
+                let finding = Finding::Error(message);
+                self.record(finding, cycle, &node.choices);
+                return Next::Stop;
+            }
+        };
+        let took = forced.iter().filter(|&&rule| {
+            node.plant
+                .first_fired(rule)
+                .is_some_and(|(c, _)| c == cycle)
+        });
+        if took.clone().count() < forced.len() {
+            // A rule whose condition did not hold: the path is another one's (firing fewer).
+            return Next::Stop;
+        }
+        node.choices
+            .extend(took.map(|&rule| Choice { cycle, rule }).collect::<Vec<_>>());
+        node.cycle += 1;
+        self.longest = self.longest.max(node.cycle);
+        let failed: Vec<(usize, String)> = (node.checker.failed())
+            .map(|(i, reason)| (i, reason.to_string()))
+            .collect();
+        for (expectation, reason) in failed {
+            let finding = self.violated(expectation, reason);
+            self.record(finding, cycle, &node.choices);
+        }
+        if !self.first_visit(node, spine) {
+            self.paths.merged += 1;
+            return Next::Stop;
+        }
+        self.path_end(node, &step, time, spine)
+    }
+
+    /// Whether this worker counts what happens on the path: every worker walks the fault-free
+    /// path, worker 0 counts it.
+    fn counts(&self, spine: bool) -> bool {
+        !spine || self.worker == 0
+    }
+
+    /// True when `node`'s state is new, or was reached before only with more faults spent.
+    fn first_visit(&mut self, node: &Node<'s>, spine: bool) -> bool {
+        let mut hasher = DefaultHasher::new();
+        node.executive.fingerprint(&mut hasher);
+        node.plant.fingerprint(&mut hasher);
+        node.checker.fingerprint(&mut hasher);
+        let key = hasher.finish();
+        let spent = node.choices.len();
+        if self
+            .visited
+            .get(&key)
+            .is_some_and(|&before| before <= spent)
+        {
+            return false;
+        }
+        self.visited.insert(key, spent);
+        if self.counts(spine) {
+            self.states += 1;
+            self.unreported += 1;
+            if self.unreported >= PROGRESS_BATCH {
+                (self.progress)(self.unreported);
+                self.unreported = 0;
+            }
+        }
+        true
+    }
+
+    /// Whether the path ends after the cycle at `time`, judging its eventual expectations if so.
+    fn path_end(&mut self, node: &Node<'s>, step: &Step, time: f64, spine: bool) -> Next {
+        let counted = u64::from(self.counts(spine));
+        let end = self.scenario.end;
+        let last = self.time(node.cycle) > end + TIME_EPSILON || time >= end - TIME_EPSILON;
+        if last {
+            self.paths.ended += counted;
+            self.finish(node, counted);
+            return Next::Stop;
+        }
+        if self.limits.depth.is_some_and(|depth| node.cycle >= depth) {
+            self.paths.truncated += counted;
+            return Next::Stop;
+        }
+        let settled = step.is_settled()
+            && node.plant.is_quiet(end)
+            && !node.checker.awaits_something()
+            && !self.may_branch_later(node);
+        if settled {
+            self.paths.settled += counted;
+            self.finish(node, counted);
+            return Next::Stop;
+        }
+        Next::Continue
+    }
+
+    /// True while an optional rule could still fire on this path.
+    fn may_branch_later(&self, node: &Node<'s>) -> bool {
+        if node.choices.len() >= self.limits.faults {
+            return false;
+        }
+        let now = self.time(node.cycle);
+        let script = &self.scenario.script;
+        script
+            .rules()
+            .iter()
+            .enumerate()
+            .any(|(i, rule)| match rule.trigger {
+                crate::simulation::Trigger::Optional { to, .. } => {
+                    node.plant.times_fired(i) == 0 && to >= now - TIME_EPSILON
+                }
+                _ => false,
+            })
+    }
+
+    /// Judges the path's expectations at its end (`counted`: 1 if this worker counts the path).
+    fn finish(&mut self, node: &Node<'s>, counted: u64) {
+        let last = node.cycle.saturating_sub(1);
+        let verdicts: Vec<Verdict> = node.checker.finish(&node.plant);
+        for (expectation, verdict) in verdicts.into_iter().enumerate() {
+            if let crate::simulation::Outcome::Failed { reason } = verdict.outcome {
+                self.failing_paths[expectation] += counted;
+                let finding = self.violated(expectation, reason);
+                self.record(finding, last, &node.choices);
+            }
+        }
+    }
+
+    fn violated(&self, expectation: usize, reason: String) -> Finding {
+        Finding::Violated {
+            expectation,
+            label: self.scenario.expectations[expectation].label.clone(),
+            reason,
+        }
+    }
+
+    fn record(&mut self, finding: Finding, cycle: u64, choices: &[Choice]) {
+        let candidate = Counterexample {
+            finding,
+            cycle,
+            choices: choices.to_vec(),
+        };
+        keep_shortest(&mut self.found, candidate);
+    }
+}
+
+/// One cycle of `node`: the plant (with the forced rules) reports, the executive steps, the
+/// command goes to the plant, the checker sees the step — as `simulation::run` does.
+fn run_cycle(node: &mut Node<'_>, forced: &[usize], time: f64) -> Result<Step, String> {
+    node.plant.force(forced);
+    let observation = node.plant.observe(time);
+    let step = (node.executive.step(time, &observation)).map_err(|e| e.to_string())?;
+    let command: Vec<NamedValue> = (step.command.iter())
+        .map(|&(x, v)| NamedValue::of(node.executive.plant(), x, v))
+        .collect();
+    node.plant
+        .send(time, &command)
+        .map_err(|message| format!("the plant refused the command at {time} s: {message}"))?;
+    node.plant.estimated(&step.most_likely);
+    node.plant.take_events();
+    node.checker.observe(&step, &node.plant);
+    Ok(step)
+}
+
+/// Appends every `size`-element subset of `items` (in order) extending `prefix` to `out`.
+fn subsets(items: &[usize], size: usize, prefix: &mut Vec<usize>, out: &mut Vec<Vec<usize>>) {
+    if prefix.len() == size {
+        out.push(prefix.clone());
+        return;
+    }
+    for (k, &item) in items.iter().enumerate() {
+        prefix.push(item);
+        subsets(&items[k + 1..], size, prefix, out);
+        prefix.pop();
+    }
+}
