@@ -22,16 +22,21 @@ pub enum SatBackend {
 pub(crate) struct SatLit(u32);
 
 impl SatLit {
-    fn new(var: u32, positive: bool) -> SatLit {
+    pub(crate) fn new(var: u32, positive: bool) -> SatLit {
         SatLit(var << 1 | u32::from(!positive))
     }
 
-    fn var(self) -> u32 {
+    pub(crate) fn var(self) -> u32 {
         self.0 >> 1
     }
 
-    fn is_positive(self) -> bool {
+    pub(crate) fn is_positive(self) -> bool {
         self.0 & 1 == 0
+    }
+
+    /// A dense index over literals (2 per variable), for per-literal tables.
+    pub(crate) fn code(self) -> usize {
+        self.0 as usize
     }
 }
 
@@ -58,6 +63,9 @@ pub(crate) trait SatSolver {
     fn new_var(&mut self) -> SatLit;
     fn add_clause(&mut self, clause: &[SatLit]);
     fn solve(&mut self, assumptions: &[SatLit]) -> Outcome;
+    /// After a [`Outcome::Satisfiable`] answer, the model's value of each variable, in order
+    /// (the propagator's fast path starts from it).
+    fn model(&self) -> Vec<bool>;
 }
 
 /// A fresh solver of the chosen kind.
@@ -119,6 +127,15 @@ impl SatSolver for Batsat {
             Outcome::Satisfiable
         }
     }
+
+    fn model(&self) -> Vec<bool> {
+        use batsat::SolverInterface;
+        let model = self.solver.get_model();
+        self.vars
+            .iter()
+            .map(|v| model.get(v.idx() as usize) == Some(&batsat::lbool::TRUE))
+            .collect()
+    }
 }
 
 #[derive(Default)]
@@ -164,6 +181,18 @@ impl SatSolver for Varisat {
             // varisat fails only when interrupted or writing a proof; this solver does neither.
             Err(error) => unreachable!("varisat failed without proof or interrupt: {error}"),
         }
+    }
+
+    fn model(&self) -> Vec<bool> {
+        let mut values = Vec::new();
+        for lit in self.solver.model().unwrap_or_default() {
+            let var = lit.var().index();
+            if values.len() <= var {
+                values.resize(var + 1, false);
+            }
+            values[var] = lit.is_positive();
+        }
+        values
     }
 }
 
