@@ -4,7 +4,7 @@
 //! Propagation answers the questions it decides and leaves the rest to the SAT solver, which
 //! still gives every conflict its core; skipping solver calls must change no answer and no
 //! search order. So TimedME run on a theory with the fast path and on one without it
-//! ([`Theory::set_propagation`]) must keep the same system states with bit-for-bit the same
+//! (`Theory::set_propagation`) must keep the same system states with bit-for-bit the same
 //! probabilities, cycle after cycle: on the circuit-breaker tree (issue 15 item 6), on the
 //! Mars lander's EDL events (§7.2.2) and on random plants.
 //!
@@ -21,7 +21,6 @@ mod breakers;
 use kairos::diagnostic::Source;
 use kairos::estimation::log::{LogRecord, parse_log, replay};
 use kairos::estimation::{Belief, ModeEstimator, TimedMe, TimedMeOptions};
-use kairos::opsat::Theory;
 use kairos::plant::Plant;
 use proptest::prelude::*;
 use support::lander_edl::{Faults, nominal_edl};
