@@ -285,7 +285,7 @@ impl Theory {
     /// asked only what propagation leaves open.
     pub fn is_consistent(&mut self, assumptions: &[Literal]) -> bool {
         self.stats.consistency_checks += 1;
-        let sat_assumptions = self.to_sat(assumptions);
+        let sat_assumptions = self.sat_literals(assumptions);
         let decided = if !self.propagation {
             None
         } else if !self.solver.propagator.closure_of(&sat_assumptions) {
@@ -316,7 +316,7 @@ impl Theory {
 
     fn check(&mut self, assumptions: &[Literal], minimize: bool) -> Consistency {
         self.stats.consistency_checks += 1;
-        let sat_assumptions = self.to_sat(assumptions);
+        let sat_assumptions = self.sat_literals(assumptions);
         if self.consistent_by_propagation(&sat_assumptions) {
             self.stats.sat_calls += 1;
             self.stats.propagated += 1;
@@ -344,7 +344,7 @@ impl Theory {
 
     /// The solver's literals for `assumptions`, in the scratch buffer taken out of the theory
     /// (put it back in `self.scratch`: a query then allocates nothing).
-    fn to_sat(&mut self, assumptions: &[Literal]) -> Vec<SatLit> {
+    fn sat_literals(&mut self, assumptions: &[Literal]) -> Vec<SatLit> {
         let mut sat = std::mem::take(&mut self.scratch);
         sat.clear();
         sat.extend(assumptions.iter().map(|&l| self.sat_lit(l)));
@@ -390,7 +390,7 @@ impl Theory {
     /// True when `assumptions` and `extra` together are inconsistent: by unit propagation
     /// when it decides, else by the solver.
     fn refutes(&mut self, assumptions: &[Literal], extra: SatLit) -> bool {
-        let mut sat_assumptions = self.to_sat(assumptions);
+        let mut sat_assumptions = self.sat_literals(assumptions);
         let refuted = match self.refuted_by_propagation(&sat_assumptions, extra) {
             Some(refuted) => {
                 self.stats.sat_calls += 1;
@@ -410,7 +410,7 @@ impl Theory {
     /// answer the solver would give, since propagation is sound:
     /// - a conflict in the closure of `base`, or of `base ∧ extra`: inconsistent;
     /// - `extra` already true in the closure of `base`: as consistent as `base`, which is known
-    ///   when the solver found a list starting with `base` consistent (estimation checks the
+    ///   when a list starting with `base` was found consistent (estimation checks the
     ///   modes — with the observation after them — before asking what they entail);
     /// - no conflict, and the closure completed by the last model satisfies every clause
     ///   ([`Propagator::completes_to_model`]): consistent.
