@@ -14,7 +14,7 @@
 use rustc_hash::FxHashMap;
 
 use crate::logic::{Formula, ValueId, VarId};
-use crate::opsat::{Consistency, Literal, Theory, TheoryError};
+use crate::opsat::{Literal, Theory, TheoryError};
 use crate::plant::{Observation, Plant, mode_literals};
 
 /// Past this many entries the cache starts afresh (it only holds what recent cycles met).
@@ -62,7 +62,7 @@ fn compute(
     let store = mode_literals(plant, modes);
     let mut everything = store.clone();
     everything.extend(observation.literals());
-    if let Consistency::Conflict(_) = theory.consistent(&everything) {
+    if !theory.is_consistent(&everything) {
         return Ok(0.0);
     }
     // Consistent as a whole, so no value is refuted: each is entailed (1) or left open (1/m).

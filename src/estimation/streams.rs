@@ -29,7 +29,7 @@ use std::rc::Rc;
 
 use super::expand::{Choices, SourceChoices};
 use crate::logic::ValueId;
-use crate::opsat::{Consistency, Cut, Enumeration, Literal, Ocsp, SearchOptions, Theory};
+use crate::opsat::{Cut, Enumeration, Literal, Ocsp, SearchOptions, Theory};
 use crate::plant::{Observation, Plant, target_ocsp};
 
 /// Past this many shapes the cache starts afresh.
@@ -111,7 +111,7 @@ impl Possible {
         self.assumptions
             .push(Literal::Is(plant.components()[c].mode_var(), mode));
         self.assumptions.extend(self.observation.literals());
-        let possible = theory.consistent(&self.assumptions) == Consistency::Consistent;
+        let possible = theory.is_consistent(&self.assumptions);
         self.decided.insert((c, mode), possible);
         possible
     }

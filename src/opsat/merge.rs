@@ -21,7 +21,7 @@ use petgraph::unionfind::UnionFind;
 use priority_queue::PriorityQueue;
 
 use super::ocsp::{Cut, Meter, Ocsp, SearchOptions, SearchStats, Solution};
-use super::search::{ComponentSearch, Cost, PartialSolution, Priority};
+use super::search::{ComponentSearch, Cost, FxBuildHasher, PartialSolution, Priority};
 use super::theory::{Consistency, Literal, Theory};
 
 struct Stream {
@@ -59,7 +59,7 @@ pub struct Enumeration<'a> {
     options: SearchOptions,
     meter: Meter,
     streams: Vec<Stream>,
-    frontier: PriorityQueue<Entry, Priority>,
+    frontier: PriorityQueue<Entry, Priority, FxBuildHasher>,
     created: u64,
     state: State,
 }
@@ -100,7 +100,7 @@ impl<'a> Enumeration<'a> {
             options,
             meter,
             streams,
-            frontier: PriorityQueue::new(),
+            frontier: PriorityQueue::with_default_hasher(),
             created: 0,
             state: State::NotStarted,
         }

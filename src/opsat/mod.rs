@@ -17,6 +17,7 @@
 pub mod file;
 mod merge;
 mod ocsp;
+mod propagate;
 mod sat;
 mod search;
 mod theory;

@@ -22,16 +22,21 @@ pub enum SatBackend {
 pub(crate) struct SatLit(u32);
 
 impl SatLit {
-    fn new(var: u32, positive: bool) -> SatLit {
+    pub(crate) fn new(var: u32, positive: bool) -> SatLit {
         SatLit(var << 1 | u32::from(!positive))
     }
 
-    fn var(self) -> u32 {
+    pub(crate) fn var(self) -> u32 {
         self.0 >> 1
     }
 
-    fn is_positive(self) -> bool {
+    pub(crate) fn is_positive(self) -> bool {
         self.0 & 1 == 0
+    }
+
+    /// A dense index over literals (2 per variable), for per-literal tables.
+    pub(crate) fn code(self) -> usize {
+        self.0 as usize
     }
 }
 
@@ -58,6 +63,9 @@ pub(crate) trait SatSolver {
     fn new_var(&mut self) -> SatLit;
     fn add_clause(&mut self, clause: &[SatLit]);
     fn solve(&mut self, assumptions: &[SatLit]) -> Outcome;
+    /// After a [`Outcome::Satisfiable`] answer, the model's value of each variable, in order
+    /// (the propagator's fast path starts from it).
+    fn model(&self) -> Vec<bool>;
 }
 
 /// A solver that keeps every variable and clause it was given, so that it can be cloned by
@@ -114,6 +122,10 @@ impl SatSolver for RecordedSolver {
 
     fn solve(&mut self, assumptions: &[SatLit]) -> Outcome {
         self.solver.solve(assumptions)
+    }
+
+    fn model(&self) -> Vec<bool> {
+        self.solver.model()
     }
 }
 
@@ -176,6 +188,15 @@ impl SatSolver for Batsat {
             Outcome::Satisfiable
         }
     }
+
+    fn model(&self) -> Vec<bool> {
+        use batsat::SolverInterface;
+        let model = self.solver.get_model();
+        self.vars
+            .iter()
+            .map(|v| model.get(v.idx() as usize) == Some(&batsat::lbool::TRUE))
+            .collect()
+    }
 }
 
 #[derive(Default)]
@@ -221,6 +242,18 @@ impl SatSolver for Varisat {
             // varisat fails only when interrupted or writing a proof; this solver does neither.
             Err(error) => unreachable!("varisat failed without proof or interrupt: {error}"),
         }
+    }
+
+    fn model(&self) -> Vec<bool> {
+        let mut values = Vec::new();
+        for lit in self.solver.model().unwrap_or_default() {
+            let var = lit.var().index();
+            if values.len() <= var {
+                values.resize(var + 1, false);
+            }
+            values[var] = lit.is_positive();
+        }
+        values
     }
 }
 

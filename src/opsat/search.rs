@@ -25,9 +25,10 @@
 //! prunes every assignment containing it without testing them one by one.
 
 use std::cmp::{Ordering, Reverse};
-use std::collections::HashMap;
+use std::hash::BuildHasherDefault;
 
 use priority_queue::PriorityQueue;
+use rustc_hash::{FxHashMap, FxHasher};
 
 use super::ocsp::{Cut, Meter, Ocsp};
 use super::theory::{Consistency, Literal, Theory};
@@ -53,6 +54,10 @@ impl Ord for Cost {
 
 /// Frontier priority: cheapest first, then first created (deterministic ties).
 pub(crate) type Priority = Reverse<(Cost, u64)>;
+
+/// The frontiers' hasher: nodes are hashed on every push and pop, and SipHash was a tenth of a
+/// busy estimation step on a breaker tree (the order of pops does not depend on it).
+pub(crate) type FxBuildHasher = BuildHasherDefault<FxHasher>;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 enum Slot {
@@ -86,8 +91,8 @@ pub(crate) struct PartialSolution {
 pub(crate) struct ComponentSearch {
     /// Indices into the OCSP's decisions.
     members: Vec<usize>,
-    position: HashMap<VarId, usize>,
-    frontier: PriorityQueue<Node, Priority>,
+    position: FxHashMap<VarId, usize>,
+    frontier: PriorityQueue<Node, Priority, FxBuildHasher>,
     created: u64,
     conflicts: Vec<Conflict>,
 }
@@ -104,7 +109,7 @@ impl ComponentSearch {
         let mut search = ComponentSearch {
             members,
             position,
-            frontier: PriorityQueue::new(),
+            frontier: PriorityQueue::with_default_hasher(),
             created: 0,
             conflicts: Vec::new(),
         };

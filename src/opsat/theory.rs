@@ -13,10 +13,10 @@
 //! the refutation of the formula's negation. Clock bounds and confidence atoms are decided
 //! outside the theory ([`Formula::ground`]); a formula that still holds one is refused.
 
-use std::collections::HashMap;
-
 use petgraph::unionfind::UnionFind;
+use rustc_hash::FxHashMap;
 
+use super::propagate::{Propagator, Solver, Value};
 use super::sat::{Outcome, RecordedSolver, SatBackend, SatLit, SatSolver};
 use crate::logic::{Atom, Formula, ValueId, VarId, VarTable};
 
@@ -136,8 +136,11 @@ pub struct TheoryStats {
     pub consistency_checks: u64,
     /// Calls to [`Theory::entails`].
     pub entailment_checks: u64,
-    /// SAT solver calls, including those spent minimising conflicts.
+    /// SAT solver calls, including those spent minimising conflicts: satisfiability questions
+    /// asked, whether the solver ran or unit propagation answered ([`TheoryStats::propagated`]).
     pub sat_calls: u64,
+    /// Of `sat_calls`, those unit propagation over the clauses answered without the solver.
+    pub propagated: u64,
 }
 
 /// Constraints over finite-domain variables, encoded once, queried many times. A clone is a
@@ -147,7 +150,13 @@ pub struct TheoryStats {
 #[derive(Clone)]
 pub struct Theory {
     table: VarTable,
-    solver: RecordedSolver,
+    solver: Solver,
+    /// Whether unit propagation answers what it can decide before the solver is asked.
+    propagation: bool,
+    /// The last assumptions found consistent: any prefix of them is consistent too.
+    consistent_with: Vec<SatLit>,
+    /// Reused for each query's solver literals.
+    scratch: Vec<SatLit>,
     options: TheoryOptions,
     /// `value_lits[x][v]` is true exactly when `x = v`.
     value_lits: Vec<Vec<SatLit>>,
@@ -155,7 +164,9 @@ pub struct Theory {
     /// Definition literal of each defined formula, by [`Definition`] number.
     definitions: Vec<SatLit>,
     definition_vars: Vec<Vec<VarId>>,
-    defined: HashMap<Formula, Definition>,
+    /// Fx-hashed: a guard's definition is looked up on every entailment (SipHash was 10 % of
+    /// a breaker tree's busy step).
+    defined: FxHashMap<Formula, Definition>,
     /// Variables linked by some constraint share a root (OPSAT's decomposition).
     component_root: Vec<usize>,
     stats: TheoryStats,
@@ -173,7 +184,10 @@ impl Theory {
         constraints: &[Formula],
         options: TheoryOptions,
     ) -> Result<Theory, TheoryError> {
-        let mut solver = RecordedSolver::new(options.backend);
+        let mut solver = Solver {
+            sat: RecordedSolver::new(options.backend),
+            propagator: Propagator::default(),
+        };
         let constant_true = solver.new_var();
         solver.add_clause(&[constant_true]);
         let mut value_lits = Vec::with_capacity(table.len());
@@ -197,12 +211,15 @@ impl Theory {
         let mut theory = Theory {
             table,
             solver,
+            propagation: true,
+            consistent_with: Vec::new(),
+            scratch: Vec::new(),
             options,
             value_lits,
             constant_true,
             definitions: Vec::new(),
             definition_vars: Vec::new(),
-            defined: HashMap::new(),
+            defined: FxHashMap::default(),
             component_root,
             stats: TheoryStats::default(),
         };
@@ -225,6 +242,14 @@ impl Theory {
     /// Work done so far.
     pub fn stats(&self) -> TheoryStats {
         self.stats
+    }
+
+    /// Whether unit propagation over the clauses answers the questions it decides before the
+    /// SAT solver is asked (on by default; `propagate.rs`). Its answers are the solver's — a
+    /// conflict still goes to the solver for its core — so this changes the work, never an
+    /// answer: off, it is the reference the exactness tests compare against.
+    pub fn set_propagation(&mut self, on: bool) {
+        self.propagation = on;
     }
 
     /// Encodes a formula (once; later calls return the same definition) so that queries may
@@ -259,6 +284,33 @@ impl Theory {
         self.check(assumptions, minimize)
     }
 
+    /// Whether the constraints and `assumptions` are consistent, for callers that need no
+    /// conflict: a conflict unit propagation reaches is then answer enough, and the solver is
+    /// asked only what propagation leaves open.
+    pub fn is_consistent(&mut self, assumptions: &[Literal]) -> bool {
+        self.stats.consistency_checks += 1;
+        let sat_assumptions = self.sat_literals(assumptions);
+        let decided = if !self.propagation {
+            None
+        } else if !self.solver.propagator.closure_of(&sat_assumptions) {
+            Some(false)
+        } else if self.consistent_by_propagation(&sat_assumptions) {
+            Some(true)
+        } else {
+            None
+        };
+        let consistent = match decided {
+            Some(answer) => {
+                self.stats.sat_calls += 1;
+                self.stats.propagated += 1;
+                answer
+            }
+            None => matches!(self.solve(&sat_assumptions), Outcome::Satisfiable),
+        };
+        self.scratch = sat_assumptions;
+        consistent
+    }
+
     /// [`Theory::consistent`], with the conflict always minimal: dropping any member makes it
     /// consistent. For explanations a person reads ("engine = standby is unreachable: engine is
     /// failed"), where every member should be to blame.
@@ -268,8 +320,15 @@ impl Theory {
 
     fn check(&mut self, assumptions: &[Literal], minimize: bool) -> Consistency {
         self.stats.consistency_checks += 1;
-        let sat_assumptions: Vec<SatLit> = assumptions.iter().map(|&l| self.sat_lit(l)).collect();
-        match self.solve(&sat_assumptions) {
+        let sat_assumptions = self.sat_literals(assumptions);
+        if self.consistent_by_propagation(&sat_assumptions) {
+            self.stats.sat_calls += 1;
+            self.stats.propagated += 1;
+            self.scratch = sat_assumptions;
+            return Consistency::Consistent;
+        }
+        // A conflict goes to the solver, whose core OPSAT learns from.
+        let answer = match self.solve(&sat_assumptions) {
             Outcome::Satisfiable => Consistency::Consistent,
             Outcome::Unsatisfiable { core } => {
                 let core = if minimize { self.minimize(core) } else { core };
@@ -282,7 +341,31 @@ impl Theory {
                     .collect();
                 Consistency::Conflict(conflict)
             }
+        };
+        self.scratch = sat_assumptions;
+        answer
+    }
+
+    /// The solver's literals for `assumptions`, in the scratch buffer taken out of the theory
+    /// (put it back in `self.scratch`: a query then allocates nothing).
+    fn sat_literals(&mut self, assumptions: &[Literal]) -> Vec<SatLit> {
+        let mut sat = std::mem::take(&mut self.scratch);
+        sat.clear();
+        sat.extend(assumptions.iter().map(|&l| self.sat_lit(l)));
+        sat
+    }
+
+    /// Whether propagation proves `assumptions` consistent: its closure has no conflict and,
+    /// completed by the last model, satisfies every clause ([`Propagator::completes_to_model`]).
+    fn consistent_by_propagation(&mut self, assumptions: &[SatLit]) -> bool {
+        let proved = self.propagation
+            && self.solver.propagator.closure_of(assumptions)
+            && self.solver.propagator.completes_to_model();
+        if proved {
+            self.consistent_with.clear();
+            self.consistent_with.extend_from_slice(assumptions);
         }
+        proved
     }
 
     /// Do the constraints and `assumptions` entail `formula` (is it true in every model)? From
@@ -308,17 +391,68 @@ impl Theory {
         Ok(self.refutes(assumptions, !lit))
     }
 
-    /// True when `assumptions` and `extra` together are inconsistent.
+    /// True when `assumptions` and `extra` together are inconsistent: by unit propagation
+    /// when it decides, else by the solver.
     fn refutes(&mut self, assumptions: &[Literal], extra: SatLit) -> bool {
-        let mut sat_assumptions: Vec<SatLit> =
-            assumptions.iter().map(|&l| self.sat_lit(l)).collect();
-        sat_assumptions.push(extra);
-        matches!(self.solve(&sat_assumptions), Outcome::Unsatisfiable { .. })
+        let mut sat_assumptions = self.sat_literals(assumptions);
+        let refuted = match self.refuted_by_propagation(&sat_assumptions, extra) {
+            Some(refuted) => {
+                self.stats.sat_calls += 1;
+                self.stats.propagated += 1;
+                refuted
+            }
+            None => {
+                sat_assumptions.push(extra);
+                matches!(self.solve(&sat_assumptions), Outcome::Unsatisfiable { .. })
+            }
+        };
+        self.scratch = sat_assumptions;
+        refuted
+    }
+
+    /// Whether `base ∧ extra` is inconsistent, when unit propagation decides it — the same
+    /// answer the solver would give, since propagation is sound:
+    /// - a conflict in the closure of `base`, or of `base ∧ extra`: inconsistent;
+    /// - `extra` already true in the closure of `base`: as consistent as `base`, which is known
+    ///   when a list starting with `base` was found consistent (estimation checks the
+    ///   modes — with the observation after them — before asking what they entail);
+    /// - no conflict, and the closure completed by the last model satisfies every clause
+    ///   ([`Propagator::completes_to_model`]): consistent.
+    ///
+    /// Otherwise `None`: the solver decides.
+    fn refuted_by_propagation(&mut self, base: &[SatLit], extra: SatLit) -> Option<bool> {
+        if !self.propagation {
+            return None;
+        }
+        let propagator = &mut self.solver.propagator;
+        if !propagator.closure_of(base) {
+            return Some(true);
+        }
+        match propagator.value(extra) {
+            Value::False => Some(true),
+            Value::True if self.consistent_with.starts_with(base) => Some(false),
+            Value::True => propagator.completes_to_model().then_some(false),
+            Value::Unassigned => {
+                let mark = propagator.mark();
+                let answer = if propagator.extend(extra) {
+                    propagator.completes_to_model().then_some(false)
+                } else {
+                    Some(true)
+                };
+                propagator.undo(mark);
+                answer
+            }
+        }
     }
 
     fn solve(&mut self, assumptions: &[SatLit]) -> Outcome {
         self.stats.sat_calls += 1;
-        self.solver.solve(assumptions)
+        let outcome = self.solver.solve(assumptions);
+        if let Outcome::Satisfiable = outcome {
+            self.consistent_with.clear();
+            self.consistent_with.extend_from_slice(assumptions);
+        }
+        outcome
     }
 
     /// Deletion-based minimisation: drop each member in turn and keep it out when the rest still

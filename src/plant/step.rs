@@ -4,7 +4,7 @@
 
 use super::{ComponentId, Plant, SystemState, mode_distribution};
 use crate::logic::{Formula, ValueId, VarId};
-use crate::opsat::{Consistency, Literal, Ocsp, Theory, TheoryError};
+use crate::opsat::{Literal, Ocsp, Theory, TheoryError};
 
 /// Why a control action, an observation or a state does not fit the plant.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -215,7 +215,7 @@ pub fn enabled_transitions(
         .iter()
         .zip(modes)
         .any(|(c, &m)| c.outgoing(m).iter().any(|t| guarded(t, c)));
-    let store_consistent = !any_guarded || theory.consistent(&store) == Consistency::Consistent;
+    let store_consistent = !any_guarded || theory.is_consistent(&store);
     let mut enabled = Vec::with_capacity(modes.len());
     for (component, &mode) in plant.components().iter().zip(modes) {
         let mut here = Vec::new();
