@@ -27,7 +27,8 @@ use std::hash::{Hash, Hasher};
 
 pub use step::{
     Commands, InputError, Observation, StepError, component_distribution, component_distributions,
-    consistent_state, enabled_transitions, step_tcca, successor, transition_choices,
+    chosen_successor, consistent_state, enabled_transitions, step_tcca, successor,
+    transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{BOUND_TOLERANCE, Timing, TransitionLaw, mode_distribution};

@@ -168,6 +168,7 @@ mod load;
 mod load_expect;
 mod load_model;
 mod load_script;
+mod model_cache;
 mod model_plant;
 mod run;
 mod script;
