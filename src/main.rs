@@ -121,9 +121,13 @@ enum Command {
         /// shows on standard error only when it is a terminal).
         #[arg(long)]
         quiet: bool,
-        /// The model-driven plant's seed, in place of the scenario's: replays a campaign's run.
+        /// The model-driven plant's seed, in place of the scenario's: replays a campaign's run
+        /// (with the campaign's `--fault` and `--noise`, if it had any).
         #[arg(long)]
         seed: Option<u64>,
+        /// The model-driven plant's forced faults and noise.
+        #[command(flatten)]
+        model: cli::model_args::ModelArgs,
     },
     /// A Monte Carlo campaign: many seeded runs of a scenario with a model-driven plant, in
     /// parallel, tabulated (pass rate, failures with the seeds that replay them, diagnosis
@@ -195,6 +199,7 @@ fn main() -> ExitCode {
             timeline,
             quiet,
             seed,
+            model,
         } => cli::run::run(&cli::run::RunArgs {
             scenario: &scenario,
             trace: trace.as_deref(),
@@ -202,6 +207,7 @@ fn main() -> ExitCode {
             timeline: timeline.as_deref(),
             quiet,
             seed,
+            model: &model,
         }),
         Command::Campaign(args) => cli::campaign::run(&args),
         Command::Bench {

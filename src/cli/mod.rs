@@ -6,6 +6,7 @@ pub mod check;
 pub mod compile;
 pub mod estimate;
 pub mod graph;
+pub mod model_args;
 pub mod output;
 pub mod plan;
 pub mod run;

@@ -26,8 +26,8 @@ mod validate;
 use std::hash::{Hash, Hasher};
 
 pub use step::{
-    Commands, InputError, Observation, StepError, component_distribution, component_distributions,
-    chosen_successor, consistent_state, enabled_transitions, step_tcca, successor,
+    Commands, InputError, Observation, StepError, chosen_successor, component_distribution,
+    component_distributions, consistent_state, enabled_transitions, step_tcca, successor,
     transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};

@@ -232,6 +232,28 @@ impl Scenario {
     }
 }
 
+impl Scenario {
+    /// Forces `text` (`component = mode @ T s`, at or before the end) in the model-driven plant,
+    /// besides the scenario's own forced faults (`kairos run/campaign --fault`).
+    pub fn force_fault(&mut self, text: &str) -> Result<(), String> {
+        let fault = ForcedFault::parse(&self.plant, text)?.by(self.end)?;
+        let model = self.model.as_mut().ok_or_else(needs_model)?;
+        model.faults.push(fault);
+        Ok(())
+    }
+
+    /// Sets the model-driven plant's sensor noise, in place of the scenario's (`--noise`).
+    pub fn set_noise(&mut self, noise: f64) -> Result<(), String> {
+        let noise = model_plant::check_noise(noise)?;
+        self.model.as_mut().ok_or_else(needs_model)?.noise = noise;
+        Ok(())
+    }
+}
+
+fn needs_model() -> String {
+    "the scenario has no model-driven plant (`simulator: Model(...)`)".to_string()
+}
+
 /// The number of cycles from time 0 to `end` at `cycle` seconds each, both ends included.
 fn cycle_count(end: f64, cycle: f64) -> f64 {
     ((end + script::TIME_EPSILON) / cycle).floor() + 1.0

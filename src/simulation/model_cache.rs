@@ -153,7 +153,14 @@ fn assignments(
     let mut found = Vec::new();
     let mut partial: Vec<ValueId> = Vec::with_capacity(allowed.len());
     let mut literals = assumed.to_vec();
-    extend(plant, theory, &allowed, &mut partial, &mut literals, &mut found);
+    extend(
+        plant,
+        theory,
+        &allowed,
+        &mut partial,
+        &mut literals,
+        &mut found,
+    );
     Some(found)
 }
 

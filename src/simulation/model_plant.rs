@@ -47,6 +47,39 @@ pub struct ModelPlantConfig {
     pub noise: f64,
 }
 
+impl ModelPlantConfig {
+    /// A plant seeded with `seed`, with no forced fault and no noise; the `with_` methods add
+    /// them (the embedding API's builder).
+    pub fn seeded(seed: u64) -> ModelPlantConfig {
+        ModelPlantConfig {
+            seed,
+            faults: Vec::new(),
+            noise: 0.0,
+        }
+    }
+
+    /// The same with `fault` forced too (read one with [`ForcedFault::parse`]).
+    pub fn with_fault(mut self, fault: ForcedFault) -> ModelPlantConfig {
+        self.faults.push(fault);
+        self
+    }
+
+    /// The same with sensor noise `noise`; refused unless it is a probability.
+    pub fn with_noise(mut self, noise: f64) -> Result<ModelPlantConfig, String> {
+        self.noise = check_noise(noise)?;
+        Ok(self)
+    }
+}
+
+/// `noise` when it is a probability; otherwise the error says so.
+pub(super) fn check_noise(noise: f64) -> Result<f64, String> {
+    if (0.0..=1.0).contains(&noise) {
+        Ok(noise)
+    } else {
+        Err(format!("noise {noise} is not a probability"))
+    }
+}
+
 /// `component = mode @ T s`: the component is put in the mode at the first cycle at or after
 /// `T`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,6 +124,21 @@ impl ForcedFault {
             mode: value,
             time,
         })
+    }
+}
+
+impl ForcedFault {
+    /// The fault when it happens by `end` (a run's last time); otherwise the error says when it
+    /// would.
+    pub fn by(self, end: f64) -> Result<ForcedFault, String> {
+        if self.time > end {
+            Err(format!(
+                "the fault is forced at {} s, after the end ({end} s)",
+                self.time
+            ))
+        } else {
+            Ok(self)
+        }
     }
 }
 
