@@ -209,7 +209,7 @@ fn forced_faults_and_noise_from_the_command_line() {
 
 /// Bad `--fault` and `--noise` options are bad input (exit 2) that name the option, its text,
 /// what is wrong and what was expected: an unknown component or mode (with the closest name),
-/// a time that is not one, a time after the scenario's end, a noise that is not a probability,
+/// a nominal mode, a time that is not one, a time after the scenario's end, a noise that is not a probability,
 /// and a scripted scenario, which has no model to force.
 #[test]
 fn bad_fault_and_noise_options_are_clear_errors() {
@@ -217,6 +217,7 @@ fn bad_fault_and_noise_options_are_clear_errors() {
     for option in [
         ["--fault", "valve9 = stuck-closed @ 17 s"],
         ["--fault", "valve1 = stuck-clsoed @ 17 s"],
+        ["--fault", "valve1 = open @ 17 s"],
         ["--fault", "valve1 = stuck-closed @ soon"],
         ["--fault", "valve1 = stuck-closed"],
         ["--fault", "valve1 = stuck-closed @ 17103 s"],

@@ -25,8 +25,8 @@ impl ModelArgs {
     pub fn apply(&self, scenario: &mut Scenario) -> Result<(), Failure> {
         for text in &self.faults {
             let expected = format!(
-                "`component = mode @ T s` with a component and mode of {} and 0 ≤ T ≤ {} s \
-                 (the scenario's end)",
+                "`component = mode @ T s`: a component of {}, one of its fault modes, and \
+                 0 ≤ T ≤ {} s (the scenario's end)",
                 scenario.plant_path, scenario.end
             );
             scenario.force_fault(text).map_err(|message| {

@@ -112,8 +112,10 @@
 //! (`scenarios/mars_edl/descent.ron`): every cycle, a value the script reports replaces the
 //! model's for that observable, and its rules fire as in a scripted run. `kairos run SCENARIO
 //! --seed S` replays the run of seed `S`; `kairos campaign` runs many seeds
-//! (`docs/campaigns.md`). A forced fault after `end`, a name that is not a component or mode,
-//! and a noise outside `[0, 1]` are located errors.
+//! (`docs/campaigns.md`); both take `--fault "component = mode @ T s"` (repeatable, added to
+//! the scenario's) and `--noise q` (in place of the scenario's). A forced fault after `end`, a
+//! name that is not a component or one of its *fault* modes, and a noise outside `[0, 1]` are
+//! located errors.
 //!
 //! ## Expectations
 //!

@@ -93,8 +93,9 @@ pub struct ForcedFault {
 }
 
 impl ForcedFault {
-    /// Reads `component = mode @ T` (`T` in seconds, an optional trailing `s`) against `plant`;
-    /// the error says what is wrong, for the caller to locate.
+    /// Reads `component = mode @ T` (`T` in seconds, an optional trailing `s`; the mode one of
+    /// the component's fault modes) against `plant`; the error says what is wrong, for the
+    /// caller to locate.
     pub fn parse(plant: &Plant, text: &str) -> Result<ForcedFault, String> {
         let shape = || format!("`{text}` is not `component = mode @ time`");
         let (assignment, time) = text.split_once('@').ok_or_else(shape)?;
@@ -119,6 +120,20 @@ impl ForcedFault {
                 .map_or_else(String::new, |n| format!(" (did you mean `{n}`?)"));
             format!("`{mode}` is not a mode of `{component}`{hint}")
         })?;
+        // A forced mode is recorded, and its diagnosis timed, as a fault: a nominal one would
+        // be neither, so it is refused rather than silently left out of the records.
+        let modes = plant.component(id).modes();
+        if modes[value.index()].kind != ModeKind::Fault {
+            let faults: Vec<String> = modes
+                .iter()
+                .filter(|m| m.kind == ModeKind::Fault)
+                .map(|m| format!("`{}`", m.name))
+                .collect();
+            return Err(format!(
+                "`{mode}` is not a fault mode of `{component}` (its fault modes: {})",
+                faults.join(", ")
+            ));
+        }
         Ok(ForcedFault {
             component: id,
             mode: value,
