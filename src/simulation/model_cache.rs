@@ -210,3 +210,118 @@ fn extend(
         literals.pop();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! The consistent assignments of the observables, against what the theory says of each
+    //! complete assignment, and the fall-back of a mode that leaves too many open.
+
+    use super::*;
+    use crate::diagnostic::Source;
+    use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
+    use crate::simulation::{ModelPlant, ModelPlantConfig};
+
+    /// Nine two-valued observables: `ok` fixes them all, `either` wants `a` or `b` high (three
+    /// assignments), `broken` says nothing (2⁹ = 512 > [`MAX_ASSIGNMENTS`]).
+    fn nine_sensors(initial: &str) -> Plant {
+        let names = ["a", "b", "c", "d", "e", "f", "g", "h", "i"];
+        let attributes: Vec<String> = names
+            .iter()
+            .map(|n| format!("\"{n}\": [\"low\", \"high\"]"))
+            .collect();
+        let observables: Vec<String> = names.iter().map(|n| format!("\"s.{n}\"")).collect();
+        let low = |from: usize| -> String {
+            names[from..]
+                .iter()
+                .map(|n| format!("s.{n} = low"))
+                .collect::<Vec<_>>()
+                .join(" and ")
+        };
+        let text = format!(
+            r#"Plant(name: "sensors", components: [Component(
+                name: "s",
+                attributes: {{ {} }},
+                modes: [
+                    Mode(name: "ok", constraint: "{}"),
+                    Mode(name: "either", constraint: "(s.a = high or s.b = high) and {}"),
+                    Mode(name: "broken", kind: Fault, reward: -10),
+                ],
+                initial: {{ "{initial}": 1.0 }},
+                transitions: [],
+            )], observables: [{}])"#,
+            attributes.join(", "),
+            low(0),
+            low(2),
+            observables.join(", ")
+        );
+        Plant::load(&Source::new("sensors.ron", text)).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    fn assignments_in(plant: &Plant, mode: &str) -> Option<Vec<Vec<ValueId>>> {
+        let mut theory = plant.theory().expect("encodes");
+        let component = plant.component(plant.component_named("s").expect("s"));
+        let modes = [component.mode_named(mode).expect("a mode")];
+        observations(plant, &mut theory, &modes, &Commands::idle(plant)).assignments
+    }
+
+    /// The module doc's equivalence: the kept assignments are exactly the complete assignments
+    /// the theory finds consistent with the mode (checked on all 512), and a mode that leaves
+    /// more than [`MAX_ASSIGNMENTS`] open keeps none.
+    #[test]
+    fn the_kept_assignments_are_the_consistent_ones() {
+        let plant = nine_sensors("ok");
+        let mut theory = plant.theory().expect("encodes");
+        let component = plant.component(plant.component_named("s").expect("s"));
+        for mode in ["ok", "either"] {
+            let mut kept = assignments_in(&plant, mode).expect("few enough");
+            kept.sort();
+            let mode_literal = Literal::Is(
+                component.mode_var(),
+                component.mode_named(mode).expect("a mode"),
+            );
+            let consistent: Vec<Vec<ValueId>> = (0u32..512)
+                .map(|bits| {
+                    (0..9)
+                        .map(|i| ValueId((bits >> (8 - i)) & 1))
+                        .collect::<Vec<_>>()
+                })
+                .filter(|values: &Vec<ValueId>| {
+                    let mut literals = vec![mode_literal];
+                    literals.extend(
+                        plant
+                            .observables()
+                            .iter()
+                            .zip(values)
+                            .map(|(&x, &v)| Literal::Is(x, v)),
+                    );
+                    is_consistent(&mut theory, &literals)
+                })
+                .collect();
+            assert_eq!(kept, consistent, "{mode}");
+        }
+        assert_eq!(assignments_in(&plant, "ok").map(|a| a.len()), Some(1));
+        assert_eq!(assignments_in(&plant, "either").map(|a| a.len()), Some(3));
+        assert_eq!(assignments_in(&plant, "broken"), None);
+    }
+
+    /// The fall-back path: in `broken` the plant asks the theory each cycle, and still reports
+    /// a value for every observable, not always the same ones.
+    #[test]
+    fn a_mode_too_open_to_keep_is_drawn_with_the_theory() {
+        let plant = nine_sensors("broken");
+        let mut model = ModelPlant::new(&plant, &ModelPlantConfig::seeded(3)).expect("encodes");
+        let mut seen = std::collections::BTreeSet::new();
+        for i in 0..50 {
+            let observation = model.observe(f64::from(i));
+            assert_eq!(observation.len(), 9);
+            seen.insert(
+                observation
+                    .iter()
+                    .map(|o| o.to_string())
+                    .collect::<Vec<_>>(),
+            );
+            model.send(f64::from(i), &[]).expect("idle");
+        }
+        assert!(seen.len() > 40, "{} distinct observations", seen.len());
+    }
+}
