@@ -65,7 +65,7 @@ fn forced_fault(
             ctx.error(
                 &path,
                 message,
-                "`component = mode @ time`, such as \"valve1 = stuck-closed @ 120 s\"",
+                "`component = fault mode @ time`, such as \"valve1 = stuck-closed @ 120 s\"",
             );
             None
         }
