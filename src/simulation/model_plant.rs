@@ -140,9 +140,7 @@ impl ForcedFault {
             time,
         })
     }
-}
 
-impl ForcedFault {
     /// The fault when it happens by `end` (a run's last time); otherwise the error says when it
     /// would.
     pub fn by(self, end: f64) -> Result<ForcedFault, String> {
