@@ -134,7 +134,8 @@ enum Command {
         /// shows on standard error only when it is a terminal).
         #[arg(long)]
         quiet: bool,
-        /// The model-driven plant's seed, in place of the scenario's: replays a campaign's run.
+        /// The model-driven plant's seed, in place of the scenario's: replays a campaign's run
+        /// (with the campaign's `--fault` and `--noise`, if it had any).
         #[arg(long)]
         seed: Option<u64>,
         /// Leave the scripted plant's rule lines out of the log.
@@ -150,6 +151,9 @@ enum Command {
         /// Log only the cycles at or before this time (seconds).
         #[arg(long, value_name = "SECONDS")]
         to: Option<f64>,
+        /// The model-driven plant's forced faults and noise.
+        #[command(flatten)]
+        model: cli::model_args::ModelArgs,
     },
     /// Explore every path a scenario's `Optional` rules allow (each may fire at any cycle of its
     /// window, or not, at most `--faults` per path), checking every expectation on each; print
@@ -231,6 +235,7 @@ fn main() -> ExitCode {
             only,
             from,
             to,
+            model,
         } => cli::run::run(&cli::run::RunArgs {
             scenario: &scenario,
             trace: trace.as_deref(),
@@ -244,6 +249,7 @@ fn main() -> ExitCode {
                 from: from.unwrap_or(f64::NEG_INFINITY),
                 to: to.unwrap_or(f64::INFINITY),
             },
+            model: &model,
         }),
         Command::Campaign(args) => cli::campaign::run(&args),
         Command::Explore(args) => cli::explore::run(&args),

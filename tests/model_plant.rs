@@ -21,11 +21,7 @@ fn shipped(path: &str) -> Plant {
 }
 
 fn config(seed: u64) -> ModelPlantConfig {
-    ModelPlantConfig {
-        seed,
-        faults: Vec::new(),
-        noise: 0.0,
-    }
+    ModelPlantConfig::seeded(seed)
 }
 
 /// One component cycling between three modes with per-cycle probabilities (§6.1.3): from `a`,
@@ -165,8 +161,7 @@ fn observations_are_consistent_with_the_sampled_modes() {
 fn a_forced_fault_happens_at_its_time() {
     let plant = shipped("models/propulsion.ron");
     let fault = ForcedFault::parse(&plant, "valve1 = stuck-closed @ 20 s").expect("reads");
-    let mut config = config(5);
-    config.faults.push(fault);
+    let config = config(5).with_fault(fault);
     let mut model = ModelPlant::new(&plant, &config).expect("encodes");
     let valve1 = plant.component_named("valve1").expect("a component");
     for i in 0..=25 {
@@ -229,8 +224,7 @@ fn noise_replaces_observations_at_its_rate() {
             "(from: \"a\", to: \"c\", probability: 0.0)",
         );
     let plant = plant_from("held.ron", &held);
-    let mut config = config(9);
-    config.noise = 0.3;
+    let config = config(9).with_noise(0.3).expect("a probability");
     let mut model = ModelPlant::new(&plant, &config).expect("encodes");
     let mut wrong = 0u32;
     for i in 0..20_000u32 {
@@ -277,4 +271,30 @@ fn a_script_beside_the_model_overrides_its_observables() {
         let expected = if time >= 10.0 { "nominal" } else { "low" };
         assert_eq!(temp, expected, "at {time} s");
     }
+}
+
+/// The embedding API's builder refuses what the scenario loader and the command line refuse: a
+/// noise that is not a probability, a fault after the run's end (`ForcedFault::by`), a name that
+/// is not a component or one of its modes (with the closest name).
+#[test]
+fn the_builder_refuses_bad_faults_and_noise() {
+    let plant = shipped("models/propulsion.ron");
+    assert_eq!(
+        config(1).with_noise(1.5).unwrap_err(),
+        "noise 1.5 is not a probability"
+    );
+    let late = ForcedFault::parse(&plant, "valve1 = stuck-closed @ 400 s").expect("reads");
+    assert_eq!(
+        late.by(300.0).unwrap_err(),
+        "the fault is forced at 400 s, after the end (300 s)"
+    );
+    assert_eq!(late.by(400.0), Ok(late));
+    assert_eq!(
+        ForcedFault::parse(&plant, "valve9 = stuck-closed @ 4 s").unwrap_err(),
+        "`valve9` is not a component of the plant (did you mean `valve2`?)"
+    );
+    assert_eq!(
+        ForcedFault::parse(&plant, "valve1 = stuck-clsoed @ 4 s").unwrap_err(),
+        "`stuck-clsoed` is not a mode of `valve1` (did you mean `stuck-closed`?)"
+    );
 }

@@ -105,6 +105,7 @@ bad_scenario!(
     "model_bad_faults.ron:11:14",
     "is not a component of the plant",
     "did you mean `stuck-closed`?",
+    "`open` is not a fault mode of `valve1`",
     "is not a time in seconds",
     "after the end",
     "is not `component = mode @ time`",

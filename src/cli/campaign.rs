@@ -1,4 +1,5 @@
-//! `kairos campaign SCENARIO --runs N --seed S [--jobs J] [--shard i/n] [--out DIR]`: a Monte
+//! `kairos campaign SCENARIO --runs N --seed S [--jobs J] [--shard i/n] [--out DIR] [--fault F]...
+//! [--noise q]`: a Monte
 //! Carlo campaign of a scenario with a model-driven plant (issue 18; `kairos::campaign`), and
 //! `kairos campaign merge DIR... [--out DIR]`, which joins the shards of one.
 //!
@@ -16,6 +17,7 @@ use kairos::campaign::{self, RunRecord, RunVerdict, Summary, plot};
 use kairos::simulation;
 
 use super::Failure;
+use super::model_args::ModelArgs;
 use super::output::emit;
 
 /// `kairos campaign`'s arguments.
@@ -43,6 +45,9 @@ pub struct CampaignArgs {
     /// Write runs.jsonl, summary.txt and campaign.svg in this directory.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Every run's forced faults and noise.
+    #[command(flatten)]
+    pub model: ModelArgs,
 }
 
 /// `kairos campaign merge`.
@@ -80,13 +85,14 @@ pub fn run(args: &CampaignArgs) -> Result<(), Failure> {
             "error: kairos campaign needs SCENARIO and --runs",
         ));
     };
-    let scenario = simulation::load(path).map_err(Failure::bad_input)?;
+    let mut scenario = simulation::load(path).map_err(Failure::bad_input)?;
     if scenario.model.is_none() {
         return Err(Failure::bad_input(format!(
             "error: {}: a campaign needs a model-driven plant (`simulator: Model(...)`)",
             path.display()
         )));
     }
+    args.model.apply(&mut scenario)?;
     if let Some(out) = &args.out {
         std::fs::create_dir_all(out).map_err(|e| {
             Failure::bad_input(format!("error: cannot create {}: {e}", out.display()))
@@ -103,11 +109,14 @@ pub fn run(args: &CampaignArgs) -> Result<(), Failure> {
     progress.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
     let header = format!(
-        "campaign `{}`: {} runs (seed {}, shard {shard}/{shards}) in {wall:.1} s, {:.2} runs/s\n",
+        "campaign `{}`: {} runs (seed {}, shard {shard}/{shards}) in {wall:.1} s, {:.2} runs/s\n\
+         replay a run: kairos run {}{} --seed SEED\n",
         scenario.name,
         records.len(),
         args.seed,
         records.len() as f64 / wall.max(1e-9),
+        path.display(),
+        args.model.command_line(),
     );
     report(&records, &scenario.name, &header, args.out.as_deref())
 }

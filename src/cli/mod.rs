@@ -7,6 +7,7 @@ pub mod compile;
 pub mod estimate;
 pub mod explore;
 pub mod graph;
+pub mod model_args;
 pub mod output;
 pub mod plan;
 pub mod run;

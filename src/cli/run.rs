@@ -1,5 +1,5 @@
 //! `kairos run SCENARIO [--trace FILE] [--timeline FILE.svg] [--quiet] [--hide-plant] [--only
-//! COMPONENT,…] [--from T] [--to T]`: run a scenario
+//! COMPONENT,…] [--from T] [--to T] [--seed S] [--fault F]... [--noise q]`: run a scenario
 //! (DESIGN.md §11, §12) and print its mission log (`kairos::report::log`); exit 0 when every
 //! expectation holds, 1 when one does not (the failed ones are listed on standard error), 2 when
 //! the scenario or a file it names is bad input. The timeline picture is drawn whether or not
@@ -18,6 +18,7 @@ use kairos::report::trace::Trace;
 use kairos::simulation::{self, RunError, RunOptions, RunOutcome, Scenario};
 
 use super::Failure;
+use super::model_args::ModelArgs;
 use super::output::emit;
 
 /// What to run and how to show it.
@@ -36,17 +37,27 @@ pub struct RunArgs<'a> {
     pub seed: Option<u64>,
     /// Which lines of the log to print.
     pub filter: LogFilter,
+    /// The model-driven plant's forced faults and noise.
+    pub model: &'a ModelArgs,
 }
 
 /// Loads and runs the scenario; the outcome is the exit code.
 pub fn run(args: &RunArgs) -> Result<(), Failure> {
-    let scenario = simulation::load(args.scenario).map_err(Failure::bad_input)?;
-    if args.seed.is_some() && scenario.model.is_none() {
+    let mut scenario = simulation::load(args.scenario).map_err(Failure::bad_input)?;
+    let model_options = [
+        ("--seed", args.seed.is_some()),
+        ("--fault", !args.model.faults.is_empty()),
+        ("--noise", args.model.noise.is_some()),
+    ];
+    if let Some((option, _)) = model_options.iter().find(|(_, given)| *given)
+        && scenario.model.is_none()
+    {
         return Err(Failure::bad_input(format!(
-            "error: {}: --seed needs a model-driven plant (`simulator: Model(...)`)",
+            "error: {}: {option} needs a model-driven plant (`simulator: Model(...)`)",
             args.scenario.display()
         )));
     }
+    args.model.apply(&mut scenario)?;
     check_filter(&scenario, &args.filter)?;
     // Opened before the run, so that a bad path is reported before a long run, not after.
     let picture = args

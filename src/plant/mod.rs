@@ -26,8 +26,9 @@ mod validate;
 use std::hash::{Hash, Hasher};
 
 pub use step::{
-    Commands, InputError, Observation, StepError, component_distribution, component_distributions,
-    consistent_state, enabled_transitions, step_tcca, successor, transition_choices,
+    Commands, InputError, Observation, StepError, chosen_successor, component_distribution,
+    component_distributions, consistent_state, enabled_transitions, step_tcca, successor,
+    transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{BOUND_TOLERANCE, Timing, TransitionLaw, mode_distribution};

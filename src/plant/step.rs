@@ -314,9 +314,22 @@ pub fn step_tcca(
     commands: &Commands,
     from: f64,
     to: f64,
-    mut choose: impl FnMut(ComponentId, &[(ValueId, f64)]) -> usize,
+    choose: impl FnMut(ComponentId, &[(ValueId, f64)]) -> usize,
 ) -> Result<SystemState, StepError> {
     let choices = transition_choices(plant, theory, state, commands, from, to)?;
+    Ok(chosen_successor(state, &choices, to, choose))
+}
+
+/// Figure 6-6 steps 5–6 given the distributions (`choices[c]`, from
+/// [`transition_choices`]): every component takes the transition `choose(component,
+/// distribution)` picks — an index into the distribution; out of range means "stay" — and the
+/// state reached at `to` is returned. Components are asked in order.
+pub fn chosen_successor(
+    state: &SystemState,
+    choices: &[Vec<(ValueId, f64)>],
+    to: f64,
+    mut choose: impl FnMut(ComponentId, &[(ValueId, f64)]) -> usize,
+) -> SystemState {
     let targets = choices
         .iter()
         .zip(&state.modes)
@@ -328,7 +341,7 @@ pub fn step_tcca(
                 .map_or(current, |&(target, _)| target)
         })
         .collect();
-    Ok(successor(state, targets, to))
+    successor(state, targets, to)
 }
 
 /// An OCSP whose decisions are the components' next modes with the given costs (−ln p), subject

@@ -3,7 +3,7 @@
 
 use super::format::{ScenarioFile, SimulatorFile};
 use super::load::FileCtx;
-use super::model_plant::{ForcedFault, ModelPlantConfig};
+use super::model_plant::{ForcedFault, ModelPlantConfig, check_noise};
 use crate::diagnostic::locate::Step;
 use crate::plant::Plant;
 
@@ -20,16 +20,14 @@ pub(super) fn model_config(
         faults,
         noise,
     } = file.simulator.as_ref()?;
-    let noise = if (0.0..=1.0).contains(noise) {
-        *noise
-    } else {
+    let noise = check_noise(*noise).unwrap_or_else(|message| {
         ctx.error(
             &[Step::Field("simulator"), Step::Field("noise")],
-            format!("noise {noise} is not a probability"),
+            message,
             "the probability that an observation is replaced by a random value, from 0 to 1",
         );
         0.0
-    };
+    });
     let faults = faults
         .iter()
         .enumerate()
@@ -56,23 +54,18 @@ fn forced_fault(
         Step::Index(i),
     ];
     match ForcedFault::parse(plant, text) {
-        Ok(fault) if fault.time > end => {
-            ctx.error(
-                &path,
-                format!(
-                    "the fault is forced at {} s, after the end ({end} s)",
-                    fault.time
-                ),
-                "a time at or before the scenario's end",
-            );
-            None
-        }
-        Ok(fault) => Some(fault),
+        Ok(fault) => match fault.by(end) {
+            Ok(fault) => Some(fault),
+            Err(message) => {
+                ctx.error(&path, message, "a time at or before the scenario's end");
+                None
+            }
+        },
         Err(message) => {
             ctx.error(
                 &path,
                 message,
-                "`component = mode @ time`, such as \"valve1 = stuck-closed @ 120 s\"",
+                "`component = fault mode @ time`, such as \"valve1 = stuck-closed @ 120 s\"",
             );
             None
         }

@@ -122,8 +122,10 @@
 //! (`scenarios/mars_edl/descent.ron`): every cycle, a value the script reports replaces the
 //! model's for that observable, and its rules fire as in a scripted run. `kairos run SCENARIO
 //! --seed S` replays the run of seed `S`; `kairos campaign` runs many seeds
-//! (`docs/campaigns.md`). A forced fault after `end`, a name that is not a component or mode,
-//! and a noise outside `[0, 1]` are located errors.
+//! (`docs/campaigns.md`); both take `--fault "component = mode @ T s"` (repeatable, added to
+//! the scenario's) and `--noise q` (in place of the scenario's). A forced fault after `end`, a
+//! name that is not a component or one of its *fault* modes, and a noise outside `[0, 1]` are
+//! located errors.
 //!
 //! ## Expectations
 //!
@@ -201,6 +203,7 @@ mod load;
 mod load_expect;
 mod load_model;
 mod load_script;
+mod model_cache;
 mod model_plant;
 mod run;
 mod script;
@@ -301,6 +304,28 @@ impl Scenario {
         // At most `MAX_CYCLES`, checked when the scenario was loaded: the cast does not saturate.
         cycle_count(self.end, self.cycle) as u64
     }
+}
+
+impl Scenario {
+    /// Forces `text` (`component = mode @ T s`, at or before the end) in the model-driven plant,
+    /// besides the scenario's own forced faults (`kairos run/campaign --fault`).
+    pub fn force_fault(&mut self, text: &str) -> Result<(), String> {
+        let fault = ForcedFault::parse(&self.plant, text)?.by(self.end)?;
+        let model = self.model.as_mut().ok_or_else(needs_model)?;
+        model.faults.push(fault);
+        Ok(())
+    }
+
+    /// Sets the model-driven plant's sensor noise, in place of the scenario's (`--noise`).
+    pub fn set_noise(&mut self, noise: f64) -> Result<(), String> {
+        let noise = model_plant::check_noise(noise)?;
+        self.model.as_mut().ok_or_else(needs_model)?.noise = noise;
+        Ok(())
+    }
+}
+
+fn needs_model() -> String {
+    "the scenario has no model-driven plant (`simulator: Model(...)`)".to_string()
 }
 
 /// The number of cycles from time 0 to `end` at `cycle` seconds each, both ends included.

@@ -13,6 +13,9 @@
 //!    drawn among those keeping the partial assignment consistent with the plant's [`Theory`];
 //! 4. with probability `noise`, an observation is replaced by a value drawn from its domain.
 //!
+//! The theory's answers in steps 1 and 3 depend only on the modes and the command; they are
+//! asked once per pair and kept ([`super::model_cache`]), which changes no draw.
+//!
 //! The generator is ChaCha8 (`chacha20::ChaCha8Rng`), a named portable algorithm: a seed replays
 //! the same run on every machine.
 
@@ -20,11 +23,14 @@ use chacha20::ChaCha8Rng;
 use rand::seq::SliceRandom;
 use rand::{RngExt, SeedableRng};
 
+use super::model_cache::ModelCache;
 use crate::executive::NamedValue;
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
 use crate::logic::{ValueId, VarId};
 use crate::opsat::{Consistency, Literal, Theory, TheoryError};
-use crate::plant::{Commands, ComponentId, ModeKind, Plant, SystemState, mode_literals, step_tcca};
+use crate::plant::{
+    Commands, ComponentId, ModeKind, Plant, SystemState, chosen_successor, component_distributions,
+};
 
 /// How often a drawn combination of modes may contradict the plant's constraints before the
 /// plant gives up the step and keeps its modes (see [`ModelPlant::step`]).
@@ -41,6 +47,39 @@ pub struct ModelPlantConfig {
     pub noise: f64,
 }
 
+impl ModelPlantConfig {
+    /// A plant seeded with `seed`, with no forced fault and no noise; the `with_` methods add
+    /// them (the embedding API's builder).
+    pub fn seeded(seed: u64) -> ModelPlantConfig {
+        ModelPlantConfig {
+            seed,
+            faults: Vec::new(),
+            noise: 0.0,
+        }
+    }
+
+    /// The same with `fault` forced too (read one with [`ForcedFault::parse`]).
+    pub fn with_fault(mut self, fault: ForcedFault) -> ModelPlantConfig {
+        self.faults.push(fault);
+        self
+    }
+
+    /// The same with sensor noise `noise`; refused unless it is a probability.
+    pub fn with_noise(mut self, noise: f64) -> Result<ModelPlantConfig, String> {
+        self.noise = check_noise(noise)?;
+        Ok(self)
+    }
+}
+
+/// `noise` when it is a probability; otherwise the error says so.
+pub(super) fn check_noise(noise: f64) -> Result<f64, String> {
+    if (0.0..=1.0).contains(&noise) {
+        Ok(noise)
+    } else {
+        Err(format!("noise {noise} is not a probability"))
+    }
+}
+
 /// `component = mode @ T s`: the component is put in the mode at the first cycle at or after
 /// `T`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,8 +93,9 @@ pub struct ForcedFault {
 }
 
 impl ForcedFault {
-    /// Reads `component = mode @ T` (`T` in seconds, an optional trailing `s`) against `plant`;
-    /// the error says what is wrong, for the caller to locate.
+    /// Reads `component = mode @ T` (`T` in seconds, an optional trailing `s`; the mode one of
+    /// the component's fault modes) against `plant`; the error says what is wrong, for the
+    /// caller to locate.
     pub fn parse(plant: &Plant, text: &str) -> Result<ForcedFault, String> {
         let shape = || format!("`{text}` is not `component = mode @ time`");
         let (assignment, time) = text.split_once('@').ok_or_else(shape)?;
@@ -80,11 +120,38 @@ impl ForcedFault {
                 .map_or_else(String::new, |n| format!(" (did you mean `{n}`?)"));
             format!("`{mode}` is not a mode of `{component}`{hint}")
         })?;
+        // A forced mode is recorded, and its diagnosis timed, as a fault: a nominal one would
+        // be neither, so it is refused rather than silently left out of the records.
+        let modes = plant.component(id).modes();
+        if modes[value.index()].kind != ModeKind::Fault {
+            let faults: Vec<String> = modes
+                .iter()
+                .filter(|m| m.kind == ModeKind::Fault)
+                .map(|m| format!("`{}`", m.name))
+                .collect();
+            return Err(format!(
+                "`{mode}` is not a fault mode of `{component}` (its fault modes: {})",
+                faults.join(", ")
+            ));
+        }
         Ok(ForcedFault {
             component: id,
             mode: value,
             time,
         })
+    }
+
+    /// The fault when it happens by `end` (a run's last time); otherwise the error says when it
+    /// would.
+    pub fn by(self, end: f64) -> Result<ForcedFault, String> {
+        if self.time > end {
+            Err(format!(
+                "the fault is forced at {} s, after the end ({end} s)",
+                self.time
+            ))
+        } else {
+            Ok(self)
+        }
     }
 }
 
@@ -105,6 +172,7 @@ pub struct FaultDrawn {
 pub struct ModelPlant<'p> {
     plant: &'p Plant,
     theory: Theory,
+    cache: ModelCache,
     rng: ChaCha8Rng,
     noise: f64,
     /// Forced faults, by time; those before `next_forced` have been applied.
@@ -125,6 +193,7 @@ impl<'p> ModelPlant<'p> {
         forced.sort_by(|a, b| a.time.total_cmp(&b.time));
         Ok(ModelPlant {
             theory: plant.theory()?,
+            cache: ModelCache::default(),
             rng: ChaCha8Rng::seed_from_u64(config.seed),
             noise: config.noise,
             forced,
@@ -185,19 +254,16 @@ impl<'p> ModelPlant<'p> {
     /// conditions the step's distribution on consistency), and after [`DRAWS`] failures the
     /// plant keeps its modes (`None`).
     fn step(&mut self, state: &SystemState, time: f64) -> Result<Option<SystemState>, String> {
+        let enabled =
+            self.cache
+                .enabled(self.plant, &mut self.theory, &state.modes, &self.commands)?;
+        let choices = component_distributions(self.plant, state, enabled, self.last_time, time);
         for _ in 0..DRAWS {
             let rng = &mut self.rng;
-            let next = step_tcca(
-                self.plant,
-                &mut self.theory,
-                state,
-                &self.commands,
-                self.last_time,
-                time,
-                |_, distribution| draw(distribution.iter().map(|&(_, p)| p), rng),
-            )
-            .map_err(|e| e.to_string())?;
-            if self.consistent(&mode_literals(self.plant, &next.modes)) {
+            let next = chosen_successor(state, &choices, time, |_, distribution| {
+                draw(distribution.iter().map(|&(_, p)| p), rng)
+            });
+            if self.consistent_modes(&next.modes) {
                 return Ok(Some(next));
             }
         }
@@ -212,7 +278,7 @@ impl<'p> ModelPlant<'p> {
         let mut last = None;
         for _ in 0..DRAWS {
             let modes = draw_modes(self.plant, &mut self.rng);
-            if self.consistent(&mode_literals(self.plant, &modes)) {
+            if self.consistent_modes(&modes) {
                 return Some(modes);
             }
             last = Some(modes);
@@ -220,8 +286,9 @@ impl<'p> ModelPlant<'p> {
         last
     }
 
-    fn consistent(&mut self, literals: &[Literal]) -> bool {
-        self.theory.consistent(literals) == Consistency::Consistent
+    fn consistent_modes(&mut self, modes: &[ValueId]) -> bool {
+        self.cache
+            .modes_consistent(self.plant, &mut self.theory, modes)
     }
 
     /// Puts the components of the forced faults due at `time` in their modes; their clocks
@@ -261,36 +328,32 @@ impl<'p> ModelPlant<'p> {
 
     /// Step 3 of the module documentation: a consistent assignment of every observable, drawn.
     /// The command of the previous cycle is assumed too when it fits the modes (a mode may say
-    /// nothing about it, or contradict it, as a stuck valve does).
+    /// nothing about it, or contradict it, as a stuck valve does). From the cached assignments
+    /// when the modes leave few open; otherwise each value is checked with the theory.
     fn draw_observation(&mut self, modes: &[ValueId]) -> Vec<(VarId, ValueId)> {
-        let mut assumed = mode_literals(self.plant, modes);
-        let commands: Vec<Literal> = self
-            .commands
-            .values()
-            .iter()
-            .map(|&(x, v)| Literal::Is(x, v))
-            .collect();
-        let with_commands = [assumed.as_slice(), &commands].concat();
-        if self.consistent(&with_commands) {
-            assumed = with_commands;
-        }
-        let mut order = self.plant.observables().to_vec();
-        order.shuffle(&mut self.rng);
-        let mut drawn = Vec::with_capacity(order.len());
-        for var in order {
-            let size = self.plant.table().variable(var).domain_size() as u32;
-            let mut values: Vec<ValueId> = (0..size).map(ValueId).collect();
-            values.shuffle(&mut self.rng);
-            for value in values {
-                assumed.push(Literal::Is(var, value));
-                if self.consistent(&assumed) {
-                    drawn.push((var, value));
-                    break;
+        let observations =
+            self.cache
+                .observations(self.plant, &mut self.theory, modes, &self.commands);
+        if let Some(assignments) = &observations.assignments {
+            let mut candidates: Vec<&[ValueId]> = assignments.iter().map(Vec::as_slice).collect();
+            return draw_in_order(self.plant, &mut self.rng, |position, _, value| {
+                let agrees = candidates.iter().any(|a| a[position] == value);
+                if agrees {
+                    candidates.retain(|a| a[position] == value);
                 }
+                agrees
+            });
+        }
+        let mut assumed = observations.assumed.clone();
+        let theory = &mut self.theory;
+        draw_in_order(self.plant, &mut self.rng, |_, var, value| {
+            assumed.push(Literal::Is(var, value));
+            let consistent = theory.consistent(&assumed) == Consistency::Consistent;
+            if !consistent {
                 assumed.pop();
             }
-        }
-        drawn
+            consistent
+        })
     }
 
     /// Step 4: each observation replaced, with probability `noise`, by a value of its domain.
@@ -305,6 +368,34 @@ impl<'p> ModelPlant<'p> {
             }
         }
     }
+}
+
+/// The observables in random order, each given the first of its values, in random order, that
+/// `accept(position, variable, value)` takes — it takes a value that keeps the partial
+/// assignment consistent, and keeps it — or none when no value is taken. The generator is used
+/// the same way whatever `accept` answers: the shuffles depend only on the lengths.
+fn draw_in_order(
+    plant: &Plant,
+    rng: &mut ChaCha8Rng,
+    mut accept: impl FnMut(usize, VarId, ValueId) -> bool,
+) -> Vec<(VarId, ValueId)> {
+    let observables = plant.observables();
+    let mut order: Vec<usize> = (0..observables.len()).collect();
+    order.shuffle(rng);
+    let mut drawn = Vec::with_capacity(order.len());
+    for position in order {
+        let var = observables[position];
+        let size = plant.table().variable(var).domain_size() as u32;
+        let mut values: Vec<ValueId> = (0..size).map(ValueId).collect();
+        values.shuffle(rng);
+        if let Some(value) = values
+            .into_iter()
+            .find(|&value| accept(position, var, value))
+        {
+            drawn.push((var, value));
+        }
+    }
+    drawn
 }
 
 /// A mode drawn from a component's initial distribution (one probability per mode).
