@@ -11,7 +11,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 
 use kairos::report::log::MissionLog;
-use kairos::report::timeline::{self, TimelineInput};
+use kairos::report::timeline::{self, InjectedFault, TimelineInput};
 use kairos::report::trace::Trace;
 use kairos::simulation::{self, RunError, RunOptions, RunOutcome, Scenario};
 
@@ -48,9 +48,9 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         .timeline
         .map(|path| create(path).map(|file| (path, file)));
     let picture = picture.transpose()?;
-    let outcome = execute(&scenario, args)?;
+    let (outcome, injected) = execute(&scenario, args)?;
     if let Some((path, file)) = picture {
-        draw(&scenario, &outcome, path, file)?;
+        draw(&scenario, &outcome, &injected, path, file)?;
     }
     if outcome.passed() {
         return Ok(());
@@ -71,8 +71,13 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
 }
 
 /// Runs the scenario, writing the log and the trace as it goes. The returned outcome holds the
-/// timelines and events a drawing of the run needs (the seam for `--timeline`).
-fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
+/// timelines and events a drawing of the run needs (the seam for `--timeline`), beside the
+/// faults the script injected.
+fn execute(
+    scenario: &Scenario,
+    args: &RunArgs,
+) -> Result<(RunOutcome, Vec<InjectedFault>), Failure> {
+    let mut injected = Vec::new();
     let mut trace = args.trace.map(create).transpose()?;
     let mut tracer = if args.trace_full {
         Trace::full()
@@ -91,6 +96,7 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
     };
     let outcome = simulation::run(scenario, options, &mut |record| {
         progress.inc(1);
+        injected.extend(InjectedFault::of_cycle(scenario, record));
         if printing && let Some(block) = log.cycle(record) {
             // On one terminal the bar is taken off while the log is written above it; a log
             // going elsewhere needs no redraw of the bar per block.
@@ -133,7 +139,7 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
         return Err(problem);
     }
     emit(&log.summary(&outcome))?;
-    Ok(outcome)
+    Ok((outcome, injected))
 }
 
 /// The progress of a run, in cycles, on standard error: hidden when standard error is not a
@@ -165,6 +171,7 @@ fn create(path: &Path) -> Result<BufWriter<File>, Failure> {
 fn draw(
     scenario: &Scenario,
     outcome: &RunOutcome,
+    injected: &[InjectedFault],
     path: &Path,
     mut file: BufWriter<File>,
 ) -> Result<(), Failure> {
@@ -173,6 +180,7 @@ fn draw(
         program: Some(&scenario.program),
         timelines: &outcome.timelines,
         events: &outcome.events,
+        injected,
         start: outcome.start,
         end: outcome.last_time,
         title: &scenario.name,
