@@ -101,6 +101,16 @@ impl InjectedFault {
     }
 }
 
+/// The x of each time on the picture [`render`] draws of `input` (default options): how a page
+/// holding the picture puts a cursor on a cycle.
+pub fn positions(input: &TimelineInput, times: &[f64]) -> Vec<f64> {
+    let picture = Picture::new(input, &TimelineOptions::default());
+    times
+        .iter()
+        .map(|&t| clamp_time(t).map_or(picture.plot_left, |t| picture.scale.x(t)))
+        .collect()
+}
+
 /// How the timeline is drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TimelineOptions {
@@ -1183,7 +1193,7 @@ fn names_width(plant: &Plant) -> f64 {
 
 /// Each mode's fill: the initial mode (the most likely initially) neutral, other nominal modes
 /// from the palette in declaration order, fault modes red.
-fn mode_colours(component: &Component) -> Vec<&'static str> {
+pub(super) fn mode_colours(component: &Component) -> Vec<&'static str> {
     let initial = component
         .initial()
         .iter()
