@@ -155,6 +155,13 @@ fn execute(
         return Err(problem);
     }
     emit(&log.summary(&outcome))?;
+    // A model-driven plant's faults are not rules: the outcome lists them.
+    injected.extend(
+        outcome
+            .faults
+            .iter()
+            .map(|f| InjectedFault::drawn(&scenario.plant, f)),
+    );
     Ok((outcome, injected))
 }
 

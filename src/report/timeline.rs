@@ -41,7 +41,7 @@ use svg::node::element::{Circle, Group, Line, Path, Rectangle, Style, Text, Titl
 use crate::executive::{Event, Interval, Timelines};
 use crate::plant::{Component, ModeKind, Plant};
 use crate::sequencer::Thca;
-use crate::simulation::{CycleRecord, PlantEventKind, Scenario};
+use crate::simulation::{CycleRecord, FaultDrawn, PlantEventKind, Scenario};
 
 use labels::{Placement, Request, clean, file_name, ident, place, text_width};
 use legend::{LEGEND_TOP, header_height, legend_key, legend_lines};
@@ -100,6 +100,24 @@ impl InjectedFault {
                 effect: rule.effect.describe(scenario.script.variables()),
             })
             .collect()
+    }
+
+    /// A fault the model-driven plant drew from the model's probabilities or was forced into.
+    pub fn drawn(plant: &Plant, fault: &FaultDrawn) -> InjectedFault {
+        let component = plant.components().get(fault.component.index());
+        let name = component.map_or("?", |c| c.name());
+        let mode = component
+            .and_then(|c| c.modes().get(fault.mode.index()))
+            .map_or("?", |m| m.name.as_str());
+        InjectedFault {
+            time: fault.time,
+            name: format!("{name} = {mode}"),
+            effect: if fault.forced {
+                "forced by the scenario".to_string()
+            } else {
+                "drawn by the model-driven plant".to_string()
+            },
+        }
     }
 }
 

@@ -199,11 +199,13 @@ mod tests {
     #[test]
     fn notes_wrap_at_spaces_with_an_indent() {
         assert_eq!(
-            wrap("[1] lander = unsuccessful-attempt from 4:34:52", 20, "  "),
+            wrap("[1] lander = unsuccessful-attempt from 4:34:52", 22, "  "),
             ["[1] lander =", "  unsuccessful-attempt", "  from 4:34:52"]
         );
         assert_eq!(wrap("short", 20, "  "), ["short"]);
         assert!(wrap("", 20, "  ").is_empty());
+        // A word longer than a line is cut, the cut marked.
+        assert_eq!(wrap("abcdefghij", 5, ""), ["abcd…"]);
     }
 
     #[test]
