@@ -130,6 +130,11 @@ enum Command {
         /// commands and diagnoses, long idle stretches compressed (`src/report/timeline.rs`).
         #[arg(long, value_name = "FILE.svg")]
         timeline: Option<PathBuf>,
+        /// Write an interactive report of the run to this HTML file (self-contained): the
+        /// timeline, and cycle by cycle the belief, goals, command and why, events and a plant
+        /// schematic coloured by estimated mode (`src/report/html.rs`).
+        #[arg(long, value_name = "FILE.html")]
+        report: Option<PathBuf>,
         /// Print only the summary and the expectations' verdicts, and no progress bar (the bar
         /// shows on standard error only when it is a terminal).
         #[arg(long)]
@@ -229,6 +234,7 @@ fn main() -> ExitCode {
             trace,
             trace_full,
             timeline,
+            report,
             quiet,
             seed,
             hide_plant,
@@ -241,6 +247,7 @@ fn main() -> ExitCode {
             trace: trace.as_deref(),
             trace_full,
             timeline: timeline.as_deref(),
+            report: report.as_deref(),
             quiet,
             seed,
             filter: LogFilter {

@@ -54,6 +54,7 @@ impl Run {
             program: self.executive.program(),
             timelines: self.executive.timelines(),
             events: &self.events,
+            injected: &[],
             start: self.start,
             end: self.end,
             title,
@@ -334,11 +335,26 @@ fn a_propulsion_run_draws_one_lane_per_state_variable_and_a_mark_per_command_and
     assert_eq!(picture.events("completed").len(), 1);
 
     // The repair is labelled as such, the diagnosis names the component and fault mode, and the
-    // goal carries its text and program line.
+    // goal carries its text and program line. A fault's label starts with the number of its
+    // note under the picture, which has the full text (issue 19 item 3).
     let repair = &picture.events("repair")[0];
     assert_eq!(labels_of(*repair), ["repair: PDE.cmd = reset"]);
     let diagnosis = &picture.events("diagnosis")[0];
-    assert!(labels_of(*diagnosis)[0].starts_with("PDE: resettable (p "));
+    assert!(labels_of(*diagnosis)[0].starts_with("[1] PDE: resettable (p "));
+    let notes = labels_of(
+        picture
+            .with_class("g", &[])
+            .into_iter()
+            .find(|g| g.attribute("id") == Some("footer"))
+            .expect("a footer"),
+    );
+    assert!(
+        notes
+            .iter()
+            .any(|n| n.starts_with("[1] diagnosis at ")
+                && n.contains("PDE = resettable, probability")),
+        "{notes:?}"
+    );
     assert_eq!(
         labels_of(picture.events("goal")[0]),
         ["engine = firing (line 1)"]
@@ -588,6 +604,7 @@ fn input<'a>(
         program: None,
         timelines,
         events,
+        injected: &[],
         start,
         end,
         title: "edge case",

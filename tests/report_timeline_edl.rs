@@ -25,6 +25,7 @@ fn the_edl_run_draws_its_lanes_faults_and_the_compressed_cruise() {
         program: scenario.program.thca(),
         timelines: &run.timelines,
         events: &run.events,
+        injected: &[],
         start: run.start,
         end: run.last_time,
         title: &scenario.name,

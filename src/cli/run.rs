@@ -1,5 +1,6 @@
-//! `kairos run SCENARIO [--trace FILE] [--timeline FILE.svg] [--quiet] [--hide-plant] [--only
-//! COMPONENT,…] [--from T] [--to T] [--seed S] [--fault F]... [--noise q]`: run a scenario
+//! `kairos run SCENARIO [--trace FILE] [--timeline FILE.svg] [--report FILE.html] [--quiet]
+//! [--hide-plant] [--only COMPONENT,…] [--from T] [--to T] [--seed S] [--fault F]... [--noise q]`:
+//! run a scenario
 //! (DESIGN.md §11, §12) and print its mission log (`kairos::report::log`); exit 0 when every
 //! expectation holds, 1 when one does not (the failed ones are listed on standard error), 2 when
 //! the scenario or a file it names is bad input. The timeline picture is drawn whether or not
@@ -12,8 +13,9 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 
 use kairos::diagnostic::did_you_mean;
+use kairos::report::html::Recorder;
 use kairos::report::log::{LogFilter, MissionLog};
-use kairos::report::timeline::{self, TimelineInput};
+use kairos::report::timeline::{self, InjectedFault, TimelineInput};
 use kairos::report::trace::Trace;
 use kairos::simulation::{self, RunError, RunOptions, RunOutcome, Scenario};
 
@@ -31,6 +33,8 @@ pub struct RunArgs<'a> {
     pub trace_full: bool,
     /// Where to write the SVG timeline of the run.
     pub timeline: Option<&'a Path>,
+    /// Where to write the interactive HTML report of the run.
+    pub report: Option<&'a Path>,
     /// Print only the summary and the verdicts, not the log of cycles.
     pub quiet: bool,
     /// The model-driven plant's seed, in place of the scenario's.
@@ -64,9 +68,18 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         .timeline
         .map(|path| create(path).map(|file| (path, file)));
     let picture = picture.transpose()?;
-    let outcome = execute(&scenario, args)?;
+    let report = args
+        .report
+        .map(|path| create(path).map(|file| (path, file)));
+    let report = report.transpose()?;
+    let mut recorder = report.as_ref().map(|_| Recorder::new());
+    let (outcome, injected) = execute(&scenario, args, recorder.as_mut())?;
     if let Some((path, file)) = picture {
-        draw(&scenario, &outcome, path, file)?;
+        draw(&scenario, &outcome, &injected, path, file)?;
+    }
+    if let (Some((path, file)), Some(recorder)) = (report, recorder) {
+        let page = recorder.page(&scenario, &outcome, &injected);
+        write_all(path, file, &page)?;
     }
     if outcome.passed() {
         return Ok(());
@@ -87,8 +100,14 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
 }
 
 /// Runs the scenario, writing the log and the trace as it goes. The returned outcome holds the
-/// timelines and events a drawing of the run needs (the seam for `--timeline`).
-fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
+/// timelines and events a drawing of the run needs (the seam for `--timeline`), beside the
+/// faults the script injected.
+fn execute(
+    scenario: &Scenario,
+    args: &RunArgs,
+    mut recorder: Option<&mut Recorder>,
+) -> Result<(RunOutcome, Vec<InjectedFault>), Failure> {
+    let mut injected = Vec::new();
     let mut trace = args.trace.map(create).transpose()?;
     let mut tracer = if args.trace_full {
         Trace::full()
@@ -107,6 +126,10 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
     };
     let outcome = simulation::run(scenario, options, &mut |record| {
         progress.inc(1);
+        injected.extend(InjectedFault::of_cycle(scenario, record));
+        if let Some(recorder) = recorder.as_mut() {
+            recorder.cycle(scenario, record);
+        }
         if printing && let Some(block) = log.cycle(record) {
             // On one terminal the bar is taken off while the log is written above it; a log
             // going elsewhere needs no redraw of the bar per block.
@@ -149,7 +172,14 @@ fn execute(scenario: &Scenario, args: &RunArgs) -> Result<RunOutcome, Failure> {
         return Err(problem);
     }
     emit(&log.summary(&outcome))?;
-    Ok(outcome)
+    // A model-driven plant's faults are not rules: the outcome lists them.
+    injected.extend(
+        outcome
+            .faults
+            .iter()
+            .map(|f| InjectedFault::drawn(&scenario.plant, f)),
+    );
+    Ok((outcome, injected))
 }
 
 /// `--only` names components of the plant; `--from` is not after `--to`.
@@ -210,19 +240,26 @@ fn create(path: &Path) -> Result<BufWriter<File>, Failure> {
 fn draw(
     scenario: &Scenario,
     outcome: &RunOutcome,
+    injected: &[InjectedFault],
     path: &Path,
-    mut file: BufWriter<File>,
+    file: BufWriter<File>,
 ) -> Result<(), Failure> {
     let svg = timeline::render(&TimelineInput {
         plant: &scenario.plant,
         program: scenario.program.thca(),
         timelines: &outcome.timelines,
         events: &outcome.events,
+        injected,
         start: outcome.start,
         end: outcome.last_time,
         title: &scenario.name,
     });
-    file.write_all(svg.as_bytes())
+    write_all(path, file, &svg)
+}
+
+/// Writes a whole document to its (already created) file.
+fn write_all(path: &Path, mut file: BufWriter<File>, text: &str) -> Result<(), Failure> {
+    file.write_all(text.as_bytes())
         .and_then(|()| file.flush())
         .map_err(|e| Failure::failed(format!("error: cannot write {}: {e}", path.display())))
 }

@@ -28,8 +28,11 @@
 //! window, unknown components or values, and huge times (clamped to ±10¹⁵ s) all draw.
 
 mod labels;
+mod legend;
 mod marks;
 mod scale;
+
+use std::collections::HashMap;
 
 use svg::Document;
 use svg::node::element::path::Data;
@@ -38,9 +41,11 @@ use svg::node::element::{Circle, Group, Line, Path, Rectangle, Style, Text, Titl
 use crate::executive::{Event, Interval, Timelines};
 use crate::plant::{Component, ModeKind, Plant};
 use crate::sequencer::Thca;
+use crate::simulation::{CycleRecord, FaultDrawn, PlantEventKind, Scenario};
 
 use labels::{Placement, Request, clean, file_name, ident, place, text_width};
-use marks::{Mark, Marks, Row, Sources, Symbol, colour};
+use legend::{LEGEND_TOP, header_height, legend_key, legend_lines};
+use marks::{Marks, Row, Sources, Symbol, colour};
 use scale::{Clock, Compression, Scale, Tick, format_duration};
 
 /// What a run has, for [`render`]; independent of how the run was driven.
@@ -55,12 +60,75 @@ pub struct TimelineInput<'a> {
     pub timelines: &'a Timelines,
     /// The events of every step, in any order.
     pub events: &'a [Event],
+    /// The faults the simulation injected (scripted rules marked `fault: true` taking effect),
+    /// drawn on a row of their own; empty for a real plant.
+    pub injected: &'a [InjectedFault],
     /// When the drawn window starts (seconds; usually the first cycle's time).
     pub start: f64,
     /// When it ends (usually the last cycle's time).
     pub end: f64,
     /// The picture's title.
     pub title: &'a str,
+}
+
+/// A fault the simulation injected into the plant: a scripted rule marked `fault: true` taking
+/// effect (`simulation` module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InjectedFault {
+    /// When it took effect (seconds).
+    pub time: f64,
+    /// The rule's name.
+    pub name: String,
+    /// What it did to the plant, as the mission log says it.
+    pub effect: String,
+}
+
+impl InjectedFault {
+    /// The faults injected in one cycle of a scripted run: its rules marked `fault: true` that
+    /// took effect.
+    pub fn of_cycle(scenario: &Scenario, record: &CycleRecord<'_>) -> Vec<InjectedFault> {
+        let rules = scenario.script.rules();
+        record
+            .plant_events
+            .iter()
+            .filter(|e| e.kind == PlantEventKind::Applied)
+            .filter_map(|e| rules.get(e.rule).map(|rule| (e, rule)))
+            .filter(|(_, rule)| rule.fault)
+            .map(|(e, rule)| InjectedFault {
+                time: e.time,
+                name: rule.name.clone(),
+                effect: rule.effect.describe(scenario.script.variables()),
+            })
+            .collect()
+    }
+
+    /// A fault the model-driven plant drew from the model's probabilities or was forced into.
+    pub fn drawn(plant: &Plant, fault: &FaultDrawn) -> InjectedFault {
+        let component = plant.components().get(fault.component.index());
+        let name = component.map_or("?", |c| c.name());
+        let mode = component
+            .and_then(|c| c.modes().get(fault.mode.index()))
+            .map_or("?", |m| m.name.as_str());
+        InjectedFault {
+            time: fault.time,
+            name: format!("{name} = {mode}"),
+            effect: if fault.forced {
+                "forced by the scenario".to_string()
+            } else {
+                "drawn by the model-driven plant".to_string()
+            },
+        }
+    }
+}
+
+/// The x of each time on the picture [`render`] draws of `input` (default options): how a page
+/// holding the picture puts a cursor on a cycle.
+pub fn positions(input: &TimelineInput, times: &[f64]) -> Vec<f64> {
+    let picture = Picture::new(input, &TimelineOptions::default());
+    times
+        .iter()
+        .map(|&t| clamp_time(t).map_or(picture.plot_left, |t| picture.scale.x(t)))
+        .collect()
 }
 
 /// How the timeline is drawn.
@@ -107,6 +175,7 @@ mod px {
     pub const SMALL: f64 = 10.0;
     pub const TITLE: f64 = 16.0;
     pub const HEADER: f64 = 78.0;
+    pub const LEGEND_LINE: f64 = 16.0;
     pub const LEVEL: f64 = 14.0;
     pub const MARKS: f64 = 18.0;
     pub const ROW_GAP: f64 = 4.0;
@@ -162,6 +231,11 @@ struct Picture<'a> {
     lanes_top: f64,
     lanes_bottom: f64,
     height: f64,
+    /// The notes under the picture: the full text of every fault-related mark and fault
+    /// segment, numbered, so that the static picture says what the tooltips say.
+    notes: Vec<String>,
+    /// The note number of each fault segment, by (lane, interval index).
+    segment_notes: HashMap<(usize, usize), usize>,
 }
 
 impl<'a> Picture<'a> {
@@ -174,6 +248,7 @@ impl<'a> Picture<'a> {
             program: input.program,
             timelines: input.timelines,
             events: input.events,
+            injected: input.injected,
             clock,
             window,
         });
@@ -199,14 +274,76 @@ impl<'a> Picture<'a> {
             lanes_top: 0.0,
             lanes_bottom: 0.0,
             height: 0.0,
+            notes: Vec::new(),
+            segment_notes: HashMap::new(),
         };
+        picture.number_notes();
         picture.lay_out();
         picture
     }
 
+    /// Numbers the notes: the injected faults and the faults row's marks in time order (their
+    /// labels take the number), then the fault segments lane by lane.
+    fn number_notes(&mut self) {
+        for mark in &mut self.marks.marks {
+            if !matches!(mark.row, Row::Injected | Row::Faults) {
+                continue;
+            }
+            let n = self.notes.len() + 1;
+            self.notes.push(format!("[{n}] {}", mark.tooltip));
+            if let Some(label) = &mut mark.label {
+                *label = format!("[{n}] {label}");
+            }
+        }
+        let plant = self.input.plant;
+        for (lane, component) in plant.components().iter().enumerate() {
+            let Some(timeline) = self.input.timelines.state(lane) else {
+                continue;
+            };
+            let intervals: Vec<&Interval> = timeline.intervals().collect();
+            for d in self.drawn_intervals(&intervals) {
+                let interval = intervals[d.k];
+                if is_fault(component, interval) {
+                    let n = self.notes.len() + 1;
+                    let tooltip = self.segment_tooltip(component, interval, (d.from, d.to));
+                    self.notes.push(format!("[{n}] {tooltip}"));
+                    self.segment_notes.insert((lane, d.k), n);
+                }
+            }
+        }
+    }
+
+    /// The footer's lines: the scale, the hint, what was not drawn, the notes (wrapped).
+    fn footer_lines(&self) -> Vec<String> {
+        let mut lines = vec![self.compression_note()];
+        lines.push(
+            "Hover a mark, a mode or a break for its details. Commands and diagnoses are traced down through the lanes."
+                .to_string(),
+        );
+        if !self.marks.omitted.is_empty() {
+            let counts: Vec<String> = self
+                .marks
+                .omitted
+                .iter()
+                .map(|(what, n)| format!("{what}: {n}"))
+                .collect();
+            lines.push(format!(
+                "Not drawn (see the mission log): {}.",
+                counts.join(", ")
+            ));
+        }
+        let columns = ((self.options.width - 2.0 * px::MARGIN) / (px::FONT * labels::CHAR_WIDTH))
+            .floor()
+            .max(20.0) as usize;
+        for note in &self.notes {
+            lines.extend(labels::wrap(note, columns, "    "));
+        }
+        lines
+    }
+
     /// Places the rows' labels and stacks rows, axis, lanes and footer.
     fn lay_out(&mut self) {
-        let mut y = px::HEADER;
+        let mut y = header_height(self.options.width);
         for row in Row::ALL {
             let layout = self.lay_out_row(row, y);
             y = layout.bottom;
@@ -214,7 +351,7 @@ impl<'a> Picture<'a> {
         }
         self.lanes_top = y + px::AXIS;
         self.lanes_bottom = self.lanes_top + px::LANE * self.input.plant.components().len() as f64;
-        let footer_lines = 2.0 + f64::from(u8::from(!self.marks.omitted.is_empty()));
+        let footer_lines = self.footer_lines().len() as f64;
         self.height = self.lanes_bottom + px::AXIS + footer_lines * px::FOOTER_LINE + px::MARGIN;
     }
 
@@ -306,7 +443,7 @@ impl<'a> Picture<'a> {
             .set("id", "header")
             .add(text(input.title, px::MARGIN, 24.0).set("class", "title"))
             .add(text(&facts.join(" · "), px::MARGIN, 43.0).set("class", "subtitle"))
-            .add(self.legend(62.0))
+            .add(self.legend(LEGEND_TOP))
     }
 
     fn count(&self, class: &str) -> usize {
@@ -317,59 +454,16 @@ impl<'a> Picture<'a> {
             .count()
     }
 
-    fn legend(&self, y: f64) -> Group {
+    /// The legend, wrapped onto as many lines as the width needs: every colour and symbol the
+    /// picture can use is keyed (issue 19 item 3), the nominal palette as one strip.
+    fn legend(&self, top: f64) -> Group {
         let mut group = Group::new().set("id", "legend");
-        let mut x = px::MARGIN;
-        let swatch = |fill: &str, opacity: f64, dashed: bool| {
-            let rect = Rectangle::new()
-                .set("width", 16)
-                .set("height", 10)
-                .set("y", r(y - 9.0))
-                .set("fill", fill.to_string())
-                .set("fill-opacity", opacity);
-            if dashed {
-                rect.set("stroke", "#555555").set("stroke-dasharray", "2,2")
-            } else {
-                rect
+        for (line, entries) in legend_lines(self.options.width).iter().enumerate() {
+            let y = top + line as f64 * px::LEGEND_LINE;
+            for &(x, key, label) in entries {
+                group = group.add(legend_key(key, x, y));
+                group = group.add(text(label, x + key.width() + 4.0, y).set("class", "legend"));
             }
-        };
-        let items: [(LegendKey, &str); 10] = [
-            (LegendKey::Swatch(fill::INITIAL, 1.0, false), "initial mode"),
-            (
-                LegendKey::Swatch(fill::NOMINAL[0], 1.0, false),
-                "nominal mode",
-            ),
-            (LegendKey::Swatch(fill::FAULT, 1.0, false), "fault mode"),
-            (
-                LegendKey::Swatch(fill::NOMINAL[0], 0.45, true),
-                "probability < 0.5 at times",
-            ),
-            (
-                LegendKey::Mark(Symbol::Down, colour::GOAL),
-                "goal (bar: until achieved)",
-            ),
-            (LegendKey::Mark(Symbol::Up, colour::COMMAND), "command"),
-            (LegendKey::Mark(Symbol::Up, colour::REPAIR), "repair"),
-            (LegendKey::Mark(Symbol::Diamond, colour::FAULT), "diagnosis"),
-            (LegendKey::Mark(Symbol::Cross, colour::FAULT), "failure"),
-            (LegendKey::Break, "idle stretch, compressed"),
-        ];
-        for (key, label) in items {
-            let label_width = text_width(label, px::FONT);
-            if x + 22.0 + label_width > self.options.width - px::MARGIN {
-                break;
-            }
-            group = match key {
-                LegendKey::Swatch(fill, opacity, dashed) => {
-                    group.add(swatch(fill, opacity, dashed).set("x", r(x)))
-                }
-                LegendKey::Mark(symbol, colour) => {
-                    group.add(symbol_at(symbol, x + 8.0, y - 4.0, colour))
-                }
-                LegendKey::Break => group.add(zigzag(x + 8.0, y - 11.0, y + 2.0)),
-            };
-            group = group.add(text(label, x + 20.0, y).set("class", "legend"));
-            x += 20.0 + label_width + 16.0;
         }
         group
     }
@@ -416,12 +510,18 @@ impl<'a> Picture<'a> {
         }
         group = group.add(leaders);
         for (k, &i) in layout.marks.iter().enumerate() {
-            group = group.add(self.event_mark(layout, &self.marks.marks[i], layout.placements[k]));
+            group = group.add(self.event_mark(layout, i, layout.placements[k]));
         }
         group
     }
 
-    fn event_mark(&self, layout: &RowLayout, mark: &Mark, placement: Option<Placement>) -> Group {
+    fn event_mark(
+        &self,
+        layout: &RowLayout,
+        mark_index: usize,
+        placement: Option<Placement>,
+    ) -> Group {
+        let mark = &self.marks.marks[mark_index];
         let x = self.scale.x(mark.time);
         let mut group = Group::new()
             .set("class", format!("event {}", mark.class))
@@ -443,7 +543,9 @@ impl<'a> Picture<'a> {
             group = group.add(
                 text(label, placement.left, baseline)
                     .set("class", "label")
-                    .set("fill", mark.colour),
+                    .set("id", format!("label-{}-{}", layout.row.name(), mark_index))
+                    // A style, not a `fill` attribute: the sheet's `text { fill }` outranks attributes.
+                    .set("style", format!("fill: {}", mark.colour)),
             );
         }
         group.add(symbol_at(mark.symbol, x, layout.mark_y, mark.colour))
@@ -514,15 +616,45 @@ impl<'a> Picture<'a> {
                 .add(text("no estimate", self.plot_left + px::PAD, y + 14.0).set("class", "none"));
         }
         let colours = mode_colours(component);
-        let (start, end) = self.window;
+        let drawn = self.drawn_intervals(intervals);
+        // A fault too brief for its name inside gets it beside the segment (a callout); the
+        // nominal names keep clear of it (issue 19 item 3: the fault is labelled, nothing
+        // overlaps).
+        let callouts: Vec<Callout> = drawn
+            .iter()
+            .filter(|d| is_fault(component, intervals[d.k]))
+            .filter_map(|d| self.callout(index, component, intervals[d.k], d, y))
+            .collect();
+        let reserved: Vec<(f64, f64)> = callouts.iter().map(|c| (c.left, c.right)).collect();
         // Faults are drawn after the nominal segments so that a brief one stays on top.
         let mut faults = Vec::new();
+        for d in &drawn {
+            let interval = intervals[d.k];
+            let fill = colours
+                .get(interval.value.index())
+                .copied()
+                .unwrap_or(fill::INITIAL);
+            let segment = self.segment(index, component, interval, d, y, fill, &reserved);
+            if is_fault(component, interval) {
+                faults.push(segment);
+            } else {
+                group = group.add(segment);
+            }
+        }
+        let group = faults.into_iter().fold(group, Group::add);
+        callouts.into_iter().fold(group, |g, c| g.add(c.text))
+    }
+
+    /// The intervals inside the window with their times and x, clipped to it.
+    fn drawn_intervals(&self, intervals: &[&Interval]) -> Vec<Drawn> {
+        let (start, end) = self.window;
+        let mut drawn = Vec::new();
         for (k, interval) in intervals.iter().enumerate() {
             let next = intervals.get(k + 1).map(|n| n.from);
-            let (from, to) = (interval.from.max(start), next.unwrap_or(end).min(end));
             if interval.from > end || next.is_some_and(|n| n < start) {
                 continue;
             }
+            let (from, to) = (interval.from.max(start), next.unwrap_or(end).min(end));
             let x0 = self.scale.x(from);
             // A value still held at the end runs into the padding after it, so that one
             // estimated at the last cycle shows.
@@ -530,32 +662,97 @@ impl<'a> Picture<'a> {
                 Some(n) if n <= end => self.scale.x(n),
                 _ => self.scale.end_x() + px::PAD,
             };
-            let fill = colours
-                .get(interval.value.index())
-                .copied()
-                .unwrap_or(fill::INITIAL);
-            let drawn = self.segment(component, interval, (from, to), (x0, x1), y, fill);
-            if is_fault(component, interval) {
-                faults.push(drawn);
-            } else {
-                group = group.add(drawn);
-            }
+            drawn.push(Drawn {
+                k,
+                from,
+                to,
+                x0,
+                x1,
+            });
         }
-        faults.into_iter().fold(group, Group::add)
+        drawn
+    }
+
+    /// The text of a fault segment: its note number and its mode.
+    fn fault_text(
+        &self,
+        lane: usize,
+        component: &Component,
+        interval: &Interval,
+        k: usize,
+    ) -> String {
+        let mode = mode_name(component, interval);
+        match self.segment_notes.get(&(lane, k)) {
+            Some(n) => format!("[{n}] {mode}"),
+            None => mode,
+        }
+    }
+
+    /// The label beside a fault segment too narrow for it: right of the segment, or left of it
+    /// when that would pass the plot's edge.
+    fn callout(
+        &self,
+        lane: usize,
+        component: &Component,
+        interval: &Interval,
+        d: &Drawn,
+        y: f64,
+    ) -> Option<Callout> {
+        let words = self.fault_text(lane, component, interval, d.k);
+        let width = text_width(&words, px::SMALL);
+        let fits_inside = self
+            .visible(d.x0, d.x1)
+            .iter()
+            .any(|(l, r)| r - l >= width + 6.0);
+        if fits_inside {
+            return None;
+        }
+        // Right of the segment, else left of it, wherever the text stays clear of the breaks'
+        // bands and inside the plot; where neither has room for the name, the note's number
+        // alone (the note under the picture has the rest).
+        let room = self.visible(self.plot_left, self.plot_right);
+        let right_end = d.x0 + (d.x1 - d.x0).max(px::MIN_FAULT);
+        let number = self
+            .segment_notes
+            .get(&(lane, d.k))
+            .map(|n| format!("[{n}]"));
+        let (words, left) = [Some(words), number]
+            .into_iter()
+            .flatten()
+            .find_map(|words| {
+                let width = text_width(&words, px::SMALL);
+                [right_end + 3.0, d.x0 - 3.0 - width]
+                    .into_iter()
+                    .find(|&left| room.iter().any(|&(a, b)| left >= a && left + width <= b))
+                    .map(|left| (words, left))
+            })?;
+        let width = text_width(&words, px::SMALL);
+        let text = text(&words, left, y + 13.5)
+            .set("class", "mode callout")
+            .set(
+                "id",
+                format!("fault-label-{}-{}", ident(component.name()), d.k),
+            );
+        Some(Callout {
+            left,
+            right: left + width,
+            text,
+        })
     }
 
     /// One interval's segment in a lane: rectangle, tooltip, and its mode's name in every
-    /// stretch between breaks wide enough for it.
+    /// stretch between breaks wide enough for it and clear of the lane's callouts.
+    #[allow(clippy::too_many_arguments)]
     fn segment(
         &self,
+        lane: usize,
         component: &Component,
         interval: &Interval,
-        (from, to): (f64, f64),
-        (x0, x1): (f64, f64),
+        d: &Drawn,
         y: f64,
         fill: &str,
+        reserved: &[(f64, f64)],
     ) -> Group {
-        let mode = mode_name(component, interval);
         let fault = is_fault(component, interval);
         let min_p = probability(interval.min_probability);
         let uncertain = min_p < UNCERTAIN;
@@ -565,24 +762,15 @@ impl<'a> Picture<'a> {
             (false, true) => "interval uncertain",
             (false, false) => "interval",
         };
-        let tooltip = format!(
-            "{} = {mode}{} from {} to {} ({}): probability {:.3} at its last cycle, {:.3} at its lowest",
-            component.name(),
-            if fault { " (fault mode)" } else { "" },
-            self.clock.precise(from),
-            self.clock.precise(to),
-            format_duration(to - from),
-            probability(interval.probability),
-            min_p,
-        );
+        let tooltip = self.segment_tooltip(component, interval, (d.from, d.to));
         let mut rect = Rectangle::new()
             .set("class", class)
-            .set("data-mode", clean(&mode))
-            .set("x", r(x0))
+            .set("data-mode", clean(&mode_name(component, interval)))
+            .set("x", r(d.x0))
             .set("y", r(y + 2.0))
             .set(
                 "width",
-                r((x1 - x0).max(if fault { px::MIN_FAULT } else { 1.0 })),
+                r((d.x1 - d.x0).max(if fault { px::MIN_FAULT } else { 1.0 })),
             )
             .set("height", px::LANE - 4.0)
             .set("fill", fill.to_string())
@@ -592,15 +780,46 @@ impl<'a> Picture<'a> {
             rect = rect.set("stroke", "#555555").set("stroke-dasharray", "3,2");
         }
         let mut group = Group::new().add(rect);
-        let width = text_width(&mode, px::SMALL);
-        for (left, right) in self.visible(x0, x1) {
-            if right - left >= width + 6.0 {
-                let label = text(&mode, left + 3.0, y + 13.5)
-                    .set("class", if fault { "mode fault" } else { "mode" });
-                group = group.add(label);
-            }
+        let words = if fault {
+            self.fault_text(lane, component, interval, d.k)
+        } else {
+            mode_name(component, interval)
+        };
+        let width = text_width(&words, px::SMALL);
+        for (part, (left, right)) in self.visible(d.x0, d.x1).into_iter().enumerate() {
+            let Some(start) = clear_of(left + 3.0, width, right - 3.0, reserved) else {
+                continue;
+            };
+            let label = text(&words, start, y + 13.5)
+                .set("class", if fault { "mode fault" } else { "mode" })
+                .set(
+                    "id",
+                    format!("mode-{}-{}-{part}", ident(component.name()), d.k),
+                );
+            group = group.add(label);
         }
         group
+    }
+
+    /// A mode segment's full description (its tooltip, and a note when it is a fault).
+    fn segment_tooltip(
+        &self,
+        component: &Component,
+        interval: &Interval,
+        (from, to): (f64, f64),
+    ) -> String {
+        let fault = is_fault(component, interval);
+        format!(
+            "{} = {}{} from {} to {} ({}): probability {:.3} at its last cycle, {:.3} at its lowest",
+            component.name(),
+            mode_name(component, interval),
+            if fault { " (fault mode)" } else { "" },
+            self.clock.precise(from),
+            self.clock.precise(to),
+            format_duration(to - from),
+            probability(interval.probability),
+            probability(interval.min_probability),
+        )
     }
 
     /// The parts of `[x0, x1]` not under a break's band.
@@ -733,25 +952,8 @@ impl<'a> Picture<'a> {
 
     fn footer(&self) -> Group {
         let mut y = self.lanes_bottom + px::AXIS + px::FOOTER_LINE;
-        let mut lines = vec![self.compression_note()];
-        lines.push(
-            "Hover a mark, a mode or a break for its details. Commands and diagnoses are traced down through the lanes."
-                .to_string(),
-        );
-        if !self.marks.omitted.is_empty() {
-            let counts: Vec<String> = self
-                .marks
-                .omitted
-                .iter()
-                .map(|(what, n)| format!("{what}: {n}"))
-                .collect();
-            lines.push(format!(
-                "Not drawn (see the mission log): {}.",
-                counts.join(", ")
-            ));
-        }
         let mut group = Group::new().set("id", "footer");
-        for line in lines {
+        for line in self.footer_lines() {
             group = group.add(text(&line, px::MARGIN, y).set("class", "note"));
             y += px::FOOTER_LINE;
         }
@@ -781,11 +983,33 @@ impl<'a> Picture<'a> {
     }
 }
 
-/// What a legend entry shows.
-enum LegendKey {
-    Swatch(&'static str, f64, bool),
-    Mark(Symbol, &'static str),
-    Break,
+/// An interval as drawn: its index in the lane, its clipped times and its x.
+struct Drawn {
+    k: usize,
+    from: f64,
+    to: f64,
+    x0: f64,
+    x1: f64,
+}
+
+/// A fault's label beside its segment.
+struct Callout {
+    left: f64,
+    right: f64,
+    text: Text,
+}
+
+/// Where a text of `width` starting at `start` can go before `limit` without coming within 3 px
+/// of a reserved range: moved past each range it meets; `None` when it no longer fits.
+fn clear_of(mut start: f64, width: f64, limit: f64, reserved: &[(f64, f64)]) -> Option<f64> {
+    let mut sorted = reserved.to_vec();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for (a, b) in sorted {
+        if start < b + 3.0 && start + width > a - 3.0 {
+            start = b + 3.0;
+        }
+    }
+    (start + width <= limit).then_some(start)
 }
 
 /// Width, height and threshold made usable.
@@ -870,7 +1094,7 @@ fn names_width(plant: &Plant) -> f64 {
 
 /// Each mode's fill: the initial mode (the most likely initially) neutral, other nominal modes
 /// from the palette in declaration order, fault modes red.
-fn mode_colours(component: &Component) -> Vec<&'static str> {
+pub(super) fn mode_colours(component: &Component) -> Vec<&'static str> {
     let initial = component
         .initial()
         .iter()
@@ -1006,6 +1230,19 @@ fn symbol_at(symbol: Symbol, x: f64, y: f64, colour: &str) -> Group {
             closed(&[(-4.0, -4.0), (4.0, -4.0), (4.0, 4.0), (-4.0, 4.0)]),
             colour,
         )),
+        Symbol::Star => Box::new(filled(
+            closed(&[
+                (0.0, -6.0),
+                (1.5, -1.5),
+                (6.0, 0.0),
+                (1.5, 1.5),
+                (0.0, 6.0),
+                (-1.5, 1.5),
+                (-6.0, 0.0),
+                (-1.5, -1.5),
+            ]),
+            colour,
+        )),
         Symbol::Check => Box::new(stroked(
             Data::new()
                 .move_to(point(-4.0, 0.0))
@@ -1109,6 +1346,7 @@ fn stylesheet() -> String {
 .mode, .tick, .break-label {{ font-size: {small}px; }}
 .mode {{ fill: #333333; }}
 .mode.fault {{ fill: #ffffff; font-weight: bold; }}
+.mode.callout {{ fill: {fault}; font-weight: bold; paint-order: stroke; stroke: #ffffff; stroke-width: 3px; stroke-linejoin: round; }}
 .tick {{ fill: #555555; }}
 .tick.major {{ fill: #222222; font-weight: bold; }}
 .none {{ fill: #999999; font-style: italic; }}

@@ -56,6 +56,33 @@ pub(super) fn file_name(path: &str) -> &str {
     path.rsplit(['/', '\\']).next().unwrap_or(path)
 }
 
+/// `text` cleaned and broken at spaces into lines of at most `columns` characters (a word
+/// longer than that is cut), every line after the first starting with `indent`.
+pub(super) fn wrap(text: &str, columns: usize, indent: &str) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    let mut empty = true;
+    for word in clean(text).split(' ').filter(|w| !w.is_empty()) {
+        if !empty && line.chars().count() + 1 + word.chars().count() > columns {
+            lines.push(std::mem::take(&mut line));
+            line.push_str(indent);
+            empty = true;
+        }
+        if !empty {
+            line.push(' ');
+        }
+        line.push_str(word);
+        empty = false;
+    }
+    if !empty {
+        lines.push(line);
+    }
+    lines
+        .into_iter()
+        .map(|l| shorten(&l, columns.max(2)))
+        .collect()
+}
+
 /// A label to place next to a mark.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Request {
@@ -167,6 +194,18 @@ mod tests {
         };
         let placed = place(&[bar, request(100.0, 20.0)], 1000.0, 5);
         assert_eq!(placed[1].map(|p| p.level), Some(1));
+    }
+
+    #[test]
+    fn notes_wrap_at_spaces_with_an_indent() {
+        assert_eq!(
+            wrap("[1] lander = unsuccessful-attempt from 4:34:52", 22, "  "),
+            ["[1] lander =", "  unsuccessful-attempt", "  from 4:34:52"]
+        );
+        assert_eq!(wrap("short", 20, "  "), ["short"]);
+        assert!(wrap("", 20, "  ").is_empty());
+        // A word longer than a line is cut, the cut marked.
+        assert_eq!(wrap("abcdefghij", 5, ""), ["abcd…"]);
     }
 
     #[test]

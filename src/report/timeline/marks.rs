@@ -1,10 +1,11 @@
 //! The marks above the swimlanes, made from the run's events: what the program asserted and
 //! achieved, what the executive commanded, and what it diagnosed.
 //!
-//! Three rows: **program** (goals asserted — a bar runs to the cycle the goal was achieved —
+//! Four rows: **program** (goals asserted — a bar runs to the cycle the goal was achieved —
 //! goal failures and conflicts, preemptions, completion), **commands** (commands issued, repairs
 //! distinguished; waits for a timed transition as small rings) and **faults** (diagnoses,
-//! inconsistent observations, planning failures). Mode changes are not marked: the lanes show
+//! inconsistent observations, planning failures), with the faults the simulation injected on a
+//! row of their own between the last two. Mode changes are not marked: the lanes show
 //! them. Clock starts are not marked. Observation problems, deadline overruns and search cuts
 //! are counted, not drawn (the mission log lists them).
 
@@ -16,6 +17,7 @@ use crate::executive::{Event, EventKind, Timelines};
 use crate::plant::{ComponentId, Plant};
 use crate::sequencer::{LocationId, Thca};
 
+use super::InjectedFault;
 use super::labels::{file_name, shorten};
 use super::scale::Clock;
 
@@ -31,19 +33,23 @@ pub(super) enum Row {
     Program,
     /// Commands issued.
     Commands,
+    /// Faults the simulation injected (scripted rules marked `fault: true`): what happened to
+    /// the plant, beside what the executive concluded about it.
+    Injected,
     /// Diagnoses and other trouble.
     Faults,
 }
 
 impl Row {
     /// Every row, top to bottom.
-    pub const ALL: [Row; 3] = [Row::Program, Row::Commands, Row::Faults];
+    pub const ALL: [Row; 4] = [Row::Program, Row::Commands, Row::Injected, Row::Faults];
 
     /// The row's name, shown at its left.
     pub fn name(self) -> &'static str {
         match self {
             Row::Program => "program",
             Row::Commands => "commands",
+            Row::Injected => "injected",
             Row::Faults => "faults",
         }
     }
@@ -68,6 +74,8 @@ pub(super) enum Symbol {
     Ring,
     /// ◆ a diagnosis.
     Diamond,
+    /// ✶ a fault injected by the simulation.
+    Star,
 }
 
 /// One mark.
@@ -109,6 +117,8 @@ pub(super) mod colour {
     pub const PREEMPTED: &str = "#756bb1";
     /// Waits.
     pub const WAIT: &str = "#969696";
+    /// Faults injected by the simulation.
+    pub const INJECTED: &str = "#8c2d04";
 }
 
 /// The marks of a run and what was left out.
@@ -130,6 +140,8 @@ pub(super) struct Sources<'a> {
     pub timelines: &'a Timelines,
     /// The events.
     pub events: &'a [Event],
+    /// The faults the simulation injected.
+    pub injected: &'a [InjectedFault],
     /// How times are written.
     pub clock: Clock,
     /// The drawn time window.
@@ -156,6 +168,13 @@ pub(super) fn collect(sources: &Sources) -> Marks {
         }
     }
     builder.history_commands();
+    for fault in sources.injected {
+        if builder.inside(fault.time) {
+            builder.injected(fault);
+        } else {
+            builder.omit("events outside the drawn window");
+        }
+    }
     let Builder {
         mut marks, omitted, ..
     } = builder;
@@ -439,6 +458,25 @@ impl Builder<'_, '_> {
             tooltip: format!(
                 "diagnosis at {}: {name} = {mode}, probability {probability:.3}",
                 self.at(time)
+            ),
+            guide: true,
+        });
+    }
+
+    fn injected(&mut self, fault: &InjectedFault) {
+        self.push(Mark {
+            time: fault.time,
+            until: None,
+            row: Row::Injected,
+            class: "injected",
+            symbol: Symbol::Star,
+            colour: colour::INJECTED,
+            label: Some(shorten(&fault.name, MAX_LABEL)),
+            tooltip: format!(
+                "fault injected at {}: {} — {}",
+                self.at(fault.time),
+                fault.name,
+                fault.effect
             ),
             guide: true,
         });
