@@ -78,7 +78,7 @@ pub struct TimedMe {
     expander: Expander,
 }
 
-/// A clone starts with empty caches: every cache of the [`Expander`] is certified to hold a pure
+/// A clone starts with empty caches: every cache of the `Expander` is certified to hold a pure
 /// function of its key (see its documentation), so a fresh one answers exactly as a warm one —
 /// and an explored state's copy need not carry megabytes of memo it may never read.
 impl Clone for TimedMe {

@@ -35,6 +35,9 @@
 //! branches off it whose ordinal is its own modulo `jobs`. Results are merged in a fixed order,
 //! so a search gives the same answer for any number of workers and on any run (a time budget
 //! aside, which cuts where the clock says). A state budget is split evenly among the workers.
+//!
+//! [`Executive`]: crate::executive::Executive
+//! [`Executive::fingerprint`]: crate::executive::Executive::fingerprint
 
 pub mod deep;
 mod replay;

@@ -144,7 +144,7 @@ pub struct TheoryStats {
 }
 
 /// Constraints over finite-domain variables, encoded once, queried many times. A clone is a
-/// theory with the same clauses and definitions on a fresh solver ([`RecordedSolver`]): every
+/// theory with the same clauses and definitions on a fresh solver (`RecordedSolver`): every
 /// consistency and entailment question gets the original's answer (a conflict returned may be
 /// another inconsistent subset, the solver's learned clauses being gone).
 #[derive(Clone)]

@@ -4,7 +4,7 @@
 //! Helios shows a plant's live estimate (thesis §8.1).
 //!
 //! The page holds:
-//! - the run's [timeline](super::timeline) (the same SVG as `--timeline`), zoomable (wheel)
+//! - the run's [`timeline`] (the same SVG as `--timeline`), zoomable (wheel)
 //!   and pannable (drag), with a cursor on the current cycle (click to move it);
 //! - for the current cycle: the belief (the tracked plant states, most likely first, each with
 //!   the modes where it differs from the most likely; and per-component marginals over the
