@@ -147,6 +147,9 @@ pub struct ProtocolExploration {
     pub terminals: u64,
     /// Configurations not explored further because they violate a property.
     pub stopped: u64,
+    /// Configurations outside the scenario, not explored further: a constraint that must
+    /// arrive while another is processed was not sent before that one ended.
+    pub excluded: u64,
     /// Interleavings: the number of distinct paths from the initial configuration to a
     /// terminal one. `None` if a path count could not be kept exact (a step to a configuration
     /// reached by a shorter route) or overflowed.
@@ -221,7 +224,7 @@ pub fn explore<C: Controller>(
         found: Vec::new(),
     };
     search.index.insert(initial, 0);
-    let (mut transitions, mut stopped, mut cut) = (0, 0, false);
+    let (mut transitions, mut stopped, mut excluded, mut cut) = (0, 0, 0, false);
     let mut queue = VecDeque::from([0usize]);
     while let Some(at) = queue.pop_front() {
         if out_of_budget(budget, search.states.len(), started) {
@@ -230,6 +233,10 @@ pub fn explore<C: Controller>(
         }
         if search.check_safety(at) {
             stopped += 1;
+            continue;
+        }
+        if search.window_missed(at) {
+            excluded += 1;
             continue;
         }
         let steps = search.enabled(at);
@@ -254,6 +261,7 @@ pub fn explore<C: Controller>(
         transitions,
         terminals,
         stopped,
+        excluded,
         paths,
         depth: search.level.iter().copied().max().unwrap_or(0),
         cut,
@@ -356,6 +364,23 @@ impl<C: Controller> Search<'_, C> {
         messages.dedup();
         steps.extend(messages.into_iter().map(Step::Deliver));
         steps
+    }
+
+    /// Whether the environment missed a window at `at`: a constraint that arrives
+    /// `WhileProcessing(j)` is unsent although the controller has processed `j` and no longer
+    /// does. Such a path is not one of the scenario's, as a constraint sent outside its window
+    /// would not be.
+    fn window_missed(&self, at: usize) -> bool {
+        let config = &self.states[at];
+        let processing = config.controller.processing();
+        (self.scenario.constraints.iter().enumerate()).any(|(id, c)| match c.arrives {
+            Arrival::WhileProcessing(other) => {
+                !config.sent[id]
+                    && config.issued[other].start.is_some()
+                    && !processing.contains(&other)
+            }
+            Arrival::Initially | Arrival::Anytime => false,
+        })
     }
 
     /// Stores `next`, reached from `from` by `step`, if new; its index then.
