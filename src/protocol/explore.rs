@@ -417,7 +417,9 @@ impl<C: Controller> Search<'_, C> {
         let mut violations = Vec::new();
         let processing = config.controller.processing();
         if processing.len() > 1 {
-            let names: Vec<String> = processing.iter().map(|&id| self.name(id)).collect();
+            let names: Vec<String> = (processing.iter())
+                .map(|&id| format!("`{}`", self.name(id)))
+                .collect();
             violations.push((
                 Property::Excl,
                 format!("the controller processes {} at once", names.join(" and ")),
