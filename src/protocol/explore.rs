@@ -193,37 +193,7 @@ pub fn explore<C: Controller>(
     budget: Budget,
 ) -> ProtocolExploration {
     let started = Instant::now();
-    let n = scenario.constraints.len();
-    // Constraints that arrive initially are in flight from the start, in no order.
-    let initially = |id: &usize| scenario.constraints[*id].arrives == Arrival::Initially;
-    let mut messages: Vec<Message> = (0..n)
-        .filter(initially)
-        .map(|id| Message::Constraint {
-            id,
-            constraint: scenario.constraints[id].constraint,
-        })
-        .collect();
-    messages.sort_unstable();
-    let initial = Configuration {
-        controller,
-        rover: scenario.rover,
-        sv: StateVariable::new(scenario.initial_value()),
-        messages,
-        sent: (0..n).map(|id| initially(&id)).collect(),
-        issued: vec![Issued::default(); n],
-    };
-    let mut search = Search {
-        scenario,
-        states: vec![initial.clone()],
-        index: FxHashMap::default(),
-        parent: vec![None],
-        level: vec![0],
-        paths: vec![1],
-        exact_paths: true,
-        terminal: Vec::new(),
-        found: Vec::new(),
-    };
-    search.index.insert(initial, 0);
+    let mut search = Search::initial(scenario, controller);
     let (mut transitions, mut stopped, mut excluded, mut cut) = (0, 0, 0, false);
     let mut queue = VecDeque::from([0usize]);
     while let Some(at) = queue.pop_front() {
@@ -235,11 +205,11 @@ pub fn explore<C: Controller>(
             stopped += 1;
             continue;
         }
-        if search.window_missed(at) {
+        if window_missed(scenario, &search.states[at]) {
             excluded += 1;
             continue;
         }
-        let steps = search.enabled(at);
+        let steps = enabled(scenario, &search.states[at]);
         if steps.is_empty() {
             search.terminal.push(at);
             search.check_terminal(at);
@@ -267,6 +237,46 @@ pub fn explore<C: Controller>(
         cut,
         counterexamples,
         wall: started.elapsed(),
+    }
+}
+
+impl<'a, C: Controller> Search<'a, C> {
+    /// A search holding only the initial configuration: the controller as given, the rover
+    /// and state variable as the scenario says, the constraints that arrive initially in
+    /// flight.
+    fn initial(scenario: &'a RoverScenario, controller: C) -> Self {
+        let n = scenario.constraints.len();
+        // Constraints that arrive initially are in flight from the start, in no order.
+        let initially = |id: &usize| scenario.constraints[*id].arrives == Arrival::Initially;
+        let mut messages: Vec<Message> = (0..n)
+            .filter(initially)
+            .map(|id| Message::Constraint {
+                id,
+                constraint: scenario.constraints[id].constraint,
+            })
+            .collect();
+        messages.sort_unstable();
+        let initial = Configuration {
+            controller,
+            rover: scenario.rover,
+            sv: StateVariable::new(scenario.initial_value()),
+            messages,
+            sent: (0..n).map(|id| initially(&id)).collect(),
+            issued: vec![Issued::default(); n],
+        };
+        let mut search = Search {
+            scenario,
+            states: vec![initial.clone()],
+            index: FxHashMap::default(),
+            parent: vec![None],
+            level: vec![0],
+            paths: vec![1],
+            exact_paths: true,
+            terminal: Vec::new(),
+            found: Vec::new(),
+        };
+        search.index.insert(initial, 0);
+        search
     }
 }
 
@@ -320,6 +330,42 @@ fn apply<C: Controller>(
     (next, sent)
 }
 
+/// The steps enabled in `config`: sends the scenario allows now, then each
+/// distinct message in flight.
+fn enabled<C: Controller>(scenario: &RoverScenario, config: &Configuration<C>) -> Vec<Step> {
+    let processing = config.controller.processing();
+    let mut steps: Vec<Step> = (scenario.constraints.iter().enumerate())
+        .filter(|(id, c)| {
+            !config.sent[*id]
+                && match c.arrives {
+                    // Sent in the initial configuration.
+                    Arrival::Initially => false,
+                    Arrival::Anytime => true,
+                    Arrival::WhileProcessing(other) => processing.contains(&other),
+                }
+        })
+        .map(|(id, _)| Step::Send(id))
+        .collect();
+    let mut messages = config.messages.clone();
+    messages.dedup();
+    steps.extend(messages.into_iter().map(Step::Deliver));
+    steps
+}
+
+/// Whether the environment missed a window in `config`: a constraint that arrives
+/// `WhileProcessing(j)` is unsent although the controller has processed `j` and no longer
+/// does. Such a path is not one of the scenario's, as a constraint sent outside its window
+/// would not be.
+fn window_missed<C: Controller>(scenario: &RoverScenario, config: &Configuration<C>) -> bool {
+    let processing = config.controller.processing();
+    (scenario.constraints.iter().enumerate()).any(|(id, c)| match c.arrives {
+        Arrival::WhileProcessing(other) => {
+            !config.sent[id] && config.issued[other].start.is_some() && !processing.contains(&other)
+        }
+        Arrival::Initially | Arrival::Anytime => false,
+    })
+}
+
 impl<C: Controller> Configuration<C> {
     /// Hands `message` to its recipient; what the recipient sends in answer.
     fn deliver(&mut self, grid: &super::rover::Grid, message: &Message) -> Vec<Message> {
@@ -343,46 +389,6 @@ impl<C: Controller> Configuration<C> {
 }
 
 impl<C: Controller> Search<'_, C> {
-    /// The steps enabled in configuration `at`: sends the scenario allows now, then each
-    /// distinct message in flight.
-    fn enabled(&self, at: usize) -> Vec<Step> {
-        let config = &self.states[at];
-        let processing = config.controller.processing();
-        let mut steps: Vec<Step> = (self.scenario.constraints.iter().enumerate())
-            .filter(|(id, c)| {
-                !config.sent[*id]
-                    && match c.arrives {
-                        // Sent in the initial configuration.
-                        Arrival::Initially => false,
-                        Arrival::Anytime => true,
-                        Arrival::WhileProcessing(other) => processing.contains(&other),
-                    }
-            })
-            .map(|(id, _)| Step::Send(id))
-            .collect();
-        let mut messages = config.messages.clone();
-        messages.dedup();
-        steps.extend(messages.into_iter().map(Step::Deliver));
-        steps
-    }
-
-    /// Whether the environment missed a window at `at`: a constraint that arrives
-    /// `WhileProcessing(j)` is unsent although the controller has processed `j` and no longer
-    /// does. Such a path is not one of the scenario's, as a constraint sent outside its window
-    /// would not be.
-    fn window_missed(&self, at: usize) -> bool {
-        let config = &self.states[at];
-        let processing = config.controller.processing();
-        (self.scenario.constraints.iter().enumerate()).any(|(id, c)| match c.arrives {
-            Arrival::WhileProcessing(other) => {
-                !config.sent[id]
-                    && config.issued[other].start.is_some()
-                    && !processing.contains(&other)
-            }
-            Arrival::Initially | Arrival::Anytime => false,
-        })
-    }
-
     /// Stores `next`, reached from `from` by `step`, if new; its index then.
     fn reach(&mut self, from: usize, step: Step, next: Configuration<C>) -> Option<usize> {
         let level = self.level[from] + 1;
@@ -579,4 +585,40 @@ impl<C: Controller> Search<'_, C> {
 fn list(commands: &[Command]) -> String {
     let names: Vec<String> = commands.iter().map(Command::to_string).collect();
     names.join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::Source;
+    use crate::protocol::CoaController;
+    use crate::protocol::scenario::load_source;
+
+    /// Every path from `config` to a terminal configuration, enumerated one by one.
+    fn count_paths(scenario: &RoverScenario, config: &Configuration<CoaController>) -> u128 {
+        if window_missed(scenario, config) {
+            return 0;
+        }
+        let steps = enabled(scenario, config);
+        if steps.is_empty() {
+            return 1;
+        }
+        (steps.into_iter())
+            .map(|step| count_paths(scenario, &apply(scenario, config, step).0))
+            .sum()
+    }
+
+    /// The interleavings the search counts (summed over predecessors, breadth first) are the
+    /// paths a plain enumeration finds, on R5 (§4.2), whose space merges paths.
+    #[test]
+    fn interleavings_are_counted_exactly() {
+        let text = include_str!("../../scenarios/rover/r5.ron");
+        let scenario = load_source(&Source::new("r5.ron", text)).expect("R5 loads");
+        let controller = CoaController::new(scenario.initial_value());
+        let explored = explore(&scenario, controller.clone(), Budget::Unbounded);
+        let search = Search::<CoaController>::initial(&scenario, controller);
+        let enumerated = count_paths(&scenario, &search.states[0]);
+        assert_eq!(explored.paths, Some(enumerated));
+        assert!(enumerated > explored.states as u128, "paths merge in R5");
+    }
 }
