@@ -61,7 +61,7 @@ pub fn report(scenario: &RoverScenario, explored: &ProtocolExploration, quiet: b
         "explore `{}`: the controller protocol on every interleaving of its messages\n\
          {} states, {} steps; {} terminal configuration{}, {paths} interleaving{} to them; {} \
          stopped at a violation, {} outside the scenario's arrival windows; deepest {} steps; \
-         {:.2} s\n",
+         {}\n",
         scenario.name,
         explored.states,
         explored.transitions,
@@ -71,7 +71,7 @@ pub fn report(scenario: &RoverScenario, explored: &ProtocolExploration, quiet: b
         explored.stopped,
         explored.excluded,
         explored.depth,
-        explored.wall.as_secs_f64(),
+        wall(explored.wall),
     );
     text.push_str(match explored.cut {
         false => "covered: every interleaving\n",
@@ -107,6 +107,14 @@ pub fn report(scenario: &RoverScenario, explored: &ProtocolExploration, quiet: b
         }
     }
     text
+}
+
+/// Wall time: these searches take milliseconds, so below a second they are shown in them.
+fn wall(time: std::time::Duration) -> String {
+    match time.as_secs_f64() {
+        s if s < 1.0 => format!("{:.2} ms", s * 1e3),
+        s => format!("{s:.2} s"),
+    }
 }
 
 fn plural(n: u64) -> &'static str {
