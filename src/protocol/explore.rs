@@ -240,46 +240,6 @@ pub fn explore<C: Controller>(
     }
 }
 
-impl<'a, C: Controller> Search<'a, C> {
-    /// A search holding only the initial configuration: the controller as given, the rover
-    /// and state variable as the scenario says, the constraints that arrive initially in
-    /// flight.
-    fn initial(scenario: &'a RoverScenario, controller: C) -> Self {
-        let n = scenario.constraints.len();
-        // Constraints that arrive initially are in flight from the start, in no order.
-        let initially = |id: &usize| scenario.constraints[*id].arrives == Arrival::Initially;
-        let mut messages: Vec<Message> = (0..n)
-            .filter(initially)
-            .map(|id| Message::Constraint {
-                id,
-                constraint: scenario.constraints[id].constraint,
-            })
-            .collect();
-        messages.sort_unstable();
-        let initial = Configuration {
-            controller,
-            rover: scenario.rover,
-            sv: StateVariable::new(scenario.initial_value()),
-            messages,
-            sent: (0..n).map(|id| initially(&id)).collect(),
-            issued: vec![Issued::default(); n],
-        };
-        let mut search = Search {
-            scenario,
-            states: vec![initial.clone()],
-            index: FxHashMap::default(),
-            parent: vec![None],
-            level: vec![0],
-            paths: vec![1],
-            exact_paths: true,
-            terminal: Vec::new(),
-            found: Vec::new(),
-        };
-        search.index.insert(initial, 0);
-        search
-    }
-}
-
 /// Whether the budget is spent with `states` configurations stored.
 fn out_of_budget(budget: Budget, states: usize, started: Instant) -> bool {
     match budget {
@@ -388,7 +348,45 @@ impl<C: Controller> Configuration<C> {
     }
 }
 
-impl<C: Controller> Search<'_, C> {
+impl<'a, C: Controller> Search<'a, C> {
+    /// A search holding only the initial configuration: the controller as given, the rover
+    /// and state variable as the scenario says, the constraints that arrive initially in
+    /// flight.
+    fn initial(scenario: &'a RoverScenario, controller: C) -> Self {
+        let n = scenario.constraints.len();
+        // Constraints that arrive initially are in flight from the start, in no order.
+        let initially = |id: &usize| scenario.constraints[*id].arrives == Arrival::Initially;
+        let mut messages: Vec<Message> = (0..n)
+            .filter(initially)
+            .map(|id| Message::Constraint {
+                id,
+                constraint: scenario.constraints[id].constraint,
+            })
+            .collect();
+        messages.sort_unstable();
+        let initial = Configuration {
+            controller,
+            rover: scenario.rover,
+            sv: StateVariable::new(scenario.initial_value()),
+            messages,
+            sent: (0..n).map(|id| initially(&id)).collect(),
+            issued: vec![Issued::default(); n],
+        };
+        let mut search = Search {
+            scenario,
+            states: vec![initial.clone()],
+            index: FxHashMap::default(),
+            parent: vec![None],
+            level: vec![0],
+            paths: vec![1],
+            exact_paths: true,
+            terminal: Vec::new(),
+            found: Vec::new(),
+        };
+        search.index.insert(initial, 0);
+        search
+    }
+
     /// Stores `next`, reached from `from` by `step`, if new; its index then.
     fn reach(&mut self, from: usize, step: Step, next: Configuration<C>) -> Option<usize> {
         let level = self.level[from] + 1;
