@@ -266,18 +266,12 @@ fn p_term_catches_a_controller_that_never_answers() {
 }
 
 /// §4.2 P-succ/P-fail: a scenario expecting the wrong outcome is refuted at the endcstr that
-/// shows it (R3 expecting success).
+/// shows it (R3's obstacle, expecting success).
 #[test]
 fn p_succ_refutes_a_wrong_expectation_at_the_endcstr() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/rover/r3.ron");
-    let text = std::fs::read_to_string(&path).expect("r3 is readable");
-    let text = text.replace("expect: CoaNoSuccess", "expect: Success");
-    let source = kairos::diagnostic::Source::new("r3-success.ron", text);
-    let scenario = scenario::load_source(&source).unwrap_or_else(|e| panic!("{e}"));
-    let explored = explore(
-        &scenario,
-        CoaController::new(scenario.initial_value()),
-        Budget::Unbounded,
+    let explored = explore_with(
+        "tests/scenarios/rover_blocked_expects_success.ron",
+        CoaController::new,
     );
     assert_eq!(explored.counterexamples.len(), 1);
     let counterexample = &explored.counterexamples[0];
@@ -314,6 +308,14 @@ fn kairos_explore_runs_a_rover_scenario() {
     let (code, _, stderr) = cli::kairos(&["explore", "tests/bad_rover/goal_off_grid.ron"]);
     assert_eq!(code, 2);
     assert!(stderr.contains("goal_off_grid.ron:5:53"), "{stderr}");
+    let file = "tests/scenarios/rover_blocked_expects_success.ron";
+    let (code, stdout, stderr) = cli::kairos(&["explore", file]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    assert!(stdout.contains(
+        "counterexample 1: P-succ/P-fail fails: `c1` ends with coanosuccess, expected success"
+    ));
+    assert!(stdout.contains(" 20. controller → state variable: endcstr `c1` coanosuccess"));
+    assert!(stderr.contains("1 property violated"), "{stderr}");
     let (code, stdout, _) = cli::kairos(&["explore", "scenarios/rover/r5.ron", "--budget", "10"]);
     assert_eq!(code, 1);
     assert!(stdout.contains("covered: partly"), "{stdout}");
