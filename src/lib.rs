@@ -17,6 +17,7 @@ pub mod goalnet;
 pub mod logic;
 pub mod opsat;
 pub mod plant;
+pub mod protocol;
 pub mod reconfiguration;
 pub mod report;
 pub mod rmpl;

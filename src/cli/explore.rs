@@ -24,10 +24,12 @@ use kairos::simulation::{self, RunOptions, Scenario};
 use super::Failure;
 use super::output::emit;
 
-/// `kairos explore`'s arguments.
+/// `kairos explore`'s arguments (for a rover scenario, `super::explore_rover`, only `--budget`
+/// and `--quiet` apply).
 #[derive(clap::Args)]
 pub struct ExploreArgs {
-    /// The scenario (its `Optional` rules are what is explored).
+    /// The scenario (its `Optional` rules are what is explored), or a rover scenario (the
+    /// interleavings of its controller protocol).
     pub scenario: PathBuf,
     /// At most this many optional rules fire on a path.
     #[arg(long, default_value_t = 1)]
@@ -68,6 +70,9 @@ fn parse_budget(text: &str) -> Result<Budget, String> {
 
 /// Loads and explores the scenario; the outcome is the exit code.
 pub fn run(args: &ExploreArgs) -> Result<(), Failure> {
+    if super::explore_rover::is_rover(&args.scenario) {
+        return super::explore_rover::run(args);
+    }
     let scenario = simulation::load(&args.scenario).map_err(Failure::bad_input)?;
     let jobs = match args.jobs {
         0 => std::thread::available_parallelism().map_or(1, usize::from),

@@ -6,6 +6,7 @@ pub mod check;
 pub mod compile;
 pub mod estimate;
 pub mod explore;
+pub mod explore_rover;
 pub mod graph;
 pub mod model_args;
 pub mod output;
