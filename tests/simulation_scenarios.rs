@@ -206,8 +206,8 @@ fn a_confidence_guard_waits_for_the_belief_not_the_most_likely_mode() {
         .find("command      camera.cmd = on")
         .expect("the camera is switched on");
     assert!(believed < camera, "{log}");
-    assert!(log.contains("[    46.000 s]"), "{log}");
-    assert!(log.contains("[    60.000 s]"), "{log}");
+    assert!(log.contains("[    46.000 s   0:00:46.000]"), "{log}");
+    assert!(log.contains("[    60.000 s   0:01:00.000]"), "{log}");
 }
 
 /// DESIGN.md §11: "`kairos run SCENARIO` exits non-zero when one fails" — 1, naming each.

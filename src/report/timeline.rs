@@ -46,6 +46,7 @@ use crate::simulation::{CycleRecord, FaultDrawn, PlantEventKind, Scenario};
 use labels::{Placement, Request, clean, file_name, ident, place, text_width};
 use legend::{LEGEND_TOP, header_height, legend_key, legend_lines};
 use marks::{Marks, Row, Sources, Symbol, colour};
+pub(crate) use scale::hours_minutes_seconds;
 use scale::{Clock, Compression, Scale, Tick, format_duration};
 
 /// What a run has, for [`render`]; independent of how the run was driven.
