@@ -31,6 +31,7 @@ mod labels;
 mod legend;
 mod marks;
 mod scale;
+mod xgoals;
 
 use std::collections::HashMap;
 
@@ -43,7 +44,7 @@ use crate::plant::{Component, ModeKind, Plant};
 use crate::sequencer::Thca;
 use crate::simulation::{CycleRecord, FaultDrawn, PlantEventKind, Scenario};
 
-use labels::{Placement, Request, clean, file_name, ident, place, text_width};
+use labels::{Placement, Request, clean, file_name, ident, place, shorten, text_width};
 use legend::{LEGEND_TOP, header_height, legend_key, legend_lines};
 use marks::{Marks, Row, Sources, Symbol, colour};
 pub(crate) use scale::hours_minutes_seconds;
@@ -182,6 +183,8 @@ mod px {
     pub const ROW_GAP: f64 = 4.0;
     pub const AXIS: f64 = 24.0;
     pub const LANE: f64 = 20.0;
+    /// The band of XGoal bars under a state variable's lane.
+    pub const XGOAL: f64 = 16.0;
     pub const FOOTER_LINE: f64 = 15.0;
     pub const BREAK: f64 = 28.0;
     pub const PAD: f64 = 8.0;
@@ -229,6 +232,10 @@ struct Picture<'a> {
     plot_left: f64,
     plot_right: f64,
     rows: Vec<RowLayout>,
+    /// A mission's XGoals, drawn under their lanes.
+    xgoals: Vec<xgoals::XGoalBar>,
+    /// The top of each lane (a lane with XGoals is taller by their band).
+    lane_tops: Vec<f64>,
     lanes_top: f64,
     lanes_bottom: f64,
     height: f64,
@@ -272,6 +279,8 @@ impl<'a> Picture<'a> {
             plot_left,
             plot_right,
             rows: Vec::new(),
+            xgoals: xgoals::collect(input.plant, input.events, window, clock),
+            lane_tops: Vec::new(),
             lanes_top: 0.0,
             lanes_bottom: 0.0,
             height: 0.0,
@@ -283,11 +292,12 @@ impl<'a> Picture<'a> {
         picture
     }
 
-    /// Numbers the notes: the injected faults and the faults row's marks in time order (their
-    /// labels take the number), then the fault segments lane by lane.
+    /// Numbers the notes: the injected faults, the faults row's marks and the forced time
+    /// points in time order (their labels take the number), then the fault segments lane by lane.
     fn number_notes(&mut self) {
         for mark in &mut self.marks.marks {
-            if !matches!(mark.row, Row::Injected | Row::Faults) {
+            let forced = mark.class == "time-point forced";
+            if !matches!(mark.row, Row::Injected | Row::Faults) && !forced {
                 continue;
             }
             let n = self.notes.len() + 1;
@@ -342,16 +352,28 @@ impl<'a> Picture<'a> {
         lines
     }
 
-    /// Places the rows' labels and stacks rows, axis, lanes and footer.
+    /// Places the rows' labels and stacks rows, axis, lanes and footer. The network row is
+    /// drawn only for a mission (a run with time points).
     fn lay_out(&mut self) {
         let mut y = header_height(self.options.width);
         for row in Row::ALL {
             let layout = self.lay_out_row(row, y);
+            if row == Row::Network && layout.marks.is_empty() {
+                continue;
+            }
             y = layout.bottom;
             self.rows.push(layout);
         }
         self.lanes_top = y + px::AXIS;
-        self.lanes_bottom = self.lanes_top + px::LANE * self.input.plant.components().len() as f64;
+        let mut top = self.lanes_top;
+        for lane in 0..self.input.plant.components().len() {
+            self.lane_tops.push(top);
+            top += px::LANE;
+            if self.xgoals.iter().any(|b| b.lane == lane) {
+                top += px::XGOAL;
+            }
+        }
+        self.lanes_bottom = top;
         let footer_lines = self.footer_lines().len() as f64;
         self.height = self.lanes_bottom + px::AXIS + footer_lines * px::FOOTER_LINE + px::MARGIN;
     }
@@ -528,6 +550,9 @@ impl<'a> Picture<'a> {
             .set("class", format!("event {}", mark.class))
             .set("data-time", mark.time)
             .add(Title::new(clean(&mark.tooltip)));
+        if let Some(window) = mark.window {
+            group = group.add(self.whisker(window, layout.mark_y, mark.colour));
+        }
         if let (Some(placement), Some(label)) = (placement, &mark.label) {
             let baseline = level_baseline(layout, placement.level);
             if let Some(until) = mark.until {
@@ -550,6 +575,26 @@ impl<'a> Picture<'a> {
             );
         }
         group.add(symbol_at(mark.symbol, x, layout.mark_y, mark.colour))
+    }
+
+    /// A time point's window `[earliest, latest]` as a whisker through its mark, clipped to the
+    /// drawn window; a bound inside it gets an end cap, an open or clipped side has none.
+    fn whisker(&self, (earliest, latest): (f64, f64), y: f64, colour: &str) -> Group {
+        let (start, end) = self.window;
+        let (from, to) = (earliest.max(start), latest.min(end));
+        let mut group = Group::new().set("class", "window");
+        if from > to {
+            return group;
+        }
+        let (x0, x1) = (self.scale.x(from), self.scale.x(to));
+        group = group.add(segment(x0, y, x1, y).set("stroke", colour.to_string()));
+        for (bound, x) in [(earliest, x0), (latest, x1)] {
+            if bound >= start && bound <= end {
+                group =
+                    group.add(segment(x, y - 4.0, x, y + 4.0).set("stroke", colour.to_string()));
+            }
+        }
+        group
     }
 
     /// Faint lines from commands and diagnoses down through the lanes.
@@ -575,12 +620,57 @@ impl<'a> Picture<'a> {
         let plant = self.input.plant;
         let mut group = Group::new().set("id", "lanes");
         for (index, component) in plant.components().iter().enumerate() {
-            let y = self.lanes_top + index as f64 * px::LANE;
+            let y = self.lane_tops[index];
             let timeline = self.input.timelines.state(index);
             let intervals: Vec<&Interval> = timeline
                 .map(|t| t.intervals().collect())
                 .unwrap_or_default();
             group = group.add(self.lane(index, component, &intervals, y));
+            group = group.add(self.xgoal_band(index, component, y + px::LANE));
+        }
+        group
+    }
+
+    /// The XGoal bars of one lane, in the band under it (empty when it has none). Bars on one
+    /// state variable follow each other, so their labels, each kept inside its bar (and clear of
+    /// the breaks), cannot overlap.
+    fn xgoal_band(&self, lane: usize, component: &Component, y: f64) -> Group {
+        let mut group = Group::new().set("class", "xgoals");
+        for (k, bar) in self
+            .xgoals
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.lane == lane)
+        {
+            let (x0, x1) = (self.scale.x(bar.from), self.scale.x(bar.to));
+            let rect = |class: &str, x0: f64, x1: f64| {
+                Rectangle::new()
+                    .set("class", class.to_string())
+                    .set("x", r(x0))
+                    .set("y", r(y + 1.0))
+                    .set("width", r((x1 - x0).max(2.0)))
+                    .set("height", px::XGOAL - 3.0)
+            };
+            let mut item = Group::new()
+                .set("class", "xgoal")
+                .set("data-time", bar.from)
+                .add(Title::new(clean(&bar.tooltip)))
+                .add(rect("xgoal-bar", x0, x1));
+            if let Some(failed) = bar.failed {
+                item = item.add(rect("xgoal-bar failed", self.scale.x(failed), x1));
+            }
+            let room = |(left, right): &(f64, f64)| {
+                ((right - left - 6.0) / (px::SMALL * labels::CHAR_WIDTH)).floor() as usize
+            };
+            if let Some(part) = self.visible(x0, x1).into_iter().find(|p| room(p) >= 6) {
+                let words = shorten(&bar.label, room(&part));
+                item = item.add(
+                    text(&words, part.0 + 3.0, y + 10.5)
+                        .set("class", "xgoal-label")
+                        .set("id", format!("xgoal-{}-{k}", ident(component.name()))),
+                );
+            }
+            group = group.add(item);
         }
         group
     }
@@ -1259,6 +1349,13 @@ fn symbol_at(symbol: Symbol, x: f64, y: f64, colour: &str) -> Group {
                 .line_to(point(-4.0, 4.0)),
             colour,
         )),
+        Symbol::Dot => Box::new(
+            Circle::new()
+                .set("cx", r(x))
+                .set("cy", r(y))
+                .set("r", 4)
+                .set("fill", colour.to_string()),
+        ),
         Symbol::Ring => Box::new(
             Circle::new()
                 .set("cx", r(x))
@@ -1352,6 +1449,10 @@ fn stylesheet() -> String {
 .tick.major {{ fill: #222222; font-weight: bold; }}
 .none {{ fill: #999999; font-style: italic; }}
 .label {{ paint-order: stroke; stroke: #ffffff; stroke-width: 3px; stroke-linejoin: round; }}
+.xgoal-bar {{ fill: {point}; fill-opacity: 0.18; stroke: {point}; stroke-opacity: 0.8; }}
+.xgoal-bar.failed {{ fill: none; stroke: {fault}; stroke-width: 2; stroke-opacity: 1; }}
+.xgoal-label {{ font-size: {small}px; fill: #0b5560; }}
+.window line {{ stroke-width: 1.5; stroke-opacity: 0.7; }}
 .goal-bar {{ fill: {goal}; fill-opacity: 0.12; stroke: {goal}; stroke-opacity: 0.45; }}
 .baseline {{ stroke: #cccccc; }}
 .leaders line {{ stroke: #aaaaaa; stroke-width: 0.6; }}
@@ -1366,6 +1467,7 @@ fn stylesheet() -> String {
         title = px::TITLE,
         fault = fill::FAULT,
         goal = colour::GOAL,
+        point = colour::POINT,
     )
 }
 

@@ -5,7 +5,7 @@ use svg::node::element::{Group, Rectangle};
 
 use super::labels::text_width;
 use super::marks::{Symbol, colour};
-use super::{fill, px, r, symbol_at, zigzag};
+use super::{fill, px, r, segment, symbol_at, zigzag};
 
 /// What a legend entry shows.
 #[derive(Debug, Clone, Copy)]
@@ -20,6 +20,10 @@ pub(super) enum LegendKey {
     Mark(Symbol, &'static str),
     /// A compressed stretch.
     Break,
+    /// A time point's window, a whisker.
+    Window,
+    /// An XGoal's bar.
+    XGoal,
 }
 
 impl LegendKey {
@@ -36,7 +40,7 @@ impl LegendKey {
 pub(super) const LEGEND_TOP: f64 = 62.0;
 
 /// Every legend entry, in reading order.
-const LEGEND: [(LegendKey, &str); 17] = [
+const LEGEND: [(LegendKey, &str); 21] = [
     (LegendKey::Swatch(fill::INITIAL, 1.0, false), "initial mode"),
     (LegendKey::Palette, "other nominal modes"),
     (LegendKey::Swatch(fill::FAULT, 1.0, false), "fault mode"),
@@ -55,6 +59,13 @@ const LEGEND: [(LegendKey, &str); 17] = [
     (LegendKey::Mark(Symbol::Up, colour::COMMAND), "command"),
     (LegendKey::Mark(Symbol::Up, colour::REPAIR), "repair"),
     (LegendKey::Mark(Symbol::Ring, colour::WAIT), "waiting"),
+    (
+        LegendKey::Mark(Symbol::Dot, colour::POINT),
+        "time point fired",
+    ),
+    (LegendKey::Mark(Symbol::Dot, colour::FAULT), "forced"),
+    (LegendKey::Window, "its window"),
+    (LegendKey::XGoal, "XGoal"),
     (
         LegendKey::Mark(Symbol::Star, colour::INJECTED),
         "fault injected",
@@ -123,5 +134,13 @@ pub(super) fn legend_key(key: LegendKey, x: f64, y: f64) -> Group {
         LegendKey::Bar => group.add(swatch(x, 16.0, "none", 1.0).set("class", "goal-bar")),
         LegendKey::Mark(symbol, colour) => group.add(symbol_at(symbol, x + 8.0, y - 4.0, colour)),
         LegendKey::Break => group.add(zigzag(x + 8.0, y - 11.0, y + 2.0)),
+        LegendKey::Window => group.add(
+            Group::new()
+                .set("class", "window")
+                .add(segment(x, y - 4.0, x + 16.0, y - 4.0).set("stroke", colour::POINT))
+                .add(segment(x, y - 8.0, x, y).set("stroke", colour::POINT))
+                .add(segment(x + 16.0, y - 8.0, x + 16.0, y).set("stroke", colour::POINT)),
+        ),
+        LegendKey::XGoal => group.add(swatch(x, 16.0, "none", 1.0).set("class", "xgoal-bar")),
     }
 }
