@@ -207,6 +207,17 @@ pub enum EventKind {
         /// The constraints of the negative cycle, as text.
         cycle: Vec<String>,
     },
+    /// A submission to the running mission ([`Executive::submit`](super::Executive::submit))
+    /// was refused; the running network is unchanged. Reported by whoever submits (a scenario
+    /// run, for its rules' `submit`), in the cycle that follows.
+    SubmissionRefused {
+        /// Who submitted: a scenario rule's name.
+        by: String,
+        /// The goals submitted.
+        goals: Vec<String>,
+        /// Why ([`SubmitError`](super::SubmitError) in words).
+        reason: String,
+    },
 }
 
 impl EventKind {

@@ -269,6 +269,10 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             "GOAL FAILED",
             format!("{goal}: {reason}; ŝ has {mode} (p {probability:.2})"),
         ),
+        E::SubmissionRefused { by, goals, reason } => (
+            "REFUSED",
+            format!("{} submitted by `{by}`: {reason}", goals.join(", ")),
+        ),
         E::TemporalInconsistency { point, cycle } => (
             "TEMPORAL",
             format!(

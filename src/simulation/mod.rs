@@ -219,6 +219,7 @@ pub use load::{DEFAULT_KAPPA, MAX_CYCLES, load, load_source};
 pub use model_plant::{FaultDrawn, ForcedFault, ModelPlant, ModelPlantConfig};
 pub(crate) use run::build as build_executive;
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
+pub(crate) use run::{report_refusals, submit_due};
 pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
 
 use crate::diagnostic::{Source, SourceErrors};

@@ -294,6 +294,12 @@ impl Builder<'_, '_> {
                 &shorten(&format!("goal failed: {goal}"), MAX_LABEL),
                 &format!("{goal} — {reason}; ŝ has {mode} (p {probability:.2})"),
             ),
+            EventKind::SubmissionRefused { by, goals, reason } => self.trouble(
+                time,
+                "submission-refused",
+                "submission refused",
+                &format!("{} submitted by `{by}`: {reason}", goals.join(", ")),
+            ),
             EventKind::TemporalInconsistency { point, cycle } => self.trouble(
                 time,
                 "temporal-inconsistency",
