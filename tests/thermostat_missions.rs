@@ -15,9 +15,10 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/thermostat";
 
 /// The mission scenarios of the directory, one test each below.
-const MISSIONS: [&str; 4] = [
+const MISSIONS: [&str; 5] = [
     "know_all.ron",
     "stay_warm_mission.ron",
+    "stay_warm_submitted.ron",
     "switch1_sticks_open_mission.ron",
     "switch1_stuck_open_mission.ron",
 ];
@@ -105,6 +106,44 @@ fn system_test_4_closes_switch_1_once_and_fires_tp_s_once_warm() {
             "PASS: 18 expectations hold",
         ],
     );
+    let commands = log
+        .lines()
+        .filter(|l| l.trim_start().starts_with("command"))
+        .count();
+    assert_eq!(commands, 1, "{log}");
+}
+
+/// Goals submitted to the running mission by a scenario rule (issue 13 item 5; DESIGN.md §15.4):
+/// a second StayWarm submitted at 200 s is scheduled after the first, TP_S2 fires when TP_E
+/// does and TP_E2 100 s later, with its XGoals dispatched on the temperature and switch 1 and no
+/// new command; a submission contradicting the running `stay-warm` at 250 s is refused with the
+/// scheduler's reason, and the network runs on unchanged.
+#[test]
+fn a_submitted_stay_warm_runs_after_the_first_and_a_contradicting_one_is_refused() {
+    let log = run_mission("stay_warm_submitted.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 200.000 s 0:03:20.000] #200",
+            "plant rule `operator asks for a second StayWarm` takes effect: submits stay-warm-2, heater1-2",
+            "[ 250.000 s 0:04:10.000] #250",
+            "REFUSED freeze submitted by `operator asks to freeze during the hold`: the submission cannot be scheduled: unmergeable: on temperature, goals `stay-warm`",
+            "[ 376.000 s 0:06:16.000] #376",
+            "fired TP_E (window [376, 376])",
+            "fired TP_S2 (window [376, 396])",
+            "dispatched Maintain switch1 ∈ {closed, stuck-closed}, known over [TP_S2, TP_E2] (know-switch1, heater1-2)",
+            "dispatched Maintain temperature ∈ {warm-low, warm, warm-high}, known over [TP_S2, TP_E2] (know-temperature, stay-warm-2)",
+            "[ 476.000 s 0:07:56.000] #476",
+            "fired TP_E2 (window [476, 476])",
+            "PASS: 11 expectations hold",
+        ],
+    );
+    for absent in ["GOAL FAILED", "FORCED"] {
+        assert!(
+            !log.lines().any(|l| l.trim_start().starts_with(absent)),
+            "`{absent}` in:\n{log}"
+        );
+    }
     let commands = log
         .lines()
         .filter(|l| l.trim_start().starts_with("command"))
