@@ -14,6 +14,11 @@
 //!   observations, planning failures). Labels are stacked on levels so that none overlaps
 //!   another; past a few levels they are thinned (the mark and its tooltip stay). Commands and
 //!   diagnoses draw a faint guide down through the lanes;
+//! - for a mission (issue 13 item 5), a *network* row of its **time points** as they fire, each
+//!   with the window it had then as a whisker (a point forced at its latest time in the fault
+//!   colour, numbered in the notes), and its **XGoals as bars** in a band under their state
+//!   variable's lane, from dispatch to their end point, labelled inside the bar with their kind
+//!   and merged constraint and outlined in the fault colour from a goal's failure (`xgoals`);
 //! - a **time axis** in mission elapsed time in which long idle stretches — no mode change, no
 //!   command, no drawn event for longer than a threshold (1 min by default) — are compressed to
 //!   a fixed-width zig-zag break marked with the idle duration (`≈ 4 h 30 min idle`), while the
