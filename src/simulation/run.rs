@@ -320,6 +320,35 @@ pub(crate) fn build(scenario: &Scenario, options: RunOptions) -> Result<Executiv
     builder.build()
 }
 
+/// Submits to the executive the goals of the rules whose effect showed in this cycle's
+/// observation (`submit:`), before its cycle runs — so that the cycle schedules and dispatches
+/// them; the refusals, as events (what the rule submitted and why it was refused).
+pub(crate) fn submit_due(
+    plant: &mut ScriptedPlant<'_>,
+    executive: &mut Executive,
+) -> Vec<EventKind> {
+    let script = plant.script();
+    plant
+        .take_submissions()
+        .into_iter()
+        .filter_map(|(rule, submission)| {
+            let reason = executive.submit(submission).err()?;
+            Some(EventKind::SubmissionRefused {
+                by: script.rules()[rule].name.clone(),
+                goals: submission.goals.iter().map(|g| g.name.clone()).collect(),
+                reason: reason.to_string(),
+            })
+        })
+        .collect()
+}
+
+/// Puts the refusals of the submissions made before `step`'s cycle first among its events.
+pub(crate) fn report_refusals(step: &mut Step, refused: Vec<EventKind>) {
+    let (cycle, time) = (step.cycle, step.time);
+    let refusals = refused.into_iter().map(|kind| Event { cycle, time, kind });
+    step.events.splice(0..0, refusals);
+}
+
 #[cfg(test)]
 mod tests {
     //! Runs of the engine/camera scenario with expectations that hold and that do not.
@@ -447,33 +476,4 @@ mod tests {
         let outcome = run(&strict, RunOptions::default(), &mut |_| {}).expect("runs");
         assert_eq!(outcome.overruns, outcome.cycles);
     }
-}
-
-/// Submits to the executive the goals of the rules whose effect showed in this cycle's
-/// observation (`submit:`), before its cycle runs — so that the cycle schedules and dispatches
-/// them; the refusals, as events (what the rule submitted and why it was refused).
-pub(crate) fn submit_due(
-    plant: &mut ScriptedPlant<'_>,
-    executive: &mut Executive,
-) -> Vec<EventKind> {
-    let script = plant.script();
-    plant
-        .take_submissions()
-        .into_iter()
-        .filter_map(|(rule, submission)| {
-            let reason = executive.submit(submission).err()?;
-            Some(EventKind::SubmissionRefused {
-                by: script.rules()[rule].name.clone(),
-                goals: submission.goals.iter().map(|g| g.name.clone()).collect(),
-                reason: reason.to_string(),
-            })
-        })
-        .collect()
-}
-
-/// Puts the refusals of the submissions made before `step`'s cycle first among its events.
-pub(crate) fn report_refusals(step: &mut Step, refused: Vec<EventKind>) {
-    let (cycle, time) = (step.cycle, step.time);
-    let refusals = refused.into_iter().map(|kind| Event { cycle, time, kind });
-    step.events.splice(0..0, refusals);
 }
