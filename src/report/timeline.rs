@@ -49,7 +49,7 @@ use crate::plant::{Component, ModeKind, Plant};
 use crate::sequencer::Thca;
 use crate::simulation::{CycleRecord, FaultDrawn, PlantEventKind, Scenario};
 
-use labels::{Placement, Request, clean, file_name, ident, place, shorten, text_width};
+use labels::{Placement, Request, clean, file_name, ident, place, text_width};
 use legend::{LEGEND_TOP, header_height, legend_key, legend_lines};
 use marks::{Marks, Row, Sources, Symbol, colour};
 pub(crate) use scale::hours_minutes_seconds;
@@ -582,26 +582,6 @@ impl<'a> Picture<'a> {
         group.add(symbol_at(mark.symbol, x, layout.mark_y, mark.colour))
     }
 
-    /// A time point's window `[earliest, latest]` as a whisker through its mark, clipped to the
-    /// drawn window; a bound inside it gets an end cap, an open or clipped side has none.
-    fn whisker(&self, (earliest, latest): (f64, f64), y: f64, colour: &str) -> Group {
-        let (start, end) = self.window;
-        let (from, to) = (earliest.max(start), latest.min(end));
-        let mut group = Group::new().set("class", "window");
-        if from > to {
-            return group;
-        }
-        let (x0, x1) = (self.scale.x(from), self.scale.x(to));
-        group = group.add(segment(x0, y, x1, y).set("stroke", colour.to_string()));
-        for (bound, x) in [(earliest, x0), (latest, x1)] {
-            if bound >= start && bound <= end {
-                group =
-                    group.add(segment(x, y - 4.0, x, y + 4.0).set("stroke", colour.to_string()));
-            }
-        }
-        group
-    }
-
     /// Faint lines from commands and diagnoses down through the lanes.
     fn guides(&self) -> Group {
         let mut group = Group::new().set("id", "guides");
@@ -632,50 +612,6 @@ impl<'a> Picture<'a> {
                 .unwrap_or_default();
             group = group.add(self.lane(index, component, &intervals, y));
             group = group.add(self.xgoal_band(index, component, y + px::LANE));
-        }
-        group
-    }
-
-    /// The XGoal bars of one lane, in the band under it (empty when it has none). Bars on one
-    /// state variable follow each other, so their labels, each kept inside its bar (and clear of
-    /// the breaks), cannot overlap.
-    fn xgoal_band(&self, lane: usize, component: &Component, y: f64) -> Group {
-        let mut group = Group::new().set("class", "xgoals");
-        for (k, bar) in self
-            .xgoals
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| b.lane == lane)
-        {
-            let (x0, x1) = (self.scale.x(bar.from), self.scale.x(bar.to));
-            let rect = |class: &str, x0: f64, x1: f64| {
-                Rectangle::new()
-                    .set("class", class.to_string())
-                    .set("x", r(x0))
-                    .set("y", r(y + 1.0))
-                    .set("width", r((x1 - x0).max(2.0)))
-                    .set("height", px::XGOAL - 3.0)
-            };
-            let mut item = Group::new()
-                .set("class", "xgoal")
-                .set("data-time", bar.from)
-                .add(Title::new(clean(&bar.tooltip)))
-                .add(rect("xgoal-bar", x0, x1));
-            if let Some(failed) = bar.failed {
-                item = item.add(rect("xgoal-bar failed", self.scale.x(failed), x1));
-            }
-            let room = |(left, right): &(f64, f64)| {
-                ((right - left - 6.0) / (px::SMALL * labels::CHAR_WIDTH)).floor() as usize
-            };
-            if let Some(part) = self.visible(x0, x1).into_iter().find(|p| room(p) >= 6) {
-                let words = shorten(&bar.label, room(&part));
-                item = item.add(
-                    text(&words, part.0 + 3.0, y + 10.5)
-                        .set("class", "xgoal-label")
-                        .set("id", format!("xgoal-{}-{k}", ident(component.name()))),
-                );
-            }
-            group = group.add(item);
         }
         group
     }

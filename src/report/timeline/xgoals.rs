@@ -4,11 +4,14 @@
 //! band under the lane's modes, so that what the executive was asked to hold sits right under
 //! what it believed. A bar whose goal failed is outlined in the fault colour from the failure on.
 
-use crate::executive::{Event, EventKind};
-use crate::plant::Plant;
+use svg::node::element::{Group, Rectangle, Title};
 
-use super::labels::shorten;
+use crate::executive::{Event, EventKind};
+use crate::plant::{Component, Plant};
+
+use super::labels::{CHAR_WIDTH, clean, ident, shorten};
 use super::scale::Clock;
+use super::{Picture, px, r, segment, text};
 
 /// One XGoal's bar.
 #[derive(Debug, Clone, PartialEq)]
@@ -130,4 +133,71 @@ pub(super) fn collect(
     }
     bars.sort_by(|a, b| a.from.total_cmp(&b.from));
     bars
+}
+
+/// Drawing the goal network: the time points' windows and the XGoal bands.
+impl Picture<'_> {
+    /// A time point's window `[earliest, latest]` as a whisker through its mark, clipped to the
+    /// drawn window; a bound inside it gets an end cap, an open or clipped side has none.
+    pub(super) fn whisker(&self, (earliest, latest): (f64, f64), y: f64, colour: &str) -> Group {
+        let (start, end) = self.window;
+        let (from, to) = (earliest.max(start), latest.min(end));
+        let mut group = Group::new().set("class", "window");
+        if from > to {
+            return group;
+        }
+        let (x0, x1) = (self.scale.x(from), self.scale.x(to));
+        group = group.add(segment(x0, y, x1, y).set("stroke", colour.to_string()));
+        for (bound, x) in [(earliest, x0), (latest, x1)] {
+            if bound >= start && bound <= end {
+                group =
+                    group.add(segment(x, y - 4.0, x, y + 4.0).set("stroke", colour.to_string()));
+            }
+        }
+        group
+    }
+
+    /// The XGoal bars of one lane, in the band under it (empty when it has none). Bars on one
+    /// state variable follow each other, so their labels, each kept inside its bar (and clear of
+    /// the breaks), cannot overlap.
+    pub(super) fn xgoal_band(&self, lane: usize, component: &Component, y: f64) -> Group {
+        let mut group = Group::new().set("class", "xgoals");
+        for (k, bar) in self
+            .xgoals
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.lane == lane)
+        {
+            let (x0, x1) = (self.scale.x(bar.from), self.scale.x(bar.to));
+            let rect = |class: &str, x0: f64, x1: f64| {
+                Rectangle::new()
+                    .set("class", class.to_string())
+                    .set("x", r(x0))
+                    .set("y", r(y + 1.0))
+                    .set("width", r((x1 - x0).max(2.0)))
+                    .set("height", px::XGOAL - 3.0)
+            };
+            let mut item = Group::new()
+                .set("class", "xgoal")
+                .set("data-time", bar.from)
+                .add(Title::new(clean(&bar.tooltip)))
+                .add(rect("xgoal-bar", x0, x1));
+            if let Some(failed) = bar.failed {
+                item = item.add(rect("xgoal-bar failed", self.scale.x(failed), x1));
+            }
+            let room = |(left, right): &(f64, f64)| {
+                ((right - left - 6.0) / (px::SMALL * CHAR_WIDTH)).floor() as usize
+            };
+            if let Some(part) = self.visible(x0, x1).into_iter().find(|p| room(p) >= 6) {
+                let words = shorten(&bar.label, room(&part));
+                item = item.add(
+                    text(&words, part.0 + 3.0, y + 10.5)
+                        .set("class", "xgoal-label")
+                        .set("id", format!("xgoal-{}-{k}", ident(component.name()))),
+                );
+            }
+            group = group.add(item);
+        }
+        group
+    }
 }
