@@ -3,6 +3,8 @@
 //! until the next XGoal on the same state variable took over, or the drawn window ends — in a
 //! band under the lane's modes, so that what the executive was asked to hold sits right under
 //! what it believed. A bar whose goal failed is outlined in the fault colour from the failure on.
+//! A time point's mark (`marks`) carries the window it had when it fired, drawn here as a
+//! whisker through the mark.
 
 use svg::node::element::{Group, Rectangle, Title};
 
