@@ -357,10 +357,15 @@ impl<'a> Picture<'a> {
         lines
     }
 
+    /// True when the run has a goal network to draw (time points or XGoals).
+    fn has_network(&self) -> bool {
+        !self.xgoals.is_empty() || self.marks.marks.iter().any(|m| m.row == Row::Network)
+    }
+
     /// Places the rows' labels and stacks rows, axis, lanes and footer. The network row is
     /// drawn only for a mission (a run with time points).
     fn lay_out(&mut self) {
-        let mut y = header_height(self.options.width);
+        let mut y = header_height(self.options.width, self.has_network());
         for row in Row::ALL {
             let layout = self.lay_out_row(row, y);
             if row == Row::Network && layout.marks.is_empty() {
@@ -486,7 +491,8 @@ impl<'a> Picture<'a> {
     /// picture can use is keyed (issue 19 item 3), the nominal palette as one strip.
     fn legend(&self, top: f64) -> Group {
         let mut group = Group::new().set("id", "legend");
-        for (line, entries) in legend_lines(self.options.width).iter().enumerate() {
+        let lines = legend_lines(self.options.width, self.has_network());
+        for (line, entries) in lines.iter().enumerate() {
             let y = top + line as f64 * px::LEGEND_LINE;
             for &(x, key, label) in entries {
                 group = group.add(legend_key(key, x, y));
@@ -611,7 +617,9 @@ impl<'a> Picture<'a> {
                 .map(|t| t.intervals().collect())
                 .unwrap_or_default();
             group = group.add(self.lane(index, component, &intervals, y));
-            group = group.add(self.xgoal_band(index, component, y + px::LANE));
+            if self.xgoals.iter().any(|b| b.lane == index) {
+                group = group.add(self.xgoal_band(index, component, y + px::LANE));
+            }
         }
         group
     }

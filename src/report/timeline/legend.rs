@@ -40,7 +40,7 @@ impl LegendKey {
 pub(super) const LEGEND_TOP: f64 = 62.0;
 
 /// Every legend entry, in reading order.
-const LEGEND: [(LegendKey, &str); 21] = [
+const LEGEND: [(LegendKey, &str); 17] = [
     (LegendKey::Swatch(fill::INITIAL, 1.0, false), "initial mode"),
     (LegendKey::Palette, "other nominal modes"),
     (LegendKey::Swatch(fill::FAULT, 1.0, false), "fault mode"),
@@ -60,13 +60,6 @@ const LEGEND: [(LegendKey, &str); 21] = [
     (LegendKey::Mark(Symbol::Up, colour::REPAIR), "repair"),
     (LegendKey::Mark(Symbol::Ring, colour::WAIT), "waiting"),
     (
-        LegendKey::Mark(Symbol::Dot, colour::POINT),
-        "time point fired",
-    ),
-    (LegendKey::Mark(Symbol::Dot, colour::FAULT), "forced"),
-    (LegendKey::Window, "its window"),
-    (LegendKey::XGoal, "XGoal"),
-    (
         LegendKey::Mark(Symbol::Star, colour::INJECTED),
         "fault injected",
     ),
@@ -79,11 +72,25 @@ const LEGEND: [(LegendKey, &str); 21] = [
     (LegendKey::Swatch("#ffffff", 1.0, true), "[n]: note below"),
 ];
 
-/// The legend's entries laid out in lines no wider than the picture: (left, key, label).
-pub(super) fn legend_lines(width: f64) -> Vec<Vec<(f64, LegendKey, &'static str)>> {
+/// The entries of a mission's goal network, keyed only when the picture has one (an RMPL run's
+/// legend is not cluttered with what it cannot show).
+const NETWORK_LEGEND: [(LegendKey, &str); 4] = [
+    (
+        LegendKey::Mark(Symbol::Dot, colour::POINT),
+        "time point fired",
+    ),
+    (LegendKey::Mark(Symbol::Dot, colour::FAULT), "forced"),
+    (LegendKey::Window, "its window"),
+    (LegendKey::XGoal, "XGoal"),
+];
+
+/// The legend's entries laid out in lines no wider than the picture: (left, key, label); with
+/// the goal network's entries when `network`.
+pub(super) fn legend_lines(width: f64, network: bool) -> Vec<Vec<(f64, LegendKey, &'static str)>> {
     let mut lines: Vec<Vec<(f64, LegendKey, &'static str)>> = vec![Vec::new()];
     let mut x = px::MARGIN;
-    for (key, label) in LEGEND {
+    let network = NETWORK_LEGEND.iter().filter(|_| network);
+    for &(key, label) in LEGEND.iter().chain(network) {
         let span = key.width() + 4.0 + text_width(label, px::FONT);
         let line_is_empty = lines.last().is_none_or(Vec::is_empty);
         if x + span > width - px::MARGIN && !line_is_empty {
@@ -98,9 +105,9 @@ pub(super) fn legend_lines(width: f64) -> Vec<Vec<(f64, LegendKey, &'static str)
     lines
 }
 
-/// Height of the title, subtitle and legend.
-pub(super) fn header_height(width: f64) -> f64 {
-    let extra = legend_lines(width).len().saturating_sub(1) as f64;
+/// Height of the title, subtitle and legend (with the goal network's entries when `network`).
+pub(super) fn header_height(width: f64, network: bool) -> f64 {
+    let extra = legend_lines(width, network).len().saturating_sub(1) as f64;
     px::HEADER + extra * px::LEGEND_LINE
 }
 
