@@ -74,7 +74,7 @@ fn a_wait_is_not_waiting_wait() {
     let log = blocks(&stdout);
     assert_eq!(
         log,
-        "[     0.300 s] #3\n  plant        rule `engine powers up` takes effect: engine.power = nominal\n  believed     engine: off -> heating (p 1.00)\n  waiting      after Uniform(30, 60) s (engine: heating -> standby)"
+        "[     0.300 s   0:00:00.300] #3\n  plant        rule `engine powers up` takes effect: engine.power = nominal\n  believed     engine: off -> heating (p 1.00)\n  waiting      after Uniform(30, 60) s (engine: heating -> standby)"
     );
 }
 

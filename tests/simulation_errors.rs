@@ -165,3 +165,22 @@ bad_scenario!(
     "outside the rule's window",
     "cannot be one of `AnyOf`"
 );
+
+// A rule's `submit:` is resolved by the mission loader (issue 13 item 5, DESIGN.md §15.4): every
+// problem of its points, constraints and goals is located in the scenario, as in a mission file.
+bad_scenario!(
+    submit_bad_goals,
+    "submit_bad_goals.ron:11:23",
+    "did you mean `TP_E`?",
+    "submit_bad_goals.ron:14:70",
+    "a submission adds goals, not macros",
+    "did you mean `temperature`?",
+    "a goal on `switch1` may only constrain `switch1`",
+    "a Maintain goal needs a constraint",
+    "submitted goal `typed` has a type"
+);
+bad_scenario!(
+    submit_in_rmpl,
+    "submit_in_rmpl.ron:8:56",
+    "the scenario runs an RMPL program"
+);

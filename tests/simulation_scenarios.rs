@@ -21,9 +21,11 @@ const SCENARIOS: &[&str] = &[
 
 /// The directories whose scenarios have their own suites: the Mars EDL's
 /// (`tests/mars_edl_scenarios.rs`), the spacecraft deployment's
-/// (`tests/spacecraft_deployment.rs`) and the thermostat's (`tests/thermostat_model.rs`).
-const SUITE_DIRS: [&str; 3] = [
+/// (`tests/spacecraft_deployment.rs`), the thermostat's (`tests/thermostat_model.rs`) and the
+/// rover's, which `kairos explore` checks rather than `kairos run` (`tests/rover_protocol.rs`).
+const SUITE_DIRS: [&str; 4] = [
     "scenarios/mars_edl",
+    "scenarios/rover",
     "scenarios/spacecraft_deployment",
     "scenarios/thermostat",
 ];
@@ -206,8 +208,8 @@ fn a_confidence_guard_waits_for_the_belief_not_the_most_likely_mode() {
         .find("command      camera.cmd = on")
         .expect("the camera is switched on");
     assert!(believed < camera, "{log}");
-    assert!(log.contains("[    46.000 s]"), "{log}");
-    assert!(log.contains("[    60.000 s]"), "{log}");
+    assert!(log.contains("[    46.000 s   0:00:46.000]"), "{log}");
+    assert!(log.contains("[    60.000 s   0:01:00.000]"), "{log}");
 }
 
 /// DESIGN.md §11: "`kairos run SCENARIO` exits non-zero when one fails" — 1, naming each.

@@ -15,9 +15,10 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/thermostat";
 
 /// The mission scenarios of the directory, one test each below.
-const MISSIONS: [&str; 4] = [
+const MISSIONS: [&str; 5] = [
     "know_all.ron",
     "stay_warm_mission.ron",
+    "stay_warm_submitted.ron",
     "switch1_sticks_open_mission.ron",
     "switch1_stuck_open_mission.ron",
 ];
@@ -58,14 +59,14 @@ fn system_test_1_knows_every_state_variable_with_no_command() {
         &log,
         &[
             "mission missions/thermostat_know_all.ron",
-            "[ 0.000 s] #0",
+            "[ 0.000 s 0:00:00.000] #0",
             "dispatched Knowledge switch1 known over [origin, TP_k1] (know-switch1)",
-            "[ 10.000 s] #10",
+            "[ 10.000 s 0:00:10.000] #10",
             "fired TP_k1 (window [10, 10])",
             "dispatched Knowledge switch1 known over [TP_k1, TP_k2] (know-switch1, know-switch1-2)",
-            "[ 70.000 s] #70",
+            "[ 70.000 s 0:01:10.000] #70",
             "fired TP_k2 (window [70, 70])",
-            "[ 1000.000 s] #1000",
+            "[ 1000.000 s 0:16:40.000] #1000",
             "fired TP_bgE (window [1000, 1000])",
             "completed the program has completed",
             "PASS: 12 expectations hold",
@@ -88,23 +89,61 @@ fn system_test_4_closes_switch_1_once_and_fires_tp_s_once_warm() {
     assert_in_order(
         &log,
         &[
-            "[ 10.000 s] #10",
+            "[ 10.000 s 0:00:10.000] #10",
             "fired TP_H (window [10, 10])",
             "dispatched Transition switch1 ∈ {closed, stuck-closed}, known over [TP_H, TP_A] (know-switch1, close-switch1)",
             "command switch1.cmd = close (switch1: open -> closed)",
-            "[ 11.000 s] #11",
+            "[ 11.000 s 0:00:11.000] #11",
             "believed switch1: open -> closed (p 1.00)",
             "fired TP_A (window [10, 15])",
             "dispatched Maintain switch1 ∈ {closed, stuck-closed}, known over [TP_A, TP_E] (know-switch1, heater1)",
-            "[ 76.000 s] #76",
+            "[ 76.000 s 0:01:16.000] #76",
             "believed temperature: warming -> warm-low (p 1.00)",
             "fired TP_S (window [71, 161])",
             "dispatched Maintain temperature ∈ {warm-low, warm, warm-high}, known over [TP_S, TP_E] (know-temperature, stay-warm)",
-            "[ 376.000 s] #376",
+            "[ 376.000 s 0:06:16.000] #376",
             "fired TP_E (window [376, 376])",
             "PASS: 18 expectations hold",
         ],
     );
+    let commands = log
+        .lines()
+        .filter(|l| l.trim_start().starts_with("command"))
+        .count();
+    assert_eq!(commands, 1, "{log}");
+}
+
+/// Goals submitted to the running mission by a scenario rule (issue 13 item 5; DESIGN.md §15.4):
+/// a second StayWarm submitted at 200 s is scheduled after the first, TP_S2 fires when TP_E
+/// does and TP_E2 100 s later, with its XGoals dispatched on the temperature and switch 1 and no
+/// new command; a submission contradicting the running `stay-warm` at 250 s is refused with the
+/// scheduler's reason, and the network runs on unchanged.
+#[test]
+fn a_submitted_stay_warm_runs_after_the_first_and_a_contradicting_one_is_refused() {
+    let log = run_mission("stay_warm_submitted.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 200.000 s 0:03:20.000] #200",
+            "plant rule `operator asks for a second StayWarm` takes effect: submits stay-warm-2, heater1-2",
+            "[ 250.000 s 0:04:10.000] #250",
+            "REFUSED freeze submitted by `operator asks to freeze during the hold`: the submission cannot be scheduled: unmergeable: on temperature, goals `stay-warm`",
+            "[ 376.000 s 0:06:16.000] #376",
+            "fired TP_E (window [376, 376])",
+            "fired TP_S2 (window [376, 396])",
+            "dispatched Maintain switch1 ∈ {closed, stuck-closed}, known over [TP_S2, TP_E2] (know-switch1, heater1-2)",
+            "dispatched Maintain temperature ∈ {warm-low, warm, warm-high}, known over [TP_S2, TP_E2] (know-temperature, stay-warm-2)",
+            "[ 476.000 s 0:07:56.000] #476",
+            "fired TP_E2 (window [476, 476])",
+            "PASS: 11 expectations hold",
+        ],
+    );
+    for absent in ["GOAL FAILED", "FORCED"] {
+        assert!(
+            !log.lines().any(|l| l.trim_start().starts_with(absent)),
+            "`{absent}` in:\n{log}"
+        );
+    }
     let commands = log
         .lines()
         .filter(|l| l.trim_start().starts_with("command"))
@@ -121,12 +160,12 @@ fn a_switch_sticking_open_fails_heater1_then_stay_warm() {
     assert_in_order(
         &log,
         &[
-            "[ 187.000 s] #187",
+            "[ 187.000 s 0:03:07.000] #187",
             "DIAGNOSIS switch1 = stuck-open (p 1.00)",
             "GOAL FAILED heater1: ŝ left the maintained set; ŝ has switch1 = stuck-open (p 1.00)",
-            "[ 205.000 s] #205",
+            "[ 205.000 s 0:03:25.000] #205",
             "GOAL FAILED stay-warm: ŝ left the maintained set; ŝ has temperature = cold (p 1.00)",
-            "[ 376.000 s] #376",
+            "[ 376.000 s 0:06:16.000] #376",
             "fired TP_E (window [376, 376])",
             "PASS: 13 expectations hold",
         ],
@@ -142,13 +181,13 @@ fn a_point_never_ready_is_forced_and_its_unreached_transition_fails() {
     assert_in_order(
         &log,
         &[
-            "[ 87.000 s] #87",
+            "[ 87.000 s 0:01:27.000] #87",
             "DIAGNOSIS switch1 = stuck-open (p 1.00)",
             "GOAL FAILED heater1: ŝ left the maintained set; ŝ has switch1 = stuck-open (p 1.00)",
-            "[ 161.000 s] #161",
+            "[ 161.000 s 0:02:41.000] #161",
             "FORCED TP_S at its latest time, not ready (window [71, 161], 0.000 s late)",
             "GOAL FAILED get-warm: its end point was forced before the set was reached; ŝ has temperature = cold (p 1.00)",
-            "[ 162.000 s] #162",
+            "[ 162.000 s 0:02:42.000] #162",
             "GOAL FAILED stay-warm: ŝ left the maintained set; ŝ has temperature = cold (p 1.00)",
             "PASS: 11 expectations hold",
         ],

@@ -262,14 +262,14 @@ fn stay_warm_closes_switch_1_once_and_holds_warm() {
         &log,
         &[
             "command switch1.cmd = close (switch1: open -> closed)",
-            "[ 2.000 s] #2",
+            "[ 2.000 s 0:00:02.000] #2",
             "believed temperature: cold -> warming",
-            "[ 66.000 s] #66",
+            "[ 66.000 s 0:01:06.000] #66",
             "believed temperature: warming -> warm-low",
             "goal achieved switch1 = closed and switch2 = open and sensor = healthy",
-            "[ 138.000 s] #138",
+            "[ 138.000 s 0:02:18.000] #138",
             "believed temperature: warm-low -> warm",
-            "[ 267.000 s] #267",
+            "[ 267.000 s 0:04:27.000] #267",
             "completed the program has completed",
         ],
     );
@@ -284,14 +284,14 @@ fn switch_1_sticking_open_is_diagnosed_while_the_device_is_still_warm() {
     assert_in_order(
         &log,
         &[
-            "[ 181.000 s] #181",
+            "[ 181.000 s 0:03:01.000] #181",
             "rule `switch 1 sticks open` takes effect: sw1 = stuck-open (FAULT)",
-            "[ 187.000 s] #187",
+            "[ 187.000 s 0:03:07.000] #187",
             "believed temperature: warm -> warm-low",
             "believed switch1: closed -> stuck-open",
             "DIAGNOSIS switch1 = stuck-open",
             "GOAL FAILED",
-            "[ 205.000 s] #205",
+            "[ 205.000 s 0:03:25.000] #205",
             "believed temperature: warm-low -> cold",
         ],
     );
@@ -305,11 +305,11 @@ fn switch_2_sticking_closed_is_diagnosed_while_the_device_is_still_warm() {
     assert_in_order(
         &log,
         &[
-            "[ 187.000 s] #187",
+            "[ 187.000 s 0:03:07.000] #187",
             "believed temperature: warm -> warm-high",
             "believed switch2: open -> stuck-closed",
             "DIAGNOSIS switch2 = stuck-closed",
-            "[ 205.000 s] #205",
+            "[ 205.000 s 0:03:25.000] #205",
             "believed temperature: warm-high -> too-hot",
         ],
     );
@@ -322,7 +322,7 @@ fn the_sensor_failure_is_diagnosed_at_the_first_invalid_reading() {
     assert_in_order(
         &log,
         &[
-            "[ 181.000 s] #181",
+            "[ 181.000 s 0:03:01.000] #181",
             "believed sensor: healthy -> failed",
             "DIAGNOSIS sensor = failed",
             "GOAL FAILED",
@@ -339,7 +339,7 @@ fn a_switch_stuck_open_from_the_start_is_diagnosed_when_the_warming_window_close
         &log,
         &[
             "believed temperature: cold -> warming",
-            "[ 77.000 s] #77",
+            "[ 77.000 s 0:01:17.000] #77",
             "believed temperature: warming -> cold",
             "believed switch1: closed -> stuck-open",
             "DIAGNOSIS switch1 = stuck-open",
@@ -355,11 +355,11 @@ fn with_tactic_2_a_switch_stuck_open_never_costs_warm() {
     assert_in_order(
         &log,
         &[
-            "[ 187.000 s] #187",
+            "[ 187.000 s 0:03:07.000] #187",
             "DIAGNOSIS switch1 = stuck-open",
-            "[ 188.000 s] #188",
+            "[ 188.000 s 0:03:08.000] #188",
             "command switch2.cmd = close (switch2: open -> closed)",
-            "[ 218.000 s] #218",
+            "[ 218.000 s 0:03:38.000] #218",
             "believed temperature: warm-low -> warm",
         ],
     );
@@ -374,11 +374,11 @@ fn with_tactic_2_a_switch_stuck_closed_never_costs_warm() {
     assert_in_order(
         &log,
         &[
-            "[ 187.000 s] #187",
+            "[ 187.000 s 0:03:07.000] #187",
             "DIAGNOSIS switch2 = stuck-closed",
-            "[ 188.000 s] #188",
+            "[ 188.000 s 0:03:08.000] #188",
             "command switch1.cmd = open (switch1: closed -> open)",
-            "[ 218.000 s] #218",
+            "[ 218.000 s 0:03:38.000] #218",
             "believed temperature: warm-high -> warm",
         ],
     );

@@ -1,6 +1,7 @@
 //! What the executive reports, cycle by cycle (DESIGN.md §10): every event has the time and the
 //! cycle it happened in and, where it concerns the program, the source span of the location.
 
+use std::fmt;
 use std::time::Duration;
 
 use crate::diagnostic::Span;
@@ -206,6 +207,17 @@ pub enum EventKind {
         /// The constraints of the negative cycle, as text.
         cycle: Vec<String>,
     },
+    /// A submission to the running mission ([`Executive::submit`](super::Executive::submit))
+    /// was refused; the running network is unchanged. Reported by whoever submits (a scenario
+    /// run, for its rules' `submit`), in the cycle that follows.
+    SubmissionRefused {
+        /// Who submitted: a scenario rule's name.
+        by: String,
+        /// The goals submitted.
+        goals: Vec<String>,
+        /// Why ([`SubmitError`](super::SubmitError) in words).
+        reason: String,
+    },
 }
 
 impl EventKind {
@@ -229,5 +241,47 @@ impl EventKind {
             EventKind::GoalConflict { first, .. } => Some(&first.span),
             _ => None,
         }
+    }
+}
+
+/// The event as the mission log words it, without the plant and program the log has: component
+/// ids stand for names, byte ranges for source lines (the wording is
+/// `report::log::describe_event`'s, shared, not copied).
+///
+/// ```
+/// use kairos::executive::{Event, EventKind};
+/// use kairos::plant::ComponentId;
+///
+/// let event = Event {
+///     cycle: 12,
+///     time: 1.2,
+///     kind: EventKind::Diagnosis {
+///         component: ComponentId(0),
+///         mode: "resettable".to_string(),
+///         probability: 0.91,
+///         next: vec![("on".to_string(), 0.09)],
+///     },
+/// };
+/// assert_eq!(
+///     event.to_string(),
+///     "[1.200 s] #12 DIAGNOSIS component 0 = resettable (p 0.91); next: component 0 = on (p 0.09)"
+/// );
+/// assert_eq!(
+///     EventKind::ProgramCompleted.to_string(),
+///     "completed the program has completed"
+/// );
+/// ```
+impl fmt::Display for Event {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "[{:.3} s] #{} {}", self.time, self.cycle, self.kind)
+    }
+}
+
+/// The kind as the mission log words it (its tag, then its text), without names: see
+/// [`Event`]'s `Display`.
+impl fmt::Display for EventKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (tag, text) = crate::report::log::describe_bare(self);
+        write!(f, "{tag} {text}")
     }
 }

@@ -10,7 +10,8 @@ use super::{Choice, Counterexample, Finding, PathCounts, keep_shortest};
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
 use crate::executive::{BuildError, Executive, NamedValue, Retention, Step};
 use crate::simulation::{
-    Checker, Names, RunOptions, Scenario, ScriptedPlant, Verdict, build_executive,
+    Checker, Names, RunOptions, Scenario, ScriptedPlant, Verdict, build_executive, report_refusals,
+    submit_due,
 };
 
 /// Two times closer than this are the same instant (as in the scripted plant).
@@ -370,7 +371,9 @@ impl<'s, 'p> Worker<'s, 'p> {
 fn run_cycle(node: &mut Node<'_>, forced: &[usize], time: f64) -> Result<Step, String> {
     node.plant.force(forced);
     let observation = node.plant.observe(time);
-    let step = (node.executive.step(time, &observation)).map_err(|e| e.to_string())?;
+    let refused = submit_due(&mut node.plant, &mut node.executive);
+    let mut step = (node.executive.step(time, &observation)).map_err(|e| e.to_string())?;
+    report_refusals(&mut step, refused);
     let command: Vec<NamedValue> = (step.command.iter())
         .map(|&(x, v)| NamedValue::of(node.executive.plant(), x, v))
         .collect();

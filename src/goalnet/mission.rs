@@ -48,6 +48,9 @@
 //! Every error names the file, line and column, shows the text and says what was expected.
 
 mod elaborators;
+mod submission;
+
+pub(crate) use submission::resolve_submission;
 
 use std::path::Path;
 
@@ -107,9 +110,11 @@ struct MissionFile {
     types: Vec<elaborators::TypeFile>,
 }
 
+/// A `Network(...)` as written: a mission's network, its safe network, or the goals a scenario's
+/// rule submits ([`resolve_submission`]).
 #[derive(Deserialize, Default)]
 #[serde(rename = "Network", deny_unknown_fields)]
-struct NetworkFile {
+pub(crate) struct NetworkFile {
     #[serde(default)]
     points: Vec<String>,
     #[serde(default)]
@@ -127,6 +132,13 @@ struct ConstraintFile {
     to: String,
     min: Option<f64>,
     max: Option<f64>,
+}
+
+impl ConstraintFile {
+    /// `[min, max]`, min defaulting to 0 (order only) and max to +∞.
+    fn bounds(&self) -> (f64, f64) {
+        (self.min.unwrap_or(0.0), self.max.unwrap_or(f64::INFINITY))
+    }
 }
 
 #[derive(Deserialize)]
@@ -288,8 +300,8 @@ impl Loader<'_> {
 
     fn network(&mut self, plant: &Plant, file: &NetworkFile, field: &str) -> GoalNetwork {
         let mut network = GoalNetwork::new();
-        self.points(&mut network, file, field);
-        self.constraints(&mut network, file, field);
+        self.points(&mut network, file, &[Step::Field(field)]);
+        self.constraints(&mut network, file, &[Step::Field(field)]);
         for (index, spec) in file.macros.iter().enumerate() {
             let item = Item::listed(field, "macros", index);
             let header = Header {
@@ -318,9 +330,10 @@ impl Loader<'_> {
         network
     }
 
-    fn points(&mut self, network: &mut GoalNetwork, file: &NetworkFile, field: &str) {
+    /// The network's points, the network being at `at` in the file.
+    fn points(&mut self, network: &mut GoalNetwork, file: &NetworkFile, at: &[Step]) {
         for (i, name) in file.points.iter().enumerate() {
-            let path = [Step::Field(field), Step::Field("points"), Step::Index(i)];
+            let path = [at, &[Step::Field("points"), Step::Index(i)]].concat();
             if !logic::is_value_name(name) {
                 self.error(
                     &path,
@@ -355,24 +368,14 @@ impl Loader<'_> {
         found
     }
 
-    fn constraints(&mut self, network: &mut GoalNetwork, file: &NetworkFile, field: &str) {
+    /// The network's temporal constraints, the network being at `network_at` in the file.
+    fn constraints(&mut self, network: &mut GoalNetwork, file: &NetworkFile, network_at: &[Step]) {
         for (i, spec) in file.constraints.iter().enumerate() {
-            let at = |f| {
-                [
-                    Step::Field(field),
-                    Step::Field("constraints"),
-                    Step::Index(i),
-                    Step::Field(f),
-                ]
-            };
+            let whole = [network_at, &[Step::Field("constraints"), Step::Index(i)]].concat();
+            let at = |f| [&whole[..], &[Step::Field(f)]].concat();
             let from = self.point(network, &at("from"), &spec.from);
             let to = self.point(network, &at("to"), &spec.to);
-            let (min, max) = (spec.min.unwrap_or(0.0), spec.max.unwrap_or(f64::INFINITY));
-            let whole = [
-                Step::Field(field),
-                Step::Field("constraints"),
-                Step::Index(i),
-            ];
+            let (min, max) = spec.bounds();
             let span = self.locate.at(&whole);
             let constraint = TemporalConstraint::new(
                 from.unwrap_or(TimePointId::ORIGIN),

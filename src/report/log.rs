@@ -3,8 +3,14 @@
 //! notable happened — an event of the executive (§10) or a rule of the scripted plant — and
 //! nothing for idle cycles; a summary and the expectations' verdicts at the end.
 //!
+//! Times are written twice, in seconds (as scenarios, missions and programs write them) and in
+//! mission elapsed time `h:mm:ss.sss` (as a flight engineer reads a long run). The cycle header
+//! gives each a fixed width — 10 characters for the seconds, 13 for the clock — which is the same
+//! range, 999,999.999 s being 277:46:39.999, so the headers of any run shorter than eleven days
+//! stay aligned.
+//!
 //! ```text
-//! [  12.000 s] #12
+//! [    12.000 s   0:00:12.000] #12
 //!   plant     rule `PDE latches up` takes effect: pde = latched  (FAULT)
 //!   believed  PDE: on -> resettable (p 0.91)
 //!   DIAGNOSIS PDE = resettable (p 0.91); next: PDE = on (p 0.09)
@@ -13,10 +19,11 @@
 
 use std::fmt::Write;
 
-use crate::diagnostic::Source;
+use crate::diagnostic::{Source, Span};
 use crate::estimation::Fallback;
 use crate::executive::{Event, EventKind};
-use crate::plant::Plant;
+use crate::plant::{ComponentId, Plant};
+use crate::report::timeline::hours_minutes_seconds;
 use crate::sequencer::LocationId;
 use crate::simulation::{CycleRecord, Outcome, PlantEventKind, RunOutcome, Scenario, StopReason};
 
@@ -27,19 +34,79 @@ pub fn describe_event(
     program: &Source,
     event: &EventKind,
 ) -> (&'static str, String) {
+    describe(&Sources { plant, program }, event)
+}
+
+/// What the wording of an event needs from outside it: names for its component ids and places
+/// for its source spans. The log has the plant and the program ([`describe_event`]); an event
+/// printed on its own (`Display`) has neither and writes the ids and byte ranges.
+trait Names {
+    /// The component's name.
+    fn component(&self, component: ComponentId) -> String;
+    /// Where a span is written: `file:line:col`.
+    fn at(&self, span: &Span) -> String;
+    /// The text a span covers, when the program is known.
+    fn text(&self, span: &Span) -> Option<String>;
+}
+
+/// The names of a scenario run: the plant's and the program's.
+struct Sources<'a> {
+    plant: &'a Plant,
+    program: &'a Source,
+}
+
+impl Names for Sources<'_> {
+    fn component(&self, component: ComponentId) -> String {
+        self.plant.component(component).name().to_string()
+    }
+
+    fn at(&self, span: &Span) -> String {
+        let (line, col) = self.program.line_col(span.start);
+        format!("{}:{line}:{col}", self.program.name)
+    }
+
+    fn text(&self, span: &Span) -> Option<String> {
+        let text = self.program.text.get(span.clone())?;
+        Some(text.trim().to_string())
+    }
+}
+
+/// No names: `component 3`, `bytes 120..135` (an event printed without its plant and program).
+struct Bare;
+
+impl Names for Bare {
+    fn component(&self, component: ComponentId) -> String {
+        format!("component {}", component.0)
+    }
+
+    fn at(&self, span: &Span) -> String {
+        format!("bytes {}..{}", span.start, span.end)
+    }
+
+    fn text(&self, _: &Span) -> Option<String> {
+        None
+    }
+}
+
+/// One event as a (tag, text) pair without its plant and program: component ids and byte
+/// ranges stand for names and lines. `Event`'s `Display` prints this.
+pub(crate) fn describe_bare(event: &EventKind) -> (&'static str, String) {
+    describe(&Bare, event)
+}
+
+fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
     use EventKind as E;
-    let at = |span: &crate::diagnostic::Span| {
-        let (line, col) = program.line_col(span.start);
-        format!("{}:{line}:{col}", program.name)
-    };
-    let component = |c: crate::plant::ComponentId| plant.component(c).name().to_string();
+    let at = |span: &Span| names.at(span);
+    let component = |c: ComponentId| names.component(c);
     match event {
         E::GoalAsserted { goal, span, .. } => ("goal", format!("asserted {goal}  ({})", at(span))),
-        E::GoalAchieved { span, .. } => (
+        E::GoalAchieved { location, span } => (
             "goal",
             format!(
                 "achieved {}  ({})",
-                program.text.get(span.clone()).unwrap_or("?").trim(),
+                names
+                    .text(span)
+                    .unwrap_or_else(|| format!("the goal of location {location}")),
                 at(span)
             ),
         ),
@@ -201,6 +268,10 @@ pub fn describe_event(
         } => (
             "GOAL FAILED",
             format!("{goal}: {reason}; ŝ has {mode} (p {probability:.2})"),
+        ),
+        E::SubmissionRefused { by, goals, reason } => (
+            "REFUSED",
+            format!("{} submitted by `{by}`: {reason}", goals.join(", ")),
         ),
         E::TemporalInconsistency { point, cycle } => (
             "TEMPORAL",
@@ -369,7 +440,14 @@ impl<'a> MissionLog<'a> {
         }
         self.achieved = achieved;
         let shown = !lines.is_empty() && self.filter.shows_time(step.time);
-        shown.then(|| format!("[{:>10.3} s] #{}\n{lines}", step.time, step.cycle))
+        shown.then(|| {
+            format!(
+                "[{:>10.3} s {:>13}] #{}\n{lines}",
+                step.time,
+                hours_minutes_seconds(step.time),
+                step.cycle
+            )
+        })
     }
 
     /// `--only`: a mode change or diagnosis by its component, any other event by its text.
@@ -401,8 +479,9 @@ impl<'a> MissionLog<'a> {
             StopReason::Settled => "nothing more could happen",
         };
         let mut out = format!(
-            "\nrun ended at {:.3} s after {} cycles ({stop}); program {}\n",
+            "\nrun ended at {:.3} s ({}) after {} cycles ({stop}); program {}\n",
             outcome.last_time,
+            hours_minutes_seconds(outcome.last_time),
             outcome.cycles,
             if outcome.completed {
                 "completed"
@@ -422,7 +501,12 @@ impl<'a> MissionLog<'a> {
         for verdict in &outcome.verdicts {
             match &verdict.outcome {
                 Outcome::Met { at: Some(t) } => {
-                    let _ = writeln!(out, "  ok     {} (at {t:.3} s)", verdict.label);
+                    let _ = writeln!(
+                        out,
+                        "  ok     {} (at {t:.3} s, {})",
+                        verdict.label,
+                        hours_minutes_seconds(*t)
+                    );
                 }
                 Outcome::Met { at: None } => {
                     let _ = writeln!(out, "  ok     {}", verdict.label);

@@ -14,6 +14,11 @@
 //!   observations, planning failures). Labels are stacked on levels so that none overlaps
 //!   another; past a few levels they are thinned (the mark and its tooltip stay). Commands and
 //!   diagnoses draw a faint guide down through the lanes;
+//! - for a mission (issue 13 item 5), a *network* row of its **time points** as they fire, each
+//!   with the window it had then as a whisker (a point forced at its latest time in the fault
+//!   colour, numbered in the notes), and its **XGoals as bars** in a band under their state
+//!   variable's lane, from dispatch to their end point, labelled inside the bar with their kind
+//!   and merged constraint and outlined in the fault colour from a goal's failure (`xgoals`);
 //! - a **time axis** in mission elapsed time in which long idle stretches — no mode change, no
 //!   command, no drawn event for longer than a threshold (1 min by default) — are compressed to
 //!   a fixed-width zig-zag break marked with the idle duration (`≈ 4 h 30 min idle`), while the
@@ -31,6 +36,7 @@ mod labels;
 mod legend;
 mod marks;
 mod scale;
+mod xgoals;
 
 use std::collections::HashMap;
 
@@ -46,6 +52,7 @@ use crate::simulation::{CycleRecord, FaultDrawn, PlantEventKind, Scenario};
 use labels::{Placement, Request, clean, file_name, ident, place, text_width};
 use legend::{LEGEND_TOP, header_height, legend_key, legend_lines};
 use marks::{Marks, Row, Sources, Symbol, colour};
+pub(crate) use scale::hours_minutes_seconds;
 use scale::{Clock, Compression, Scale, Tick, format_duration};
 
 /// What a run has, for [`render`]; independent of how the run was driven.
@@ -181,6 +188,8 @@ mod px {
     pub const ROW_GAP: f64 = 4.0;
     pub const AXIS: f64 = 24.0;
     pub const LANE: f64 = 20.0;
+    /// The band of XGoal bars under a state variable's lane.
+    pub const XGOAL: f64 = 16.0;
     pub const FOOTER_LINE: f64 = 15.0;
     pub const BREAK: f64 = 28.0;
     pub const PAD: f64 = 8.0;
@@ -228,6 +237,10 @@ struct Picture<'a> {
     plot_left: f64,
     plot_right: f64,
     rows: Vec<RowLayout>,
+    /// A mission's XGoals, drawn under their lanes.
+    xgoals: Vec<xgoals::XGoalBar>,
+    /// The top of each lane (a lane with XGoals is taller by their band).
+    lane_tops: Vec<f64>,
     lanes_top: f64,
     lanes_bottom: f64,
     height: f64,
@@ -271,6 +284,8 @@ impl<'a> Picture<'a> {
             plot_left,
             plot_right,
             rows: Vec::new(),
+            xgoals: xgoals::collect(input.plant, input.events, window, clock),
+            lane_tops: Vec::new(),
             lanes_top: 0.0,
             lanes_bottom: 0.0,
             height: 0.0,
@@ -282,11 +297,12 @@ impl<'a> Picture<'a> {
         picture
     }
 
-    /// Numbers the notes: the injected faults and the faults row's marks in time order (their
-    /// labels take the number), then the fault segments lane by lane.
+    /// Numbers the notes: the injected faults, the faults row's marks and the forced time
+    /// points in time order (their labels take the number), then the fault segments lane by lane.
     fn number_notes(&mut self) {
         for mark in &mut self.marks.marks {
-            if !matches!(mark.row, Row::Injected | Row::Faults) {
+            let forced = mark.class == "time-point forced";
+            if !matches!(mark.row, Row::Injected | Row::Faults) && !forced {
                 continue;
             }
             let n = self.notes.len() + 1;
@@ -341,16 +357,33 @@ impl<'a> Picture<'a> {
         lines
     }
 
-    /// Places the rows' labels and stacks rows, axis, lanes and footer.
+    /// True when the run has a goal network to draw (time points or XGoals).
+    fn has_network(&self) -> bool {
+        !self.xgoals.is_empty() || self.marks.marks.iter().any(|m| m.row == Row::Network)
+    }
+
+    /// Places the rows' labels and stacks rows, axis, lanes and footer. The network row is
+    /// drawn only for a mission (a run with time points).
     fn lay_out(&mut self) {
-        let mut y = header_height(self.options.width);
+        let mut y = header_height(self.options.width, self.has_network());
         for row in Row::ALL {
             let layout = self.lay_out_row(row, y);
+            if row == Row::Network && layout.marks.is_empty() {
+                continue;
+            }
             y = layout.bottom;
             self.rows.push(layout);
         }
         self.lanes_top = y + px::AXIS;
-        self.lanes_bottom = self.lanes_top + px::LANE * self.input.plant.components().len() as f64;
+        let mut top = self.lanes_top;
+        for lane in 0..self.input.plant.components().len() {
+            self.lane_tops.push(top);
+            top += px::LANE;
+            if self.xgoals.iter().any(|b| b.lane == lane) {
+                top += px::XGOAL;
+            }
+        }
+        self.lanes_bottom = top;
         let footer_lines = self.footer_lines().len() as f64;
         self.height = self.lanes_bottom + px::AXIS + footer_lines * px::FOOTER_LINE + px::MARGIN;
     }
@@ -458,7 +491,8 @@ impl<'a> Picture<'a> {
     /// picture can use is keyed (issue 19 item 3), the nominal palette as one strip.
     fn legend(&self, top: f64) -> Group {
         let mut group = Group::new().set("id", "legend");
-        for (line, entries) in legend_lines(self.options.width).iter().enumerate() {
+        let lines = legend_lines(self.options.width, self.has_network());
+        for (line, entries) in lines.iter().enumerate() {
             let y = top + line as f64 * px::LEGEND_LINE;
             for &(x, key, label) in entries {
                 group = group.add(legend_key(key, x, y));
@@ -527,6 +561,9 @@ impl<'a> Picture<'a> {
             .set("class", format!("event {}", mark.class))
             .set("data-time", mark.time)
             .add(Title::new(clean(&mark.tooltip)));
+        if let Some(window) = mark.window {
+            group = group.add(self.whisker(window, layout.mark_y, mark.colour));
+        }
         if let (Some(placement), Some(label)) = (placement, &mark.label) {
             let baseline = level_baseline(layout, placement.level);
             if let Some(until) = mark.until {
@@ -574,12 +611,15 @@ impl<'a> Picture<'a> {
         let plant = self.input.plant;
         let mut group = Group::new().set("id", "lanes");
         for (index, component) in plant.components().iter().enumerate() {
-            let y = self.lanes_top + index as f64 * px::LANE;
+            let y = self.lane_tops[index];
             let timeline = self.input.timelines.state(index);
             let intervals: Vec<&Interval> = timeline
                 .map(|t| t.intervals().collect())
                 .unwrap_or_default();
             group = group.add(self.lane(index, component, &intervals, y));
+            if self.xgoals.iter().any(|b| b.lane == index) {
+                group = group.add(self.xgoal_band(index, component, y + px::LANE));
+            }
         }
         group
     }
@@ -1258,6 +1298,13 @@ fn symbol_at(symbol: Symbol, x: f64, y: f64, colour: &str) -> Group {
                 .line_to(point(-4.0, 4.0)),
             colour,
         )),
+        Symbol::Dot => Box::new(
+            Circle::new()
+                .set("cx", r(x))
+                .set("cy", r(y))
+                .set("r", 4)
+                .set("fill", colour.to_string()),
+        ),
         Symbol::Ring => Box::new(
             Circle::new()
                 .set("cx", r(x))
@@ -1351,6 +1398,10 @@ fn stylesheet() -> String {
 .tick.major {{ fill: #222222; font-weight: bold; }}
 .none {{ fill: #999999; font-style: italic; }}
 .label {{ paint-order: stroke; stroke: #ffffff; stroke-width: 3px; stroke-linejoin: round; }}
+.xgoal-bar {{ fill: {point}; fill-opacity: 0.18; stroke: {point}; stroke-opacity: 0.8; }}
+.xgoal-bar.failed {{ fill: none; stroke: {fault}; stroke-width: 2; stroke-opacity: 1; }}
+.xgoal-label {{ font-size: {small}px; fill: #0b5560; }}
+.window line {{ stroke-width: 1.5; stroke-opacity: 0.7; }}
 .goal-bar {{ fill: {goal}; fill-opacity: 0.12; stroke: {goal}; stroke-opacity: 0.45; }}
 .baseline {{ stroke: #cccccc; }}
 .leaders line {{ stroke: #aaaaaa; stroke-width: 0.6; }}
@@ -1365,6 +1416,7 @@ fn stylesheet() -> String {
         title = px::TITLE,
         fault = fill::FAULT,
         goal = colour::GOAL,
+        point = colour::POINT,
     )
 }
 

@@ -92,6 +92,8 @@ pub(super) struct RuleFile {
     pub(super) once: bool,
     #[serde(default)]
     pub(super) fault: bool,
+    #[serde(default)]
+    pub(super) submit: Option<crate::goalnet::mission::NetworkFile>,
 }
 
 /// What makes a rule fire.
@@ -295,6 +297,8 @@ pub enum EventName {
     MissionGoalFailed,
     /// Firing a time point contradicted the temporal constraints.
     TemporalInconsistency,
+    /// A scenario rule's submission was refused.
+    SubmissionRefused,
 }
 
 impl EventName {
@@ -326,6 +330,7 @@ impl EventName {
             E::XGoalDispatched { .. } => EventName::XGoalDispatched,
             E::MissionGoalFailed { .. } => EventName::MissionGoalFailed,
             E::TemporalInconsistency { .. } => EventName::TemporalInconsistency,
+            E::SubmissionRefused { .. } => EventName::SubmissionRefused,
         }
     }
 }

@@ -115,7 +115,8 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
         .map(|(ctx, script)| (ctx, script.script()))
         .collect();
     parts.push((&mut ctx, file.script()));
-    let mut script = super::load_script::script(&plant, &mut parts, settings.end);
+    let mission = program.mission().map(|m| &m.mission().network);
+    let mut script = super::load_script::script(&plant, mission, &mut parts, settings.end);
     drop(parts);
     script.pinned = super::load_script::pinned(&mut ctx, &file.choose, &script);
     let model = super::load_model::model_config(&mut ctx, &file, &plant, settings.end);

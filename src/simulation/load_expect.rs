@@ -7,6 +7,7 @@ use super::load::{FileCtx, VarClasses, Vars, formula};
 use super::script::{Delay, Script};
 use crate::diagnostic::locate::Step;
 use crate::diagnostic::{Diagnostic, did_you_mean};
+use crate::executive::Submission;
 use crate::goalnet::GoalNetwork;
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, ModeKind, Plant};
@@ -535,14 +536,16 @@ impl ExpectLoader<'_> {
         self.network
     }
 
-    /// A time point of the mission, by name.
+    /// A time point of the mission or of a rule's submission, by name.
     fn point(&self, ctx: &mut FileCtx, at: &[Step<'_>], name: &str) -> Option<String> {
         let network = self.network(ctx, at)?;
         let names = network.points().iter().map(|p| p.name.as_str());
+        let submitted = self.submissions().flat_map(|s| s.points.iter());
+        let names = names.chain(submitted.map(String::as_str));
         self.known(ctx, &field(at, "point"), name, names, "time point")
     }
 
-    /// A goal of the mission (not a macro), by name.
+    /// A goal of the mission (not a macro) or of a rule's submission, by name.
     fn network_goal(&self, ctx: &mut FileCtx, at: &[Step<'_>], name: &str) -> Option<String> {
         let network = self.network(ctx, at)?;
         let names = network
@@ -550,7 +553,17 @@ impl ExpectLoader<'_> {
             .iter()
             .filter(|g| !g.is_macro())
             .map(|g| g.name.as_str());
+        let submitted = self.submissions().flat_map(|s| s.goals.iter());
+        let names = names.chain(submitted.map(|g| g.name.as_str()));
         self.known(ctx, &field(at, "goal"), name, names, "goal")
+    }
+
+    /// What the script's rules submit.
+    fn submissions(&self) -> impl Iterator<Item = &Submission> + Clone {
+        self.script
+            .rules()
+            .iter()
+            .filter_map(|r| r.effect.submit.as_ref())
     }
 
     /// A component (a state variable), by name.

@@ -6,13 +6,17 @@ use super::load::{FileCtx, VarClasses, Vars, empty_script, formula};
 use super::script::{Delay, Effect, Rule, Script, TIME_EPSILON, Trigger};
 use crate::diagnostic::locate::{Entries, Step};
 use crate::diagnostic::{Diagnostic, did_you_mean};
-use crate::executive::NamedValue;
+use crate::executive::{NamedValue, Submission};
+use crate::goalnet::GoalNetwork;
+use crate::goalnet::mission::{NetworkFile, resolve_submission};
 use crate::logic::{ValueId, VarId, VarTable};
 use crate::plant::Plant;
 
-/// The script of a scenario: `parts` are the included files' then the scenario's own.
+/// The script of a scenario: `parts` are the included files' then the scenario's own; `mission`
+/// is the scenario's mission's network, if it runs one (rules may submit goals to it).
 pub(super) fn script(
     plant: &Plant,
+    mission: Option<&GoalNetwork>,
     parts: &mut [(&mut FileCtx, ScriptParts<'_>)],
     end: f64,
 ) -> Script {
@@ -26,6 +30,8 @@ pub(super) fn script(
         initial_values(ctx, part, &classes, &mut script);
     }
     let mut loader = RuleLoader {
+        plant,
+        mission,
         world: &script.world,
         classes: &classes,
         end,
@@ -147,6 +153,9 @@ fn held_value(
 }
 
 struct RuleLoader<'a> {
+    plant: &'a Plant,
+    /// The mission's network, as loaded (`None`: the scenario runs RMPL).
+    mission: Option<&'a GoalNetwork>,
     world: &'a VarTable,
     classes: &'a VarClasses,
     end: f64,
@@ -360,21 +369,54 @@ impl RuleLoader<'_> {
                 .garble
                 .push(NamedValue::new(name.as_str(), value.as_str()));
         }
+        if let Some(network) = &file.submit {
+            effect.submit = self.submission(ctx, &at(&[Step::Field("submit")]), network);
+        }
         if effect.set.is_empty()
             && effect.drop.is_empty()
             && effect.ungarble.is_empty()
             && effect.garble.is_empty()
+            && effect.submit.is_none()
         {
             if ctx.errors.len() == before {
                 ctx.error(
                     &at(&[]),
                     format!("rule `{}` does nothing", file.name),
-                    "at least one of `set`, `drop` or `garble`",
+                    "at least one of `set`, `drop`, `garble` or `submit`",
                 );
             }
             return None;
         }
         (ctx.errors.len() == before).then_some(effect)
+    }
+}
+
+impl RuleLoader<'_> {
+    /// A rule's `submit: Network(...)`, resolved against the plant as a mission's goals are
+    /// (`goalnet::mission`); an error when the scenario runs RMPL, which has no network.
+    fn submission(
+        &self,
+        ctx: &mut FileCtx,
+        path: &[Step],
+        network: &NetworkFile,
+    ) -> Option<Submission> {
+        let Some(mission) = self.mission else {
+            ctx.error(
+                path,
+                "this rule submits goals, and the scenario runs an RMPL program",
+                "a scenario with `mission: \"...\"` (goals are submitted to a goal network)",
+            );
+            return None;
+        };
+        match resolve_submission(&ctx.source, path, self.plant, mission, network) {
+            Ok(submission) => Some(submission),
+            Err(diagnostics) => {
+                for diagnostic in diagnostics {
+                    ctx.push(diagnostic);
+                }
+                None
+            }
+        }
     }
 }
 

@@ -63,9 +63,11 @@
 //!     once: false,                              // optional: fire at most once
 //!     fault: false,                             // optional: the plant misbehaves (the log
 //!                                               // highlights it)
+//!     submit: Network(...),                     // optional: goals submitted to the running
+//!                                               // mission (below)
 //! )
 //! ```
-//! A rule needs at least one of `set`, `drop`, `garble`. Triggers:
+//! A rule needs at least one of `set`, `drop`, `garble`, `submit`. Triggers:
 //! - `Command("PDE.cmd = on")` — a formula over the plant's controls, tested against every
 //!   cycle's command μ (controls not commanded hold their idle value): fires every cycle μ
 //!   satisfies it, so a re-issued command fires it again.
@@ -102,6 +104,42 @@
 //! Rule(name: "atmospheric drag", on: Time(16800.0), set: { "entry.drag": "sensed" }),
 //! Rule(name: "PDE latches up", on: Cycle(1), set: { "pde": "latched" }, fault: true),
 //! ```
+//!
+//! ## Submitting goals to the running mission
+//!
+//! In a scenario that runs a mission, a rule may `submit` goals — with the time points and
+//! temporal constraints that place them — to the running executive (DESIGN.md §15.4;
+//! [`Executive::submit`](crate::executive::Executive::submit)), as an operator or a ground
+//! station would, at a time or on any other trigger:
+//! ```ron
+//! Rule(
+//!     name: "operator asks for a second StayWarm",
+//!     on: Time(200.0),
+//!     submit: Network(                       // written as a mission file's network
+//!         points: ["TP_S2", "TP_E2"],        // new points
+//!         constraints: [                     // over the mission's points and the new ones
+//!             Constraint(from: "TP_E", to: "TP_S2", min: 0.0, max: 20.0),
+//!             Constraint(from: "TP_S2", to: "TP_E2", min: 100.0, max: 100.0),
+//!         ],
+//!         goals: [
+//!             Goal(name: "stay-warm-2", sv: "temperature", kind: Maintain,
+//!                  constraint: "temperature = warm-low or temperature = warm",
+//!                  start: "TP_S2", end: "TP_E2"),
+//!         ],
+//!     ),
+//! ),
+//! ```
+//! The network is read by the mission loader (`goalnet::mission`): points, constraints and
+//! goals mean and are checked exactly as in a mission file, the goals' constraints resolved
+//! against the plant. A submission names the mission's points and its own (not another
+//! submission's); it adds goals only, so `macros` and a goal's `type` are errors, and so is
+//! `submit` in a scenario that runs an RMPL program. A rule may `submit` beside `set`, `drop` or
+//! `garble`, or alone. The submission is made when the rule's effect shows, before the
+//! executive's cycle, so that cycle schedules and dispatches it. A submission that cannot be
+//! scheduled with the running network (inconsistent, unmergeable, unachievable) is refused —
+//! the network runs on unchanged — and the cycle reports a `SubmissionRefused` event with the
+//! reason (the log's `REFUSED` line). Expectations may name submitted points and goals
+//! (`Fired(point: "TP_S2")`, `XGoalActive(goal: "stay-warm-2", ...)`).
 //!
 //! ## A model-driven plant
 //!
@@ -161,7 +199,7 @@
 //! a fault), `Waiting`, `PlanFailed`, `EstimatorInconsistency`, `SearchCut`,
 //! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`, and for
 //! missions `TimePointFired`, `TimePointForced`, `XGoalDispatched`, `MissionGoalFailed`,
-//! `TemporalInconsistency`.
+//! `TemporalInconsistency`, `SubmissionRefused`.
 //!
 //! ## Missions
 //!
@@ -219,6 +257,7 @@ pub use load::{DEFAULT_KAPPA, MAX_CYCLES, load, load_source};
 pub use model_plant::{FaultDrawn, ForcedFault, ModelPlant, ModelPlantConfig};
 pub(crate) use run::build as build_executive;
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
+pub(crate) use run::{report_refusals, submit_due};
 pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
 
 use crate::diagnostic::{Source, SourceErrors};

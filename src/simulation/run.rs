@@ -150,7 +150,9 @@ pub fn run(
     let mut last_time;
     let stop = loop {
         let observation = plant.observe(time);
-        let step = executive.step(time, &observation)?;
+        let refused = submit_due(plant.rules_mut(), &mut executive);
+        let mut step = executive.step(time, &observation)?;
+        report_refusals(&mut step, refused);
         let command: Vec<NamedValue> = step
             .command
             .iter()
@@ -291,6 +293,12 @@ impl<'s> Simulator<'s> {
         }
     }
 
+    fn rules_mut(&mut self) -> &mut ScriptedPlant<'s> {
+        match self {
+            Simulator::Script(rules) | Simulator::Model { rules, .. } => rules,
+        }
+    }
+
     fn faults(&self) -> &[FaultDrawn] {
         match self {
             Simulator::Script(_) => &[],
@@ -310,6 +318,35 @@ pub(crate) fn build(scenario: &Scenario, options: RunOptions) -> Result<Executiv
         builder = builder.retention(retention);
     }
     builder.build()
+}
+
+/// Submits to the executive the goals of the rules whose effect showed in this cycle's
+/// observation (`submit:`), before its cycle runs — so that the cycle schedules and dispatches
+/// them; the refusals, as events (what the rule submitted and why it was refused).
+pub(crate) fn submit_due(
+    plant: &mut ScriptedPlant<'_>,
+    executive: &mut Executive,
+) -> Vec<EventKind> {
+    let script = plant.script();
+    plant
+        .take_submissions()
+        .into_iter()
+        .filter_map(|(rule, submission)| {
+            let reason = executive.submit(submission).err()?;
+            Some(EventKind::SubmissionRefused {
+                by: script.rules()[rule].name.clone(),
+                goals: submission.goals.iter().map(|g| g.name.clone()).collect(),
+                reason: reason.to_string(),
+            })
+        })
+        .collect()
+}
+
+/// Puts the refusals of the submissions made before `step`'s cycle first among its events.
+pub(crate) fn report_refusals(step: &mut Step, refused: Vec<EventKind>) {
+    let (cycle, time) = (step.cycle, step.time);
+    let refusals = refused.into_iter().map(|kind| Event { cycle, time, kind });
+    step.events.splice(0..0, refusals);
 }
 
 #[cfg(test)]

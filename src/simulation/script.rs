@@ -19,8 +19,8 @@
 //!    i + 1 at the earliest.
 //! 4. [`estimated`](ScriptedPlant::estimated): estimate rules fire on ŝ(i); effects likewise.
 
-use crate::executive::NamedValue;
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
+use crate::executive::{NamedValue, Submission};
 use crate::logic::{Formula, ValueId, VarId, VarTable};
 
 /// Two times closer than this are the same instant (cycle times are products of the period).
@@ -173,6 +173,9 @@ pub struct Effect {
     /// Name/value pairs to report verbatim although they do not fit the model, in place of the
     /// observable of that name if there is one (a garbled telemetry word).
     pub garble: Vec<NamedValue>,
+    /// Goals, with their points and constraints, to submit to the running mission
+    /// ([`Executive::submit`](crate::executive::Executive::submit)) when the effect shows.
+    pub submit: Option<Submission>,
 }
 
 impl Effect {
@@ -198,6 +201,10 @@ impl Effect {
                 .iter()
                 .map(|g| format!("{} = \"{}\" (garbled)", g.variable, g.value)),
         );
+        if let Some(submission) = &self.submit {
+            let goals: Vec<&str> = submission.goals.iter().map(|g| g.name.as_str()).collect();
+            parts.push(format!("submits {}", goals.join(", ")));
+        }
         parts.join(", ")
     }
 }
@@ -257,6 +264,9 @@ pub struct ScriptedPlant<'s> {
     events: Vec<PlantEvent>,
     /// Optional rules to fire at the next cycle ([`ScriptedPlant::force`]).
     forced: Vec<usize>,
+    /// Rules whose effect, applied since the last [`take_submissions`](Self::take_submissions),
+    /// submits goals.
+    submitted: Vec<usize>,
 }
 
 impl<'s> ScriptedPlant<'s> {
@@ -279,6 +289,7 @@ impl<'s> ScriptedPlant<'s> {
             fired: vec![0; rules],
             events: Vec::new(),
             forced: Vec::new(),
+            submitted: Vec::new(),
         }
     }
 
@@ -331,6 +342,16 @@ impl<'s> ScriptedPlant<'s> {
     /// How many times a rule fired.
     pub fn times_fired(&self, rule: usize) -> u64 {
         self.fired.get(rule).copied().unwrap_or(0)
+    }
+
+    /// The submissions of the effects applied since the last call, in the order they were
+    /// applied (rule index, submission): the run submits them to the executive before its cycle.
+    pub fn take_submissions(&mut self) -> Vec<(usize, &'s Submission)> {
+        let script = self.script;
+        std::mem::take(&mut self.submitted)
+            .into_iter()
+            .filter_map(|i| Some((i, script.rules[i].effect.submit.as_ref()?)))
+            .collect()
     }
 
     /// What the plant did since the last call (rule firings and effects), oldest first.
@@ -439,6 +460,9 @@ impl<'s> ScriptedPlant<'s> {
         for garbled in &effect.garble {
             self.garbled.retain(|g| g.variable != garbled.variable);
             self.garbled.push(garbled.clone());
+        }
+        if effect.submit.is_some() {
+            self.submitted.push(i);
         }
         self.push_event(i, PlantEventKind::Applied);
     }

@@ -5,7 +5,7 @@ use svg::node::element::{Group, Rectangle};
 
 use super::labels::text_width;
 use super::marks::{Symbol, colour};
-use super::{fill, px, r, symbol_at, zigzag};
+use super::{fill, px, r, segment, symbol_at, zigzag};
 
 /// What a legend entry shows.
 #[derive(Debug, Clone, Copy)]
@@ -20,6 +20,10 @@ pub(super) enum LegendKey {
     Mark(Symbol, &'static str),
     /// A compressed stretch.
     Break,
+    /// A time point's window, a whisker.
+    Window,
+    /// An XGoal's bar.
+    XGoal,
 }
 
 impl LegendKey {
@@ -68,11 +72,25 @@ const LEGEND: [(LegendKey, &str); 17] = [
     (LegendKey::Swatch("#ffffff", 1.0, true), "[n]: note below"),
 ];
 
-/// The legend's entries laid out in lines no wider than the picture: (left, key, label).
-pub(super) fn legend_lines(width: f64) -> Vec<Vec<(f64, LegendKey, &'static str)>> {
+/// The entries of a mission's goal network, keyed only when the picture has one (an RMPL run's
+/// legend is not cluttered with what it cannot show).
+const NETWORK_LEGEND: [(LegendKey, &str); 4] = [
+    (
+        LegendKey::Mark(Symbol::Dot, colour::POINT),
+        "time point fired",
+    ),
+    (LegendKey::Mark(Symbol::Dot, colour::FAULT), "forced"),
+    (LegendKey::Window, "its window"),
+    (LegendKey::XGoal, "XGoal"),
+];
+
+/// The legend's entries laid out in lines no wider than the picture: (left, key, label); with
+/// the goal network's entries when `network`.
+pub(super) fn legend_lines(width: f64, network: bool) -> Vec<Vec<(f64, LegendKey, &'static str)>> {
     let mut lines: Vec<Vec<(f64, LegendKey, &'static str)>> = vec![Vec::new()];
     let mut x = px::MARGIN;
-    for (key, label) in LEGEND {
+    let network = NETWORK_LEGEND.iter().filter(|_| network);
+    for &(key, label) in LEGEND.iter().chain(network) {
         let span = key.width() + 4.0 + text_width(label, px::FONT);
         let line_is_empty = lines.last().is_none_or(Vec::is_empty);
         if x + span > width - px::MARGIN && !line_is_empty {
@@ -87,9 +105,9 @@ pub(super) fn legend_lines(width: f64) -> Vec<Vec<(f64, LegendKey, &'static str)
     lines
 }
 
-/// Height of the title, subtitle and legend.
-pub(super) fn header_height(width: f64) -> f64 {
-    let extra = legend_lines(width).len().saturating_sub(1) as f64;
+/// Height of the title, subtitle and legend (with the goal network's entries when `network`).
+pub(super) fn header_height(width: f64, network: bool) -> f64 {
+    let extra = legend_lines(width, network).len().saturating_sub(1) as f64;
     px::HEADER + extra * px::LEGEND_LINE
 }
 
@@ -123,5 +141,13 @@ pub(super) fn legend_key(key: LegendKey, x: f64, y: f64) -> Group {
         LegendKey::Bar => group.add(swatch(x, 16.0, "none", 1.0).set("class", "goal-bar")),
         LegendKey::Mark(symbol, colour) => group.add(symbol_at(symbol, x + 8.0, y - 4.0, colour)),
         LegendKey::Break => group.add(zigzag(x + 8.0, y - 11.0, y + 2.0)),
+        LegendKey::Window => group.add(
+            Group::new()
+                .set("class", "window")
+                .add(segment(x, y - 4.0, x + 16.0, y - 4.0).set("stroke", colour::POINT))
+                .add(segment(x, y - 8.0, x, y).set("stroke", colour::POINT))
+                .add(segment(x + 16.0, y - 8.0, x + 16.0, y).set("stroke", colour::POINT)),
+        ),
+        LegendKey::XGoal => group.add(swatch(x, 16.0, "none", 1.0).set("class", "xgoal-bar")),
     }
 }

@@ -1,12 +1,15 @@
 //! The marks above the swimlanes, made from the run's events: what the program asserted and
 //! achieved, what the executive commanded, and what it diagnosed.
 //!
-//! Four rows: **program** (goals asserted — a bar runs to the cycle the goal was achieved —
-//! goal failures and conflicts, preemptions, completion), **commands** (commands issued, repairs
+//! Five rows: **program** (goals asserted — a bar runs to the cycle the goal was achieved —
+//! goal failures and conflicts, preemptions, completion), **network** (a mission's time points
+//! as they fire, each with the window it had then drawn as a whisker; a point forced at its
+//! latest time in the fault colour — the row is drawn only for a mission), **commands** (commands issued, repairs
 //! distinguished; waits for a timed transition as small rings) and **faults** (diagnoses,
 //! inconsistent observations, planning failures), with the faults the simulation injected on a
 //! row of their own between the last two. Mode changes are not marked: the lanes show
-//! them. Clock starts are not marked. Observation problems, deadline overruns and search cuts
+//! them, and an XGoal is a bar on its state variable's lane (`xgoals`), not a mark. Failed
+//! mission goals and temporal inconsistencies go to the faults row. Clock starts are not marked. Observation problems, deadline overruns and search cuts
 //! are counted, not drawn (the mission log lists them).
 
 use std::collections::HashMap;
@@ -31,6 +34,8 @@ const MAX_QUOTE: usize = 34;
 pub(super) enum Row {
     /// The program: goals, preemptions, completion.
     Program,
+    /// A mission's goal network: its time points as they fire.
+    Network,
     /// Commands issued.
     Commands,
     /// Faults the simulation injected (scripted rules marked `fault: true`): what happened to
@@ -42,12 +47,19 @@ pub(super) enum Row {
 
 impl Row {
     /// Every row, top to bottom.
-    pub const ALL: [Row; 4] = [Row::Program, Row::Commands, Row::Injected, Row::Faults];
+    pub const ALL: [Row; 5] = [
+        Row::Program,
+        Row::Network,
+        Row::Commands,
+        Row::Injected,
+        Row::Faults,
+    ];
 
     /// The row's name, shown at its left.
     pub fn name(self) -> &'static str {
         match self {
             Row::Program => "program",
+            Row::Network => "network",
             Row::Commands => "commands",
             Row::Injected => "injected",
             Row::Faults => "faults",
@@ -76,6 +88,8 @@ pub(super) enum Symbol {
     Diamond,
     /// ✶ a fault injected by the simulation.
     Star,
+    /// ● a time point fired.
+    Dot,
 }
 
 /// One mark.
@@ -85,6 +99,9 @@ pub(super) struct Mark {
     pub time: f64,
     /// For a goal: when it was achieved (its bar ends there).
     pub until: Option<f64>,
+    /// For a time point: its window `[earliest, latest]` when it fired (a whisker; open sides
+    /// run to the edge of the drawn window).
+    pub window: Option<(f64, f64)>,
     /// Its row.
     pub row: Row,
     /// Its CSS class (after `event`): `goal`, `command repair`, `diagnosis`, ...
@@ -119,6 +136,8 @@ pub(super) mod colour {
     pub const WAIT: &str = "#969696";
     /// Faults injected by the simulation.
     pub const INJECTED: &str = "#8c2d04";
+    /// Time points fired on time.
+    pub const POINT: &str = "#17becf";
 }
 
 /// The marks of a run and what was left out.
@@ -254,13 +273,83 @@ impl Builder<'_, '_> {
             EventKind::DeadlineOverrun { .. } => self.omit("cycle deadline overruns"),
             EventKind::SearchCut(_) => self.omit("estimation search cuts"),
             EventKind::ModeChanged { .. } | EventKind::ClockStarted { .. } => {}
-            // Drawn by the goal-network timeline (issue 13 item 5), not here.
-            EventKind::TimePointFired { .. }
-            | EventKind::TimePointForced { .. }
-            | EventKind::XGoalDispatched { .. }
-            | EventKind::MissionGoalFailed { .. }
-            | EventKind::TemporalInconsistency { .. } => self.omit("goal-network events"),
+            EventKind::TimePointFired { point, window } => {
+                self.time_point(time, point, *window, None)
+            }
+            EventKind::TimePointForced {
+                point,
+                window,
+                late_by,
+            } => self.time_point(time, point, *window, Some(*late_by)),
+            // A bar on its state variable's lane (`xgoals`).
+            EventKind::XGoalDispatched { .. } => {}
+            EventKind::MissionGoalFailed {
+                goal,
+                reason,
+                mode,
+                probability,
+            } => self.trouble(
+                time,
+                "goal-failed",
+                &shorten(&format!("goal failed: {goal}"), MAX_LABEL),
+                &format!("{goal} — {reason}; ŝ has {mode} (p {probability:.2})"),
+            ),
+            EventKind::SubmissionRefused { by, goals, reason } => self.trouble(
+                time,
+                "submission-refused",
+                "submission refused",
+                &format!("{} submitted by `{by}`: {reason}", goals.join(", ")),
+            ),
+            EventKind::TemporalInconsistency { point, cycle } => self.trouble(
+                time,
+                "temporal-inconsistency",
+                "temporal inconsistency",
+                &format!("firing {point} contradicts {}", cycle.join("; ")),
+            ),
         }
+    }
+
+    /// A time point of the mission's network fired (DESIGN.md §15.3): on time, or forced at its
+    /// latest time (`late_by`) with an XGoal starting there not ready — forced is drawn in the
+    /// fault colour and traced down through the lanes.
+    fn time_point(&mut self, time: f64, point: &str, window: (f64, f64), late_by: Option<f64>) {
+        let bounds = format!(
+            "[{}, {}]",
+            crate::goalnet::mission::seconds(window.0),
+            crate::goalnet::mission::seconds(window.1)
+        );
+        let (class, colour, label, tooltip) = match late_by {
+            None => (
+                "time-point",
+                colour::POINT,
+                point.to_string(),
+                format!(
+                    "time point {point} fired at {}, window {bounds}",
+                    self.at(time)
+                ),
+            ),
+            Some(late) => (
+                "time-point forced",
+                colour::FAULT,
+                format!("{point} forced"),
+                format!(
+                    "time point {point} forced at {}, its latest time, with an XGoal starting there not ready; window {bounds}, {late:.3} s late",
+                    self.at(time)
+                ),
+            ),
+        };
+        self.push(Mark {
+            time,
+            until: None,
+            window: Some(window),
+            row: Row::Network,
+            class,
+            symbol: Symbol::Dot,
+            colour,
+            label: Some(shorten(&label, MAX_LABEL)),
+            tooltip,
+            guide: late_by.is_some(),
+        });
     }
 
     fn goal_asserted(&mut self, time: f64, goal: &str, location: LocationId, span: &Span) {
@@ -276,6 +365,7 @@ impl Builder<'_, '_> {
         let index = self.push(Mark {
             time,
             until: None,
+            window: None,
             row: Row::Program,
             class: "goal",
             symbol: Symbol::Down,
@@ -310,6 +400,7 @@ impl Builder<'_, '_> {
         self.push(Mark {
             time,
             until: None,
+            window: None,
             row: Row::Program,
             class: "goal-achieved",
             symbol: Symbol::Check,
@@ -324,6 +415,7 @@ impl Builder<'_, '_> {
         self.push(Mark {
             time,
             until: None,
+            window: None,
             row: Row::Program,
             class: "goal-failed",
             symbol: Symbol::Cross,
@@ -348,6 +440,7 @@ impl Builder<'_, '_> {
         self.push(Mark {
             time,
             until: None,
+            window: None,
             row: Row::Program,
             class: "goal-conflict",
             symbol: Symbol::Cross,
@@ -371,6 +464,7 @@ impl Builder<'_, '_> {
         self.push(Mark {
             time,
             until: None,
+            window: None,
             row: Row::Program,
             class: "preempted",
             symbol: Symbol::Hollow,
@@ -385,6 +479,7 @@ impl Builder<'_, '_> {
         self.push(Mark {
             time,
             until: None,
+            window: None,
             row: Row::Program,
             class: "completed",
             symbol: Symbol::Square,
@@ -406,6 +501,7 @@ impl Builder<'_, '_> {
         self.push(Mark {
             time,
             until: None,
+            window: None,
             row: Row::Commands,
             class: if repair { "command repair" } else { "command" },
             symbol: Symbol::Up,
@@ -424,6 +520,7 @@ impl Builder<'_, '_> {
         self.push(Mark {
             time,
             until: None,
+            window: None,
             row: Row::Commands,
             class: "waiting",
             symbol: Symbol::Ring,
@@ -447,6 +544,7 @@ impl Builder<'_, '_> {
         self.push(Mark {
             time,
             until: None,
+            window: None,
             row: Row::Faults,
             class: "diagnosis",
             symbol: Symbol::Diamond,
@@ -467,6 +565,7 @@ impl Builder<'_, '_> {
         self.push(Mark {
             time: fault.time,
             until: None,
+            window: None,
             row: Row::Injected,
             class: "injected",
             symbol: Symbol::Star,
@@ -498,6 +597,7 @@ impl Builder<'_, '_> {
         self.push(Mark {
             time,
             until: None,
+            window: None,
             row: Row::Faults,
             class,
             symbol: Symbol::Cross,

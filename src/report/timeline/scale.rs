@@ -288,6 +288,12 @@ impl Clock {
     }
 }
 
+/// `t` as mission elapsed time to the millisecond, always with hours: `4:45:10.000` (the mission
+/// log's cycle headers and summary, beside the seconds).
+pub(crate) fn hours_minutes_seconds(t: f64) -> String {
+    Clock { hours: true }.format(t, 0.001)
+}
+
 /// A duration in words: `45 s`, `4 min`, `4 h 30 min`, `12 d`.
 pub(super) fn format_duration(seconds: f64) -> String {
     if !seconds.is_finite() || seconds >= 1e9 {
@@ -325,6 +331,17 @@ mod tests {
         break_width: 28.0,
         pad: 8.0,
     };
+
+    /// The mission log's clock (issue 19 item 2): always hours, always milliseconds, so that a
+    /// right-aligned column of them lines up.
+    #[test]
+    fn the_log_clock_writes_hours_minutes_and_seconds_to_the_millisecond() {
+        assert_eq!(hours_minutes_seconds(0.0), "0:00:00.000");
+        assert_eq!(hours_minutes_seconds(0.3), "0:00:00.300");
+        assert_eq!(hours_minutes_seconds(17110.0), "4:45:10.000");
+        assert_eq!(hours_minutes_seconds(59.9996), "0:01:00.000");
+        assert_eq!(hours_minutes_seconds(999_999.999), "277:46:39.999");
+    }
 
     #[test]
     fn an_idle_stretch_becomes_a_fixed_width_break_between_segments_at_one_scale() {
