@@ -209,6 +209,19 @@ pub fn describe_event(
                 cycle.join("; ")
             ),
         ),
+        E::TacticChosen { goal, tactic } => ("tactic", format!("{goal}: tactic {tactic} chosen")),
+        E::TacticRejected {
+            goal,
+            tactic,
+            reason,
+        } => (
+            "tactic",
+            format!("{goal}: tactic {tactic} rejected: {reason}"),
+        ),
+        E::ResponseTaken { explanation, .. } => ("RESPONSE", explanation.clone()),
+        E::Promoted { cause } => ("promoted", format!("the proposed network ({cause})")),
+        E::PromotionFailed { reason } => ("PROMOTION", format!("failed: {reason}")),
+        E::Safing { cause } => ("SAFING", cause.clone()),
     }
 }
 

@@ -295,6 +295,18 @@ pub enum EventName {
     MissionGoalFailed,
     /// Firing a time point contradicted the temporal constraints.
     TemporalInconsistency,
+    /// Elaboration chose a tactic for a goal.
+    TacticChosen,
+    /// Elaboration rejected a tactic for a goal.
+    TacticRejected,
+    /// A failed goal's response was carried out.
+    ResponseTaken,
+    /// A proposed network was promoted.
+    Promoted,
+    /// A proposed network could not be promoted.
+    PromotionFailed,
+    /// The safe network was promoted.
+    Safing,
 }
 
 impl EventName {
@@ -326,6 +338,12 @@ impl EventName {
             E::XGoalDispatched { .. } => EventName::XGoalDispatched,
             E::MissionGoalFailed { .. } => EventName::MissionGoalFailed,
             E::TemporalInconsistency { .. } => EventName::TemporalInconsistency,
+            E::TacticChosen { .. } => EventName::TacticChosen,
+            E::TacticRejected { .. } => EventName::TacticRejected,
+            E::ResponseTaken { .. } => EventName::ResponseTaken,
+            E::Promoted { .. } => EventName::Promoted,
+            E::PromotionFailed { .. } => EventName::PromotionFailed,
+            E::Safing { .. } => EventName::Safing,
         }
     }
 }

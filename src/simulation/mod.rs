@@ -161,7 +161,8 @@
 //! a fault), `Waiting`, `PlanFailed`, `EstimatorInconsistency`, `SearchCut`,
 //! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`, and for
 //! missions `TimePointFired`, `TimePointForced`, `XGoalDispatched`, `MissionGoalFailed`,
-//! `TemporalInconsistency`.
+//! `TemporalInconsistency`, `TacticChosen`, `TacticRejected`, `ResponseTaken`, `Promoted`,
+//! `PromotionFailed`, `Safing`.
 //!
 //! ## Missions
 //!

@@ -260,6 +260,14 @@ impl Builder<'_, '_> {
             | EventKind::XGoalDispatched { .. }
             | EventKind::MissionGoalFailed { .. }
             | EventKind::TemporalInconsistency { .. } => self.omit("goal-network events"),
+            // Safing ends the mission's plan: drawn, with its cause in the tooltip.
+            EventKind::Safing { cause } => self.trouble(time, "safing", "safing", cause),
+            // The responses' chains are in the mission log; the timeline counts them.
+            EventKind::TacticChosen { .. }
+            | EventKind::TacticRejected { .. }
+            | EventKind::ResponseTaken { .. }
+            | EventKind::Promoted { .. }
+            | EventKind::PromotionFailed { .. } => self.omit("goal-network responses"),
         }
     }
 
