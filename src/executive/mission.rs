@@ -76,10 +76,14 @@ pub(super) struct MissionControl {
     /// shows the window the point fired in, not the `[t, t]` grounding makes of it); refreshed
     /// only after a cycle in which a point fired or a network was promoted.
     windows: Vec<Option<Window>>,
+    /// Per goal, its state variable, kept when a promotion retires the goal (a retired goal
+    /// has none in the network), so that a failure reported in the cycle a promotion retires
+    /// its goal still names its SV's mode. Refreshed with the windows.
+    svs: Vec<Option<ComponentId>>,
     /// Per component, the marginal of each of its modes (reused from cycle to cycle).
     beliefs: Vec<Vec<f64>>,
-    /// Cycles stepped so far: the first reports the XGoals active from the origin.
-    cycles: u64,
+    /// Whether a cycle has been stepped: the first reports the XGoals active from the origin.
+    started: bool,
     /// Whether completion has been reported.
     completed: bool,
 }
@@ -102,8 +106,9 @@ impl MissionControl {
             controller: None,
             pending: Vec::new(),
             windows: Vec::new(),
+            svs: Vec::new(),
             beliefs,
-            cycles: 0,
+            started: false,
             completed: false,
         };
         control.refresh_windows();
@@ -120,7 +125,7 @@ impl MissionControl {
             controller.fingerprint(state);
         }
         self.pending.len().hash(state);
-        (self.cycles == 0).hash(state);
+        self.started.hash(state);
         self.completed.hash(state);
     }
 
@@ -162,7 +167,7 @@ impl MissionControl {
             .controller
             .get_or_insert_with(|| GoalController::new(&self.mission, reconfiguration, now, view));
         let mut stepped = controller.step(now, view, reconfiguration);
-        if self.cycles == 0 {
+        if !self.started {
             // The mission's network starting is shown by the dispatches of cycle 0, not as a
             // promotion (its tactic choices are reported): the first promotion the controller
             // reports is its construction's.
@@ -185,15 +190,19 @@ impl MissionControl {
             )
         });
         let mut kinds = Vec::new();
-        if self.cycles == 0 {
-            // The origin fired at 0 when execution started, dispatching its XGoals.
+        // The origin fired at 0 when execution started, dispatching its XGoals: reported in
+        // the first cycle after the elaboration that made them, before its network events.
+        let mut origin = !self.started;
+        for event in events {
+            if origin && matches!(event, MissionEvent::Goal(_)) {
+                kinds.extend(self.dispatched_from_origin());
+                origin = false;
+            }
+            kinds.extend(self.describe(event, modes));
+        }
+        if origin {
             kinds.extend(self.dispatched_from_origin());
         }
-        kinds.extend(
-            events
-                .into_iter()
-                .filter_map(|event| self.describe(event, modes)),
-        );
         if refresh {
             self.refresh_windows();
         }
@@ -201,7 +210,7 @@ impl MissionControl {
             self.completed = true;
             kinds.push(EventKind::ProgramCompleted);
         }
-        self.cycles += 1;
+        self.started = true;
         let controllable = |sv: ComponentId| !reconfiguration.policy(sv).steps().is_empty();
         let goal = self.controller.as_ref().map_or(Formula::True, |c| {
             c.configuration_goal(reconfiguration, controllable)
@@ -301,9 +310,15 @@ impl MissionControl {
 
     fn refresh_windows(&mut self) {
         let network = &self.executable().network;
-        self.windows = (0..network.points().len())
+        let windows = (0..network.points().len())
             .map(|i| network.stn().window(TimePointId(i as u32)))
             .collect();
+        let svs: Vec<Option<ComponentId>> = network.goals().iter().map(|g| g.sv).collect();
+        self.windows = windows;
+        self.svs.resize(svs.len(), None);
+        for (kept, sv) in self.svs.iter_mut().zip(svs) {
+            *kept = sv.or(*kept);
+        }
     }
 
     /// The executive's event for a mission event (`None` only for an XGoal the network does
@@ -369,9 +384,12 @@ impl MissionControl {
             GoalEvent::XGoalDispatched { sv, index } => {
                 self.dispatched(executable.timeline(sv)?.xgoals.get(index)?)
             }
-            GoalEvent::GoalFailed { goal, reason } => {
-                let goal = network.goal(goal);
-                let sv = goal.sv.unwrap_or(ComponentId(0));
+            GoalEvent::GoalFailed { goal: id, reason } => {
+                let goal = network.goal(id);
+                let sv = goal
+                    .sv
+                    .or_else(|| self.svs.get(id.index()).copied().flatten())
+                    .unwrap_or(ComponentId(0));
                 let mode = modes.get(sv.index()).copied().unwrap_or(ValueId(0));
                 EventKind::MissionGoalFailed {
                     goal: goal.name.clone(),

@@ -210,7 +210,9 @@ impl Elaborators {
                 .goals
                 .extend(graph.goals().iter().map(|g| g.name.clone()));
         }
-        names.points.push("safing".to_string());
+        if !names.points.iter().any(|p| p == "safing") {
+            names.points.push("safing".to_string());
+        }
         for (i, goal) in network.goals().iter().enumerate() {
             if let Some(t) = self.of(GoalId(i as u32)) {
                 self.elaborated_names(&goal.name, t, &mut Vec::new(), &mut names);

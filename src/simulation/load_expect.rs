@@ -7,7 +7,7 @@ use super::load::{FileCtx, VarClasses, Vars, formula};
 use super::script::{Delay, Script};
 use crate::diagnostic::locate::Step;
 use crate::diagnostic::{Diagnostic, did_you_mean};
-use crate::goalnet::GoalNetwork;
+use crate::goalnet::MissionNames;
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, ModeKind, Plant};
 use crate::sequencer::Thca;
@@ -28,7 +28,10 @@ pub(super) fn expectations(
         goals: program
             .thca()
             .map_or_else(Vec::new, |t| program_goals(plant, t)),
-        network: program.mission().map(|m| &m.mission().network),
+        names: program.mission().map(|m| {
+            let mission = m.mission();
+            mission.elaborators.names(&mission.network, &mission.safe)
+        }),
         end,
     };
     files
@@ -63,8 +66,8 @@ struct ExpectLoader<'a> {
     script: &'a Script,
     classes: VarClasses,
     goals: Vec<String>,
-    /// The mission's goal network (`None` for an RMPL program).
-    network: Option<&'a GoalNetwork>,
+    /// The names the mission's points and goals can have (`None` for an RMPL program).
+    names: Option<MissionNames>,
     end: f64,
 }
 
@@ -250,7 +253,7 @@ impl ExpectLoader<'_> {
                 format!("mission goal {goal} failed{}", eventual(*after, *by)),
             ),
             F::NeverFailed { goal, from, to } => {
-                self.network(ctx, at)?;
+                self.names(ctx, at)?;
                 let checked = match goal {
                     Some(goal) => Some(self.network_goal(ctx, at, goal)?),
                     None => None,
@@ -268,7 +271,7 @@ impl ExpectLoader<'_> {
                 )
             }
             F::XGoalActive { sv, goal, time } => {
-                self.network(ctx, at)?;
+                self.names(ctx, at)?;
                 let component = self.component(ctx, at, sv)?;
                 let checked = match goal {
                     Some(goal) => Some(self.network_goal(ctx, at, goal)?),
@@ -523,34 +526,36 @@ impl ExpectLoader<'_> {
 
 /// The mission's names, for `Fired`, `NeverFired`, `Failed`, `NeverFailed`, `XGoalActive`.
 impl ExpectLoader<'_> {
-    /// The mission's network; an error at the expectation when the scenario runs RMPL.
-    fn network(&self, ctx: &mut FileCtx, at: &[Step<'_>]) -> Option<&GoalNetwork> {
-        if self.network.is_none() {
+    /// The mission's names; an error at the expectation when the scenario runs RMPL.
+    fn names(&self, ctx: &mut FileCtx, at: &[Step<'_>]) -> Option<&MissionNames> {
+        if self.names.is_none() {
             ctx.error(
                 at,
                 "this expectation is about a goal network, and the scenario runs an RMPL program",
                 "a scenario with `mission: \"...\"` for time points, goals and XGoals",
             );
         }
-        self.network
+        self.names.as_ref()
     }
 
-    /// A time point of the mission, by name.
+    /// A time point of the mission (or one its elaborations or safing can add), by name.
     fn point(&self, ctx: &mut FileCtx, at: &[Step<'_>], name: &str) -> Option<String> {
-        let network = self.network(ctx, at)?;
-        let names = network.points().iter().map(|p| p.name.as_str());
-        self.known(ctx, &field(at, "point"), name, names, "time point")
+        let names = self.names(ctx, at)?;
+        if names.has_point(name) {
+            return Some(name.to_string());
+        }
+        let all = names.points.iter().map(String::as_str);
+        self.known(ctx, &field(at, "point"), name, all, "time point")
     }
 
-    /// A goal of the mission (not a macro), by name.
+    /// A goal of the mission (or one its elaborations or safing can add), by name.
     fn network_goal(&self, ctx: &mut FileCtx, at: &[Step<'_>], name: &str) -> Option<String> {
-        let network = self.network(ctx, at)?;
-        let names = network
-            .goals()
-            .iter()
-            .filter(|g| !g.is_macro())
-            .map(|g| g.name.as_str());
-        self.known(ctx, &field(at, "goal"), name, names, "goal")
+        let names = self.names(ctx, at)?;
+        if names.has_goal(name) {
+            return Some(name.to_string());
+        }
+        let all = names.goals.iter().map(String::as_str);
+        self.known(ctx, &field(at, "goal"), name, all, "goal")
     }
 
     /// A component (a state variable), by name.
