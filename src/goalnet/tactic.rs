@@ -202,16 +202,17 @@ impl Elaborators {
     /// the point safing promotes from (`GoalController`'s naming, elaborate.rs and proposal.rs).
     pub fn names(&self, network: &GoalNetwork, safe: &GoalNetwork) -> MissionNames {
         let mut names = MissionNames::default();
+        // The safe network's origin becomes the point `safing`.
+        names
+            .points
+            .extend(network.points().iter().map(|p| p.name.clone()));
+        names.points.push("safing".to_string());
+        names
+            .points
+            .extend(safe.points()[1..].iter().map(|p| p.name.clone()));
         for graph in [network, safe] {
-            names
-                .points
-                .extend(graph.points().iter().map(|p| p.name.clone()));
-            names
-                .goals
-                .extend(graph.goals().iter().map(|g| g.name.clone()));
-        }
-        if !names.points.iter().any(|p| p == "safing") {
-            names.points.push("safing".to_string());
+            let goals = graph.goals().iter().filter(|g| !g.is_macro());
+            names.goals.extend(goals.map(|g| g.name.clone()));
         }
         for (i, goal) in network.goals().iter().enumerate() {
             if let Some(t) = self.of(GoalId(i as u32)) {

@@ -29,6 +29,8 @@ pub(super) struct ScenarioFile {
     #[serde(default)]
     pub(super) deadline: Option<f64>,
     #[serde(default)]
+    pub(super) believed: Entries<String>,
+    #[serde(default)]
     pub(super) include: Vec<String>,
     #[serde(default)]
     pub(super) hidden: Entries<Vec<String>>,
