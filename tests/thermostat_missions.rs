@@ -164,26 +164,30 @@ fn a_point_never_ready_is_forced_and_its_unreached_transition_fails() {
     );
 }
 
-/// The JSON trace carries the goal-network events with their kinds and the log's text.
-#[test]
-fn the_trace_carries_the_goal_network_events() {
-    let trace =
-        std::env::temp_dir().join(format!("kairos-mission-trace-{}.jsonl", std::process::id()));
+/// The events of a scenario's JSON trace (`kairos run --trace`): (kind, text) pairs.
+fn trace_events(name: &str, tag: &str) -> Vec<(String, String)> {
+    let file = format!("kairos-mission-trace-{tag}-{}.jsonl", std::process::id());
+    let trace = std::env::temp_dir().join(file);
     let trace_arg = trace.to_string_lossy().to_string();
-    let scenario = format!("{DIR}/switch1_sticks_open_mission.ron");
+    let scenario = format!("{DIR}/{name}");
     let (code, stdout, stderr) = kairos(&["run", &scenario, "--trace", &trace_arg]);
     assert_eq!(code, 0, "{stdout}\n{stderr}");
     let text = std::fs::read_to_string(&trace).expect("the trace is written");
     let _ = std::fs::remove_file(&trace);
-    let events: Vec<(String, String)> = text
-        .lines()
+    text.lines()
         .map(|l| serde_json::from_str::<serde_json::Value>(l).expect("a JSON line"))
         .flat_map(|line| line["events"].as_array().cloned().unwrap_or_default())
         .map(|e| {
             let field = |k: &str| e[k].as_str().unwrap_or_default().to_string();
             (field("kind"), field("text"))
         })
-        .collect();
+        .collect()
+}
+
+/// The JSON trace carries the goal-network events with their kinds and the log's text.
+#[test]
+fn the_trace_carries_the_goal_network_events() {
+    let events = trace_events("switch1_sticks_open_mission.ron", "maintain");
     for (kind, text) in [
         (
             "XGoalDispatched",
@@ -408,4 +412,43 @@ fn the_controller_events_in_the_mission_log() {
         })
         .collect();
     insta::assert_snapshot!(lines.join("\n"));
+}
+
+/// The JSON trace carries the goal controller's events by kind, with the log's text: system
+/// test 9's rejected tactics, response chain, failed promotion and safing.
+#[test]
+fn the_trace_carries_the_controller_events() {
+    let events = trace_events("system_test_9.ron", "safing");
+    let kinds: Vec<&str> = events
+        .iter()
+        .map(|(k, _)| k.as_str())
+        .filter(|k| {
+            [
+                "TacticRejected",
+                "ResponseTaken",
+                "Promoted",
+                "PromotionFailed",
+                "Safing",
+            ]
+            .contains(k)
+        })
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            "ResponseTaken",
+            "TacticRejected",
+            "TacticRejected",
+            "PromotionFailed",
+            "Safing"
+        ]
+    );
+    let safing = events.iter().find(|(k, _)| k == "Safing").map(|(_, t)| t);
+    assert_eq!(
+        safing.map(String::as_str),
+        Some(
+            "stay-warm.sensor failed: sensor = failed (p 1) → fail up → stay-warm: no tactic \
+             left (every tactic of `stay-warm` was rejected) → stay-warm is a root → safing"
+        )
+    );
 }

@@ -180,29 +180,8 @@ impl MissionControl {
         }
         let mut events = std::mem::take(&mut self.pending);
         events.extend(stepped);
-        let refresh = events.iter().any(|e| {
-            matches!(
-                e,
-                MissionEvent::Goal(
-                    GoalEvent::TimePointFired { .. } | GoalEvent::TimePointForced { .. }
-                ) | MissionEvent::Promoted { .. }
-                    | MissionEvent::Safing { .. }
-            )
-        });
-        let mut kinds = Vec::new();
-        // The origin fired at 0 when execution started, dispatching its XGoals: reported in
-        // the first cycle after the elaboration that made them, before its network events.
-        let mut origin = !self.started;
-        for event in events {
-            if origin && matches!(event, MissionEvent::Goal(_)) {
-                kinds.extend(self.dispatched_from_origin());
-                origin = false;
-            }
-            kinds.extend(self.describe(event, modes));
-        }
-        if origin {
-            kinds.extend(self.dispatched_from_origin());
-        }
+        let refresh = events.iter().any(changes_windows);
+        let mut kinds = self.describe_cycle(events, modes);
         if refresh {
             self.refresh_windows();
         }
@@ -259,6 +238,25 @@ impl MissionControl {
         self.pending.extend(events);
         self.refresh_windows();
         Ok(())
+    }
+
+    /// The executive's events for a cycle's mission events. In the first cycle the XGoals the
+    /// origin dispatched (it fired at 0 when execution started) are reported after the
+    /// elaboration that made them, before the cycle's network events.
+    fn describe_cycle(&self, events: Vec<MissionEvent>, modes: &[ValueId]) -> Vec<EventKind> {
+        let mut kinds = Vec::new();
+        let mut origin = !self.started;
+        for event in events {
+            if origin && matches!(event, MissionEvent::Goal(_)) {
+                kinds.extend(self.dispatched_from_origin());
+                origin = false;
+            }
+            kinds.extend(self.describe(event, modes));
+        }
+        if origin {
+            kinds.extend(self.dispatched_from_origin());
+        }
+        kinds
     }
 
     /// Sums the plant states' probabilities into each component's mode marginals.
@@ -415,6 +413,17 @@ impl MissionControl {
         };
         Some(kind)
     }
+}
+
+/// Whether an event changes the windows an event reports (a firing grounds a point, a
+/// promotion reschedules).
+fn changes_windows(event: &MissionEvent) -> bool {
+    matches!(
+        event,
+        MissionEvent::Goal(GoalEvent::TimePointFired { .. } | GoalEvent::TimePointForced { .. })
+            | MissionEvent::Promoted { .. }
+            | MissionEvent::Safing { .. }
+    )
 }
 
 /// Promotes a proposal with `submission` added (a copy of the running network, so that a
