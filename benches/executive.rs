@@ -121,7 +121,8 @@ fn per_cycle(b: &mut criterion::Bencher<'_>, scenario: &Scenario, class: Class, 
     });
 }
 
-/// A quiet thermostat cycle under StayWarm, as RMPL and as a mission.
+/// A quiet thermostat cycle under StayWarm, as RMPL, as a mission, and as the mission with the
+/// seed's goal types run by the goal controller (issue 14).
 fn thermostat(c: &mut Criterion) {
     let mut group = c.benchmark_group("executive/thermostat_quiet");
     group.sample_size(20);
@@ -129,6 +130,10 @@ fn thermostat(c: &mut Criterion) {
     for (program, path) in [
         ("rmpl", "scenarios/thermostat/stay_warm.ron"),
         ("mission", "scenarios/thermostat/stay_warm_mission.ron"),
+        (
+            "mission-elaborated",
+            "scenarios/thermostat/system_test_4.ron",
+        ),
     ] {
         let scenario = load(path);
         for (phase, phase_name) in [(Phase::Total, "cycle"), (Phase::Sequencer, "program")] {

@@ -264,3 +264,27 @@ fn a_maintain_goal_on_a_spontaneous_trigger_schedules_as_a_wait() {
     assert_eq!(xgoal.kind, GoalKind::Maintain);
     assert_eq!(mission.network.point(xgoal.start).name, "TP_bs");
 }
+
+/// `kairos schedule --dot` on a mission with goal types (issue 14 item 5): the network as the
+/// goal controller elaborates it at 0 s from the initial modes, and the elaboration tree beside
+/// it — each goal with its type and tactic in use, parent to child.
+#[test]
+fn kairos_schedule_dot_draws_the_elaboration_tree() {
+    let (code, stdout, stderr) = schedule_cli(&["missions/thermostat.ron", "--dot"]);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        stdout.contains("subgraph \"cluster_elaboration\""),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("stay-warm\\ltype StayWarm\\ltactic 1: heater 1\\l"),
+        "{stdout}"
+    );
+    // StayWarm's child, elaborated: an edge from the parent goal, and its tactic's point drawn.
+    assert!(
+        stdout.contains("stay-warm.get-warm\\ltype GetWarm\\ltactic 1"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("stay-warm.TP_A"), "{stdout}");
+    insta::assert_snapshot!(stdout);
+}

@@ -16,8 +16,10 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/mars_edl";
 
 /// The scenarios this file runs, one test each.
-const SCENARIOS: [&str; 9] = [
+const SCENARIOS: [&str; 11] = [
     "nominal.ron",
+    "descent_mission.ron",
+    "descent_flameout.ron",
     "engine_stuck_heating.ron",
     "engine_power_loss.ron",
     "pde_resettable.ron",
@@ -295,4 +297,66 @@ fn the_explored_edl_runs_as_the_nominal_one() {
     let log = run("explore_faults.ron");
     assert!(!log.contains("(FAULT)"), "an optional rule fired:\n{log}");
     assert_in_order(&log, &["landing = success", "the program has completed"]);
+}
+
+/// Issue 14 item 7: the powered descent as a goal network (missions/mars_edl_descent.ron) run
+/// by the goal controller: the triggers hold its points, the engine is maintained firing until
+/// touchdown, then off and the landing declared; the mission completes.
+#[test]
+fn the_descent_mission_lands() {
+    let log = run("descent_mission.ron");
+    assert_in_order(
+        &log,
+        &[
+            "mission missions/mars_edl_descent.ron",
+            "fired TP_warm",
+            "fired TP_att (window [16700, 16800])",
+            "[ 17102.500 s 4:45:02.500]",
+            "fired TP_bs (window [17000, 17300])",
+            "command PDE.cmd = engine-fire (engine: standby -> firing)",
+            "fired TP_fire",
+            "fired TP_12m",
+            "[ 17157.000 s 4:45:57.000]",
+            "fired TP_td",
+            "command PDE.cmd = engine-off (engine: standby -> off)",
+            "command landing.cmd = set-success (landing: in-progress -> success)",
+            "fired TP_end",
+            "fired TP_rest",
+            "completed the program has completed",
+            "PASS: 18 expectations hold",
+        ],
+    );
+}
+
+/// Issue 14 item 7: the engine flames out mid-descent; the Maintain goal on `engine = firing`
+/// fails, its response (safing: the model cannot restart a failed engine) is taken with its
+/// explanation, the safe network closes the propellant valves, and nothing of the descent
+/// fires after it.
+#[test]
+fn a_flame_out_fails_the_engine_goal_and_safes_the_descent() {
+    let log = run("descent_flameout.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 17130.000 s 4:45:30.000]",
+            "rule `the engine flames out` takes effect: engine.thrust = zero (FAULT)",
+            "DIAGNOSIS engine = failed (p 1.00)",
+            "GOAL FAILED engine-firing: ŝ left the maintained set; ŝ has engine = failed (p 1.00)",
+            "RESPONSE engine-firing failed: engine = failed (p 1) → safing",
+            "SAFING engine-firing failed: engine = failed (p 1) → safing",
+            "fired safing (window [17130, 17130])",
+            "command PDE.cmd = close1 (valve1: open -> closed)",
+            "command PDE.cmd = close2 (valve2: open -> closed)",
+            "fired isolated",
+            "fired safe-end",
+            "completed the program has completed",
+            "PASS: 17 expectations hold",
+        ],
+    );
+    for point in ["TP_12m", "TP_td", "TP_end"] {
+        assert!(
+            !log.contains(&format!("fired {point} ")),
+            "{point} fired:\n{log}"
+        );
+    }
 }

@@ -152,6 +152,16 @@ bad_scenario!(
     "did you mean `stay-warm`?"
 );
 
+// Issue 14: `believed` (the executive's initial certainty, the seed's tests 5 and 6).
+bad_scenario!(
+    believed_unknown,
+    "believed_unknown.ron:8:18",
+    "no component `switch3`",
+    "did you mean `switch2`?",
+    "believed_unknown.ron:8:54",
+    "one of switch1's modes: open, closed, stuck-open, stuck-closed"
+);
+
 // Issue 17: `Optional` rules, `choose` and `AnyOf` (the formats of `kairos explore`).
 bad_scenario!(
     optional_window,

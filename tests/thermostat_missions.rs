@@ -1,8 +1,11 @@
 //! The thermostat's goal-network missions run by the executive through `kairos run` (issue 13
-//! item 6; DESIGN.md §15.3, §15.5; mds-goal-networks.md §3.3): system test 1 (knowledge over
-//! KnowAll), system test 4 (StayWarm, tactic 1) and a maintain failure (switch 1 sticks open
-//! during the hold). Each scenario's expectations pass, and its mission log shows the
-//! goal-network events in order. The trace carries them too.
+//! item 6, issue 14 item 6; DESIGN.md §15.3, §15.5; mds-goal-networks.md §3.3): system test 1
+//! (knowledge over KnowAll), system test 4 (StayWarm, tactic 1) and a maintain failure (switch 1
+//! sticks open during the hold) on missions with no goal types; and the seed's system tests 4–9
+//! on `missions/thermostat.ron`, the mission with the seed's goal types, run by the executive's
+//! goal controller (elaboration, failure responses, promotion, safing). Each scenario's
+//! expectations pass, and its mission log shows the goal-network events in order. The trace
+//! carries them too.
 
 #[path = "support/cli.rs"]
 mod cli;
@@ -15,12 +18,18 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/thermostat";
 
 /// The mission scenarios of the directory, one test each below.
-const MISSIONS: [&str; 5] = [
+const MISSIONS: [&str; 11] = [
     "know_all.ron",
     "stay_warm_mission.ron",
     "stay_warm_submitted.ron",
     "switch1_sticks_open_mission.ron",
     "switch1_stuck_open_mission.ron",
+    "system_test_4.ron",
+    "system_test_5.ron",
+    "system_test_6.ron",
+    "system_test_7.ron",
+    "system_test_8.ron",
+    "system_test_9.ron",
 ];
 
 fn run_mission(name: &str) -> String {
@@ -194,26 +203,30 @@ fn a_point_never_ready_is_forced_and_its_unreached_transition_fails() {
     );
 }
 
-/// The JSON trace carries the goal-network events with their kinds and the log's text.
-#[test]
-fn the_trace_carries_the_goal_network_events() {
-    let trace =
-        std::env::temp_dir().join(format!("kairos-mission-trace-{}.jsonl", std::process::id()));
+/// The events of a scenario's JSON trace (`kairos run --trace`): (kind, text) pairs.
+fn trace_events(name: &str, tag: &str) -> Vec<(String, String)> {
+    let file = format!("kairos-mission-trace-{tag}-{}.jsonl", std::process::id());
+    let trace = std::env::temp_dir().join(file);
     let trace_arg = trace.to_string_lossy().to_string();
-    let scenario = format!("{DIR}/switch1_sticks_open_mission.ron");
+    let scenario = format!("{DIR}/{name}");
     let (code, stdout, stderr) = kairos(&["run", &scenario, "--trace", &trace_arg]);
     assert_eq!(code, 0, "{stdout}\n{stderr}");
     let text = std::fs::read_to_string(&trace).expect("the trace is written");
     let _ = std::fs::remove_file(&trace);
-    let events: Vec<(String, String)> = text
-        .lines()
+    text.lines()
         .map(|l| serde_json::from_str::<serde_json::Value>(l).expect("a JSON line"))
         .flat_map(|line| line["events"].as_array().cloned().unwrap_or_default())
         .map(|e| {
             let field = |k: &str| e[k].as_str().unwrap_or_default().to_string();
             (field("kind"), field("text"))
         })
-        .collect();
+        .collect()
+}
+
+/// The JSON trace carries the goal-network events with their kinds and the log's text.
+#[test]
+fn the_trace_carries_the_goal_network_events() {
+    let events = trace_events("switch1_sticks_open_mission.ron", "maintain");
     for (kind, text) in [
         (
             "XGoalDispatched",
@@ -230,4 +243,251 @@ fn the_trace_carries_the_goal_network_events() {
             "no {kind} `{text}` in the trace: {events:?}"
         );
     }
+}
+
+/// The lines of the goal controller's story in the log, `[time] tag text` with padding
+/// squeezed: tactics, responses, promotions, safing, mission goals' failures, and the firing of StayWarm's
+/// points (`TP_S`, `TP_E`, `stay-warm.TP_A…`).
+fn story(log: &str) -> Vec<String> {
+    let mut time = String::new();
+    let mut lines = Vec::new();
+    for line in log.lines() {
+        if let Some(rest) = line.strip_prefix('[') {
+            // `[  66.000 s   0:01:06.000] #66`: the time in seconds.
+            time = rest
+                .split_whitespace()
+                .take(2)
+                .collect::<Vec<_>>()
+                .join(" ");
+            continue;
+        }
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let Some(tag) = words.first() else { continue };
+        let shown = match *tag {
+            "tactic" | "RESPONSE" | "promoted" | "PROMOTION" | "SAFING" => true,
+            // A mission goal's failure (goal interpretation's say the configuration goal).
+            "GOAL" => line.contains("; ŝ has "),
+            "fired" => {
+                ["TP_S", "TP_E", "TP_bgE", "safing"].contains(&words[1])
+                    || words[1].starts_with("stay-warm.TP_A")
+            }
+            _ => false,
+        };
+        if shown && !line.starts_with("  ok") {
+            lines.push(format!("{time} {}", words.join(" ")));
+        }
+    }
+    lines
+}
+
+/// The controller's story of a scenario (which must pass), with the rejection reasons and the
+/// chosen tactics of goals with one tactic left out, for comparison with the seed's verdicts.
+fn verdict(name: &str) -> Vec<String> {
+    verdict_of(&run_mission(name))
+}
+
+/// [`verdict`] of a mission log.
+fn verdict_of(log: &str) -> Vec<String> {
+    let one_choice = [
+        "know-all:",
+        "heater1:",
+        "heater2:",
+        "heater1′:",
+        "heater2′:",
+    ];
+    story(log)
+        .into_iter()
+        .filter(|l| !(l.contains(" chosen") && one_choice.iter().any(|g| l.contains(g))))
+        .map(|l| match l.find(" rejected: ") {
+            Some(i) => l[..i + " rejected".len()].to_string(),
+            None => l,
+        })
+        .map(|l| l.split(" (window").next().unwrap_or_default().to_string())
+        .collect()
+}
+
+/// The first cycle of a nominal elaboration: StayWarm and GetWarm with tactic 1.
+const NOMINAL: [&str; 2] = [
+    "0.000 s tactic stay-warm: tactic 1 chosen",
+    "0.000 s tactic stay-warm.get-warm: tactic 1 chosen",
+];
+
+/// System test 4 (seed 000 App. A, Table 7) through `kairos run`: tactic 1 for StayWarm and
+/// GetWarm, TP_A once switch 1 is closed, TP_S once warm, TP_E on time; nothing fails.
+#[test]
+fn system_test_4_tactic_1_runs() {
+    let mut expected = NOMINAL.to_vec();
+    expected.extend([
+        "1.000 s fired stay-warm.TP_A",
+        "66.000 s fired TP_S",
+        "366.000 s fired TP_E",
+    ]);
+    assert_eq!(verdict("system_test_4.ron"), expected);
+}
+
+/// System test 5, switch 1 stuck open from the start (believed so): tactic 1 is rejected at
+/// scheduling — chronological backtracking through GetWarm's tactics first — and tactic 2 runs
+/// (the seed's text says tactic 1: inconsistency C1, mds-goal-networks.md §5, noted in the
+/// scenario).
+#[test]
+fn system_test_5_rejects_tactic_1_and_runs_tactic_2() {
+    assert_eq!(
+        verdict("system_test_5.ron"),
+        [
+            "0.000 s tactic stay-warm.get-warm: tactic 1 rejected",
+            "0.000 s tactic stay-warm.get-warm: tactic 2 rejected",
+            "0.000 s tactic stay-warm: tactic 1 rejected",
+            "0.000 s tactic stay-warm.get-warm: tactic 1 rejected",
+            "0.000 s tactic stay-warm: tactic 2 chosen",
+            "0.000 s tactic stay-warm.get-warm: tactic 2 chosen",
+            "1.000 s fired stay-warm.TP_A",
+            "66.000 s fired TP_S",
+            "366.000 s fired TP_E",
+        ]
+    );
+}
+
+/// System test 6, switch 1 stuck closed from the start (believed so): tactic 1 runs and
+/// nothing is commanded — CLOSED admits stuck-closed.
+#[test]
+fn system_test_6_runs_tactic_1_without_a_command() {
+    let log = run_mission("system_test_6.ron");
+    assert!(
+        !log.lines().any(|l| l.trim_start().starts_with("command")),
+        "{log}"
+    );
+    let mut expected = NOMINAL.to_vec();
+    expected.extend([
+        "0.000 s fired stay-warm.TP_A",
+        "66.000 s fired TP_S",
+        "366.000 s fired TP_E",
+    ]);
+    assert_eq!(verdict("system_test_6.ron"), expected);
+}
+
+/// System test 7, switch 1 sticks open during the hold: diagnosed from the temperature, the
+/// Heater goal fails up, StayWarm is re-elaborated with tactic 2 and promoted in that cycle;
+/// StayWarm never fails and its end point fires on time.
+#[test]
+fn system_test_7_reelaborates_with_tactic_2() {
+    let mut expected = NOMINAL.to_vec();
+    expected.extend([
+        "1.000 s fired stay-warm.TP_A",
+        "66.000 s fired TP_S",
+        "187.000 s GOAL FAILED stay-warm.heater1: ŝ left the maintained set; ŝ has switch1 = stuck-open (p 1.00)",
+        "187.000 s RESPONSE stay-warm.heater1 failed: switch1 = stuck-open (p 1) → fail up → stay-warm re-elaborated with tactic 2 → promoted",
+        "187.000 s tactic stay-warm: tactic 2 chosen",
+        "187.000 s promoted the proposed network (re-elaboration of stay-warm)",
+        "188.000 s fired stay-warm.TP_A′",
+        "366.000 s fired TP_E",
+    ]);
+    assert_eq!(verdict("system_test_7.ron"), expected);
+}
+
+/// System test 8, switch 2 sticks closed during the hold: the same with the roles swapped.
+#[test]
+fn system_test_8_reelaborates_with_tactic_2() {
+    let mut expected = NOMINAL.to_vec();
+    expected.extend([
+        "1.000 s fired stay-warm.TP_A",
+        "66.000 s fired TP_S",
+        "187.000 s GOAL FAILED stay-warm.heater2: ŝ left the maintained set; ŝ has switch2 = stuck-closed (p 1.00)",
+        "187.000 s RESPONSE stay-warm.heater2 failed: switch2 = stuck-closed (p 1) → fail up → stay-warm re-elaborated with tactic 2 → promoted",
+        "187.000 s tactic stay-warm: tactic 2 chosen",
+        "187.000 s promoted the proposed network (re-elaboration of stay-warm)",
+        "188.000 s fired stay-warm.TP_A′",
+        "366.000 s fired TP_E",
+    ]);
+    assert_eq!(verdict("system_test_8.ron"), expected);
+}
+
+/// System test 9, the sensor fails: no tactic remains (both need the sensor healthy),
+/// StayWarm is a root, safing once; TP_E never fires and nothing is commanded after safing.
+#[test]
+fn system_test_9_leaves_no_tactic_and_safes_once() {
+    let log = run_mission("system_test_9.ron");
+    let chain = "stay-warm.sensor failed: sensor = failed (p 1) → fail up → stay-warm: no \
+                 tactic left (every tactic of `stay-warm` was rejected) → stay-warm is a root → \
+                 safing";
+    let mut expected: Vec<String> = NOMINAL.iter().map(|l| l.to_string()).collect();
+    expected.extend([
+        "1.000 s fired stay-warm.TP_A".to_string(),
+        "66.000 s fired TP_S".to_string(),
+        "181.000 s GOAL FAILED stay-warm.sensor: ŝ left the maintained set; ŝ has sensor = failed (p 1.00)".to_string(),
+        format!("181.000 s RESPONSE {chain}"),
+        "181.000 s tactic stay-warm: tactic 2 rejected".to_string(),
+        "181.000 s tactic stay-warm: tactic 1 rejected".to_string(),
+        "181.000 s PROMOTION failed: every tactic of `stay-warm` was rejected".to_string(),
+        format!("181.000 s SAFING {chain}"),
+        "181.000 s fired safing".to_string(),
+    ]);
+    assert_eq!(verdict_of(&log), expected);
+    let after_safing = log.split("SAFING").nth(1).unwrap_or_default();
+    assert!(
+        !after_safing
+            .lines()
+            .any(|l| l.trim_start().starts_with("command")),
+        "{log}"
+    );
+}
+
+/// The mission log's lines for the goal controller's events (tactic chosen and rejected with
+/// its reason, response with its explanation chain, promotion, promotion failed, safing with
+/// its cause), as `kairos run` prints them: system test 7's re-elaboration and system test 9's
+/// safing, snapshot-tested.
+#[test]
+fn the_controller_events_in_the_mission_log() {
+    let lines: Vec<String> = ["system_test_7.ron", "system_test_9.ron"]
+        .iter()
+        .flat_map(|name| {
+            let log = run_mission(name);
+            let mut lines = vec![format!("# {name}")];
+            lines.extend(
+                story(&log)
+                    .into_iter()
+                    .filter(|l| !l.starts_with("0.000 s")),
+            );
+            lines
+        })
+        .collect();
+    insta::assert_snapshot!(lines.join("\n"));
+}
+
+/// The JSON trace carries the goal controller's events by kind, with the log's text: system
+/// test 9's rejected tactics, response chain, failed promotion and safing.
+#[test]
+fn the_trace_carries_the_controller_events() {
+    let events = trace_events("system_test_9.ron", "safing");
+    let kinds: Vec<&str> = events
+        .iter()
+        .map(|(k, _)| k.as_str())
+        .filter(|k| {
+            [
+                "TacticRejected",
+                "ResponseTaken",
+                "Promoted",
+                "PromotionFailed",
+                "Safing",
+            ]
+            .contains(k)
+        })
+        .collect();
+    assert_eq!(
+        kinds,
+        [
+            "ResponseTaken",
+            "TacticRejected",
+            "TacticRejected",
+            "PromotionFailed",
+            "Safing"
+        ]
+    );
+    let safing = events.iter().find(|(k, _)| k == "Safing").map(|(_, t)| t);
+    assert_eq!(
+        safing.map(String::as_str),
+        Some(
+            "stay-warm.sensor failed: sensor = failed (p 1) → fail up → stay-warm: no tactic \
+             left (every tactic of `stay-warm` was rejected) → stay-warm is a root → safing"
+        )
+    );
 }

@@ -5,15 +5,18 @@
 //! draws it for Graphviz: time points as ellipses (fired ones with a double border), written
 //! temporal constraints as labelled edges, the scheduler's ordering constraints dashed, and each
 //! state variable's XGoals as boxes in its own cluster between their start and end points (the
-//! XGoal active at `T` highlighted).
+//! XGoal active at `T` highlighted). For a mission with goal types, `--dot` draws the network
+//! as the goal controller elaborates it at time 0 from the initial modes, with the elaboration
+//! tree beside it: each goal with its type and the tactic in use, an edge from parent to child.
 
 use std::path::Path;
 
 use kairos::goalnet::mission::seconds;
 use kairos::goalnet::{
-    ExecutableNetwork, GroundError, Projection, Provenance, ScheduleError, TimePointId, XGoal,
-    display, mission, project, schedule,
+    EstimateView, ExecutableNetwork, GoalController, GoalId, GroundError, Projection, Provenance,
+    ScheduleError, TimePointId, XGoal, display, mission, project, schedule,
 };
+use kairos::logic::ValueId;
 use kairos::plant::Plant;
 use kairos::reconfiguration::Reconfiguration;
 use kairos::report::dot::{Cluster, Edge, Graph, Node, Shape};
@@ -40,6 +43,12 @@ pub fn run(path: &Path, at: Option<f64>, dot: bool) -> Result<(), Failure> {
             display::explain(&error, &mission.network, &mission.plant)
         ))
     })?;
+    let controller = (dot && !mission.elaborators.types.is_empty())
+        .then(|| elaborated(&mission, &reconfiguration, &current))
+        .transpose()?;
+    let executable = controller
+        .as_ref()
+        .map_or(executable, |c| c.execution().executable().clone());
     let projection = at
         .map(|at| project(&executable, at))
         .transpose()
@@ -57,13 +66,101 @@ pub fn run(path: &Path, at: Option<f64>, dot: bool) -> Result<(), Failure> {
         })?;
     let plant = &mission.plant;
     let text = match (&projection, dot) {
-        (_, true) => drawing(&mission.name, &executable, projection.as_ref(), plant).render(),
+        (_, true) => {
+            let mut graph = drawing(&mission.name, &executable, projection.as_ref(), plant);
+            if let Some(controller) = &controller {
+                graph.clusters.push(tree(&mission, controller));
+                graph.edges.extend(tree_edges(controller));
+            }
+            graph.render()
+        }
         (Some(projection), false) => {
             header(&mission) + &display::render_projection(projection, plant)
         }
         (None, false) => header(&mission) + &display::render(&executable, plant),
     };
     emit(&text).map(|_| ())
+}
+
+/// The goal controller made at time 0 from the initial modes (and the initial distribution as
+/// the belief): the mission elaborated and scheduled as a run starts it; an error if no
+/// elaboration fits (the controller would start safed).
+fn elaborated(
+    mission: &mission::Mission,
+    reconfiguration: &Reconfiguration,
+    current: &[ValueId],
+) -> Result<GoalController, Failure> {
+    let beliefs: Vec<Vec<f64>> = mission
+        .plant
+        .components()
+        .iter()
+        .map(|c| c.initial().to_vec())
+        .collect();
+    let view = EstimateView {
+        modes: current,
+        beliefs: &beliefs,
+    };
+    let controller = GoalController::new(mission, reconfiguration, 0.0, view);
+    if controller.is_safed() {
+        return Err(Failure::failed(format!(
+            "mission: {} (plant {})\nno elaboration of the network fits: the goal controller \
+             starts safed",
+            mission.name, mission.plant_path
+        )));
+    }
+    Ok(controller)
+}
+
+fn goal_id(goal: GoalId) -> String {
+    format!("goal/{}", goal.0)
+}
+
+/// The elaboration tree as a cluster: one node per goal of the running network (retired ones
+/// left out), with its type and the tactic its elaboration uses.
+fn tree(mission: &mission::Mission, controller: &GoalController) -> Cluster {
+    let state = controller.elaboration();
+    let mut cluster = Cluster {
+        id: "elaboration".to_string(),
+        label: "elaboration".to_string(),
+        ..Cluster::default()
+    };
+    for (i, goal) in controller.network().goals().iter().enumerate() {
+        let id = GoalId(i as u32);
+        if state.retired.get(i).copied().unwrap_or(false) {
+            continue;
+        }
+        let mut label = goal.name.clone();
+        if let Some(t) = state.types.get(i).copied().flatten() {
+            let goal_type = mission.elaborators.get(t);
+            label += &format!("\ntype {}", goal_type.name);
+            if let Some(e) = state.elaborations.get(&id) {
+                let tactic = &goal_type.tactics[e.tactic];
+                label += &format!("\ntactic {}: {}", e.tactic + 1, tactic.name);
+            }
+        }
+        cluster.nodes.push(Node::new(goal_id(id), label));
+    }
+    cluster
+}
+
+/// Parent → child, for every goal of the running network that has a parent.
+fn tree_edges(controller: &GoalController) -> Vec<Edge> {
+    let state = controller.elaboration();
+    let live = |g: GoalId| !state.retired.get(g.index()).copied().unwrap_or(false);
+    controller
+        .network()
+        .goals()
+        .iter()
+        .enumerate()
+        .filter_map(|(i, goal)| Some((GoalId(i as u32), goal.parent?)))
+        .filter(|&(child, parent)| live(child) && live(parent))
+        .map(|(child, parent)| Edge {
+            from: goal_id(parent),
+            to: goal_id(child),
+            label: String::new(),
+            dashed: false,
+        })
+        .collect()
 }
 
 fn header(mission: &mission::Mission) -> String {

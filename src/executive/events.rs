@@ -218,6 +218,51 @@ pub enum EventKind {
         /// Why ([`SubmitError`](super::SubmitError) in words).
         reason: String,
     },
+    /// Elaboration chose a tactic for a goal of the network it then promoted
+    /// (mds-goal-networks.md §2.1).
+    TacticChosen {
+        /// The goal's name.
+        goal: String,
+        /// The tactic's number in its goal type's list, from 1 (as the seed counts).
+        tactic: usize,
+    },
+    /// Elaboration rejected a tactic for a goal: the candidate network did not schedule, or
+    /// every tactic of a child was rejected (chronological backtracking, §2.1).
+    TacticRejected {
+        /// The goal's name.
+        goal: String,
+        /// The tactic's number, from 1.
+        tactic: usize,
+        /// Why, on one line.
+        reason: String,
+    },
+    /// A failed goal's response was carried out (§2.5–2.7): the whole chain, from the failure
+    /// to its outcome.
+    ResponseTaken {
+        /// The goal that failed.
+        goal: String,
+        /// Its type's response (`fail up`, `re-elaborate`, `ignore`, `safing`).
+        response: &'static str,
+        /// The chain: "heater1 failed: switch1 = stuck-open (p 0.97) → fail up → stay-warm
+        /// re-elaborated with tactic 2 → promoted".
+        explanation: String,
+    },
+    /// A proposed network replaced the running one (§2.3 steps d–j).
+    Promoted {
+        /// Why it was proposed (`re-elaboration of stay-warm`, `a submission`).
+        cause: String,
+    },
+    /// A proposal could not be promoted; the running network runs on.
+    PromotionFailed {
+        /// Why, on one line.
+        reason: String,
+    },
+    /// The mission's safe network replaced the running one (§2.8): nothing of the old network
+    /// fires after it.
+    Safing {
+        /// The failure that led there, explained, on one line.
+        cause: String,
+    },
 }
 
 impl EventKind {

@@ -1,23 +1,25 @@
 //! A goal network run as the executive's control program (DESIGN.md §15.3; mds-goal-networks.md
 //! §2.4–2.5, §2.9).
 //!
-//! Every call into [`goalnet::Execution`](crate::goalnet::Execution) is in this file: issue 14's
-//! controller (elaboration, failure responses, safing) has the same per-cycle shape — `step(now,
-//! view, reconfiguration) -> events`, then `configuration_goal(..)` — and replaces it here.
+//! Every call into the goal network is in this file, through a [`GoalController`] (issue 14:
+//! elaboration with tactics, the failure responses, promotion, safing). The controller is made
+//! at the first cycle — it elaborates and schedules from ŝ, which only then exists — or at a
+//! submission before it; until then the network scheduled at load stands for it.
 //!
 //! Per cycle, after estimation: the estimate view (ŝ and each component's mode marginals, summed
-//! over the belief's plant states) goes to `Execution::step` (monitoring, then firing to a
-//! fixpoint and dispatch), its events become the executive's, and the conjunction of the active
-//! XGoals' control sets on *controllable* state variables becomes the configuration goal. A
-//! state variable is controllable when mode reconfiguration can move it at all (its concurrent
-//! policy has a step): a sensor's health is monitored, never commanded.
+//! over the belief's plant states) goes to `GoalController::step` (monitoring, the failure
+//! responses, then firing to a fixpoint and dispatch), its events become the executive's, and
+//! the conjunction of the active XGoals' control sets on *controllable* state variables becomes
+//! the configuration goal. A state variable is controllable when mode reconfiguration can move
+//! it at all (its concurrent policy has a step): a sensor's health is monitored, never
+//! commanded.
 
 use super::events::EventKind;
 use super::submit::{Submission, SubmitError};
 use crate::estimation::PlantEstimate;
 use crate::goalnet::{
-    EstimateView, ExecutableNetwork, Execution, FailureReason, GoalEvent, GoalNetwork, Mission,
-    Provenance, ScheduleError, TemporalConstraint, TimePointId, Window, XGoal, display, schedule,
+    EstimateView, ExecutableNetwork, FailureReason, GoalController, GoalEvent, Mission,
+    MissionEvent, ScheduleError, TimePointId, Window, XGoal, display, schedule,
 };
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
@@ -63,18 +65,25 @@ impl ScheduledMission {
 #[derive(Debug, Clone)]
 pub(super) struct MissionControl {
     mission: Mission,
-    /// The unscheduled network: the mission's with every accepted submission added (what a new
-    /// submission is scheduled with).
-    network: GoalNetwork,
-    execution: Execution,
+    /// The network scheduled at load: what [`MissionControl::executable`] shows until the
+    /// controller is made.
+    scheduled: ExecutableNetwork,
+    /// Made at the first cycle, or at a submission before it (it elaborates from ŝ).
+    controller: Option<GoalController>,
+    /// Events of promotions between cycles (submissions), reported with the next cycle.
+    pending: Vec<MissionEvent>,
     /// Every point's window as the network gives it before this cycle's firings (an event
     /// shows the window the point fired in, not the `[t, t]` grounding makes of it); refreshed
-    /// only after a cycle in which a point fired.
+    /// only after a cycle in which a point fired or a network was promoted.
     windows: Vec<Option<Window>>,
+    /// Per goal, its state variable, kept when a promotion retires the goal (a retired goal
+    /// has none in the network), so that a failure reported in the cycle a promotion retires
+    /// its goal still names its SV's mode. Refreshed with the windows.
+    svs: Vec<Option<ComponentId>>,
     /// Per component, the marginal of each of its modes (reused from cycle to cycle).
     beliefs: Vec<Vec<f64>>,
-    /// Cycles stepped so far: the first reports the XGoals active from the origin.
-    cycles: u64,
+    /// Whether a cycle has been stepped: the first reports the XGoals active from the origin.
+    started: bool,
     /// Whether completion has been reported.
     completed: bool,
 }
@@ -91,29 +100,32 @@ impl MissionControl {
             .iter()
             .map(|c| vec![0.0; c.modes().len()])
             .collect();
-        let execution = Execution::new(executable, mission.knowledge_threshold);
         let mut control = MissionControl {
-            network: mission.network.clone(),
             mission,
-            execution,
+            scheduled: executable,
+            controller: None,
+            pending: Vec::new(),
             windows: Vec::new(),
+            svs: Vec::new(),
             beliefs,
-            cycles: 0,
+            started: false,
             completed: false,
         };
         control.refresh_windows();
         control
     }
 
-    /// Feeds what decides the mission's future to `state`: the execution's state, the size of
-    /// the network submissions have grown, and whether the first cycle and completion have
-    /// been reported.
+    /// Feeds what decides the mission's future to `state`: the controller's state (execution,
+    /// elaboration tree, safed) once it is made, the submission events still to report, and
+    /// whether the first cycle and completion have been reported.
     pub(super) fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
         use std::hash::Hash;
-        self.execution.fingerprint(state);
-        self.network.points().len().hash(state);
-        self.network.goals().len().hash(state);
-        (self.cycles == 0).hash(state);
+        self.controller.is_some().hash(state);
+        if let Some(controller) = &self.controller {
+            controller.fingerprint(state);
+        }
+        self.pending.len().hash(state);
+        self.started.hash(state);
         self.completed.hash(state);
     }
 
@@ -122,18 +134,23 @@ impl MissionControl {
         &self.mission
     }
 
-    /// The scheduled network as it is being executed (windows shrink as points fire).
+    /// The network as it is being executed (windows shrink as points fire; a promotion
+    /// replaces it), or as scheduled at load before the first cycle.
     pub(super) fn executable(&self) -> &ExecutableNetwork {
-        self.execution.executable()
+        self.controller
+            .as_ref()
+            .map_or(&self.scheduled, |c| c.execution().executable())
     }
 
-    /// Every point has fired.
+    /// Every point (not retired by a promotion) has fired.
     pub(super) fn is_complete(&self) -> bool {
-        self.execution.is_complete()
+        self.controller
+            .as_ref()
+            .is_some_and(|c| c.execution().is_complete())
     }
 
-    /// Monitoring, firing and dispatch at `now` from ŝ (`modes`) and the belief's plant states;
-    /// returns the events and the configuration goal.
+    /// Monitoring, the failure responses, firing and dispatch at `now` from ŝ (`modes`) and the
+    /// belief's plant states; returns the events and the configuration goal.
     pub(super) fn step(
         &mut self,
         now: f64,
@@ -146,43 +163,46 @@ impl MissionControl {
             modes,
             beliefs: &self.beliefs,
         };
-        let events = self.execution.step(now, view, reconfiguration);
-        let fired = events.iter().any(|e| {
-            matches!(
-                e,
-                GoalEvent::TimePointFired { .. } | GoalEvent::TimePointForced { .. }
-            )
-        });
-        let mut kinds = Vec::new();
-        if self.cycles == 0 {
-            // The origin fired at 0 when execution started, dispatching its XGoals.
-            kinds.extend(self.dispatched_from_origin());
+        let controller = self
+            .controller
+            .get_or_insert_with(|| GoalController::new(&self.mission, reconfiguration, now, view));
+        let mut stepped = controller.step(now, view, reconfiguration);
+        if !self.started {
+            // The mission's network starting is shown by the dispatches of cycle 0, not as a
+            // promotion (its tactic choices are reported): the first promotion the controller
+            // reports is its construction's.
+            if let Some(i) = stepped
+                .iter()
+                .position(|e| matches!(e, MissionEvent::Promoted { .. }))
+            {
+                stepped.remove(i);
+            }
         }
-        kinds.extend(
-            events
-                .into_iter()
-                .filter_map(|event| self.describe(event, modes)),
-        );
-        if fired {
+        let mut events = std::mem::take(&mut self.pending);
+        events.extend(stepped);
+        let refresh = events.iter().any(changes_windows);
+        let mut kinds = self.describe_cycle(events, modes);
+        if refresh {
             self.refresh_windows();
         }
-        if self.execution.is_complete() && !self.completed {
+        if self.is_complete() && !self.completed {
             self.completed = true;
             kinds.push(EventKind::ProgramCompleted);
         }
-        self.cycles += 1;
+        self.started = true;
         let controllable = |sv: ComponentId| !reconfiguration.policy(sv).steps().is_empty();
-        let goal = self
-            .execution
-            .configuration_goal(reconfiguration, controllable);
+        let goal = self.controller.as_ref().map_or(Formula::True, |c| {
+            c.configuration_goal(reconfiguration, controllable)
+        });
         (kinds, goal)
     }
 
-    /// Adds `submission` to the network and reschedules it from ŝ (`modes`) with every fired
-    /// point held at its firing time and every new point no earlier than `now` (a point cannot
-    /// be submitted into the past); execution resumes on the new schedule (fired points stay
-    /// fired, failed goals failed). Refused, with the network unchanged, when a name does not
-    /// resolve or the result cannot be scheduled.
+    /// Adds `submission` to a proposal — a copy of the running network — and promotes it
+    /// (mds-goal-networks.md §2.3 steps a–j): every fired point stays at its firing time,
+    /// every new point is anchored no earlier than `now` (a point cannot be submitted into the
+    /// past), and the proposal is scheduled from ŝ (`modes`). Refused, with the running network
+    /// unchanged, when a name does not resolve or the proposal cannot be scheduled. Before the
+    /// first cycle the controller is made here, at `now`, from ŝ.
     pub(super) fn submit(
         &mut self,
         submission: &Submission,
@@ -200,31 +220,43 @@ impl MissionControl {
                 return Err(SubmitError::Domain(goal.name.clone()));
             }
         }
-        let mut network = self.network.clone();
-        let existing = network.points().len();
-        submission.add_to(&mut network)?;
-        let mut grounded = network.clone();
-        let fired = self.execution.fired_times();
-        for i in 0..network.points().len() {
-            let point = TimePointId(i as u32);
-            let (min, max, provenance) = match fired.get(i).copied().flatten() {
-                Some(t) => (t, t, Provenance::Fired),
-                None if i >= existing => (now, f64::INFINITY, Provenance::Submitted),
-                None => continue,
-            };
-            let at = TemporalConstraint::new(TimePointId::ORIGIN, point, min, max, provenance);
-            // Points and bounds are valid: the network accepts it.
-            let _ = grounded.add_constraint(at);
+        let view = EstimateView {
+            modes,
+            beliefs: &self.beliefs,
+        };
+        // A refused submission changes nothing: a controller made for it is kept only if the
+        // submission is promoted.
+        let existing = self.controller.take();
+        let made = existing.is_none();
+        let mut controller = existing
+            .unwrap_or_else(|| GoalController::new(&self.mission, reconfiguration, now, view));
+        let promoted = promote(&mut controller, submission, now, view, reconfiguration);
+        if promoted.is_ok() || !made {
+            self.controller = Some(controller);
         }
-        let executable =
-            schedule(&grounded, reconfiguration, modes).map_err(|error| SubmitError::Refused {
-                explanation: display::explain(&error, &grounded, plant),
-                error,
-            })?;
-        self.execution = Execution::resume(executable, &self.execution, Vec::new());
-        self.network = network;
+        let events = promoted?;
+        self.pending.extend(events);
         self.refresh_windows();
         Ok(())
+    }
+
+    /// The executive's events for a cycle's mission events. In the first cycle the XGoals the
+    /// origin dispatched (it fired at 0 when execution started) are reported after the
+    /// elaboration that made them, before the cycle's network events.
+    fn describe_cycle(&self, events: Vec<MissionEvent>, modes: &[ValueId]) -> Vec<EventKind> {
+        let mut kinds = Vec::new();
+        let mut origin = !self.started;
+        for event in events {
+            if origin && matches!(event, MissionEvent::Goal(_)) {
+                kinds.extend(self.dispatched_from_origin());
+                origin = false;
+            }
+            kinds.extend(self.describe(event, modes));
+        }
+        if origin {
+            kinds.extend(self.dispatched_from_origin());
+        }
+        kinds
     }
 
     /// Sums the plant states' probabilities into each component's mode marginals.
@@ -241,11 +273,15 @@ impl MissionControl {
 
     /// The dispatch events of the XGoals active from the origin.
     fn dispatched_from_origin(&self) -> Vec<EventKind> {
-        let executable = self.execution.executable();
-        executable
+        let Some(controller) = &self.controller else {
+            return Vec::new();
+        };
+        let execution = controller.execution();
+        execution
+            .executable()
             .timelines
             .iter()
-            .filter_map(|t| self.execution.active(t.sv))
+            .filter_map(|t| execution.active(t.sv))
             .filter(|x| x.start == TimePointId::ORIGIN)
             .map(|x| self.dispatched(x))
             .collect()
@@ -253,7 +289,7 @@ impl MissionControl {
 
     /// The event of an XGoal's dispatch.
     fn dispatched(&self, xgoal: &XGoal) -> EventKind {
-        let network = &self.execution.executable().network;
+        let network = &self.executable().network;
         EventKind::XGoalDispatched {
             sv: xgoal.sv,
             constraint: display::constraint_text(&self.mission.plant, xgoal.sv, &xgoal.constraint),
@@ -271,24 +307,66 @@ impl MissionControl {
     }
 
     fn refresh_windows(&mut self) {
-        let network = &self.execution.executable().network;
-        self.windows = (0..network.points().len())
+        let network = &self.executable().network;
+        let windows = (0..network.points().len())
             .map(|i| network.stn().window(TimePointId(i as u32)))
             .collect();
+        let svs: Vec<Option<ComponentId>> = network.goals().iter().map(|g| g.sv).collect();
+        self.windows = windows;
+        self.svs.resize(svs.len(), None);
+        for (kept, sv) in self.svs.iter_mut().zip(svs) {
+            *kept = sv.or(*kept);
+        }
     }
 
-    /// The executive's event for a network event (`None` only for an XGoal the network does
-    /// not hold, which the execution never dispatches).
-    fn describe(&self, event: GoalEvent, modes: &[ValueId]) -> Option<EventKind> {
+    /// The executive's event for a mission event (`None` only for an XGoal the network does
+    /// not hold, which the execution never dispatches). Texts are one line each: the log and
+    /// the trace print them as they are.
+    fn describe(&self, event: MissionEvent, modes: &[ValueId]) -> Option<EventKind> {
+        let kind = match event {
+            MissionEvent::Goal(event) => return self.describe_goal_event(event, modes),
+            MissionEvent::TacticChosen { goal, tactic } => EventKind::TacticChosen { goal, tactic },
+            MissionEvent::TacticRejected {
+                goal,
+                tactic,
+                reason,
+            } => EventKind::TacticRejected {
+                goal,
+                tactic,
+                reason: one_line(&reason),
+            },
+            MissionEvent::ResponseTaken {
+                response,
+                explanation,
+                ..
+            } => EventKind::ResponseTaken {
+                goal: explanation.goal.clone(),
+                response: response.name(),
+                explanation: one_line(&explanation.to_string()),
+            },
+            MissionEvent::Promoted { cause } => EventKind::Promoted { cause },
+            MissionEvent::PromotionFailed { reason } => EventKind::PromotionFailed {
+                reason: one_line(&reason),
+            },
+            MissionEvent::Safing { cause } => EventKind::Safing {
+                cause: one_line(&cause),
+            },
+        };
+        Some(kind)
+    }
+
+    /// The executive's event for an event of the running network's execution.
+    fn describe_goal_event(&self, event: GoalEvent, modes: &[ValueId]) -> Option<EventKind> {
         let plant = &self.mission.plant;
-        let executable = self.execution.executable();
+        let executable = self.executable();
         let network = &executable.network;
         let name = |p: TimePointId| network.point(p).name.clone();
+        // A point promoted and fired in the same cycle has no earlier window than its own.
         let window = |p: TimePointId| {
             self.windows
                 .get(p.index())
                 .copied()
-                .flatten()
+                .unwrap_or_else(|| network.stn().window(p))
                 .map_or((f64::NEG_INFINITY, f64::INFINITY), |w| (w.lb, w.ub))
         };
         let kind = match event {
@@ -304,9 +382,12 @@ impl MissionControl {
             GoalEvent::XGoalDispatched { sv, index } => {
                 self.dispatched(executable.timeline(sv)?.xgoals.get(index)?)
             }
-            GoalEvent::GoalFailed { goal, reason } => {
-                let goal = network.goal(goal);
-                let sv = goal.sv.unwrap_or(ComponentId(0));
+            GoalEvent::GoalFailed { goal: id, reason } => {
+                let goal = network.goal(id);
+                let sv = goal
+                    .sv
+                    .or_else(|| self.svs.get(id.index()).copied().flatten())
+                    .unwrap_or(ComponentId(0));
                 let mode = modes.get(sv.index()).copied().unwrap_or(ValueId(0));
                 EventKind::MissionGoalFailed {
                     goal: goal.name.clone(),
@@ -332,6 +413,53 @@ impl MissionControl {
         };
         Some(kind)
     }
+}
+
+/// Whether an event changes the windows an event reports (a firing grounds a point, a
+/// promotion reschedules).
+fn changes_windows(event: &MissionEvent) -> bool {
+    matches!(
+        event,
+        MissionEvent::Goal(GoalEvent::TimePointFired { .. } | GoalEvent::TimePointForced { .. })
+            | MissionEvent::Promoted { .. }
+            | MissionEvent::Safing { .. }
+    )
+}
+
+/// Promotes a proposal with `submission` added (a copy of the running network, so that a
+/// refusal leaves it as it was); the promotion's events.
+fn promote(
+    controller: &mut GoalController,
+    submission: &Submission,
+    now: f64,
+    view: EstimateView,
+    reconfiguration: &Reconfiguration,
+) -> Result<Vec<MissionEvent>, SubmitError> {
+    let mut proposal = controller.propose().because("a submission");
+    submission.add_to(&mut proposal)?;
+    let mut events = Vec::new();
+    match controller.try_promote(proposal, now, view, reconfiguration, &mut events) {
+        Ok(()) => Ok(events),
+        // The reason is the scheduler's explanation of the network it was given.
+        Err(rejection) => Err(match rejection.error {
+            Some(error) => SubmitError::Refused {
+                error,
+                explanation: rejection.reason,
+            },
+            None => SubmitError::NotElaborated(rejection.reason),
+        }),
+    }
+}
+
+/// `text` on one line: its lines trimmed and joined by "; " (explanations of the scheduler
+/// put their evidence on lines of their own).
+fn one_line(text: &str) -> String {
+    let lines: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    lines.join("; ")
 }
 
 /// A failure's reason in words; the mode ŝ is in is shown beside it.

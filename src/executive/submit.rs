@@ -6,8 +6,8 @@
 use super::Executive;
 use super::control::Program;
 use crate::goalnet::{
-    ConstraintSet, Goal, GoalKind, GoalNetwork, Provenance, ScheduleError, TemporalConstraint,
-    TimePointId,
+    ConstraintSet, Goal, GoalKind, GoalNetwork, Proposal, Provenance, ScheduleError,
+    TemporalConstraint, TimePointId,
 };
 use crate::logic;
 use crate::plant::ComponentId;
@@ -93,6 +93,9 @@ pub enum SubmitError {
         /// The greatest distance.
         max: f64,
     },
+    /// The proposal could not be elaborated (the controller's reason).
+    #[error("the submission cannot be elaborated: {0}")]
+    NotElaborated(String),
     /// The network with the submission cannot be scheduled (inconsistent, unmergeable,
     /// unachievable).
     #[error("the submission cannot be scheduled: {explanation}")]
@@ -128,15 +131,16 @@ impl Executive {
 }
 
 impl Submission {
-    /// Adds the submission to `network`, resolving names; the first problem refuses it.
-    pub(super) fn add_to(&self, network: &mut GoalNetwork) -> Result<(), SubmitError> {
+    /// Adds the submission to `proposal`, resolving names; the first problem refuses it.
+    pub(super) fn add_to(&self, proposal: &mut Proposal) -> Result<(), SubmitError> {
         for name in &self.points {
-            if !logic::is_value_name(name) || network.point_named(name).is_some() {
+            if !logic::is_value_name(name) || proposal.network().point_named(name).is_some() {
                 return Err(SubmitError::Name(name.clone()));
             }
-            network.add_point(name.clone(), 0..0);
+            proposal.add_point(name, 0..0);
         }
         for c in &self.constraints {
+            let network = proposal.network();
             let (from, to) = (point(network, &c.from)?, point(network, &c.to)?);
             let constraint = TemporalConstraint::new(from, to, c.min, c.max, Provenance::Submitted);
             let bounds = || SubmitError::Bounds {
@@ -148,9 +152,10 @@ impl Submission {
             if !constraint.bounds_are_valid() {
                 return Err(bounds());
             }
-            network.add_constraint(constraint).map_err(|_| bounds())?;
+            proposal.add_constraint(constraint).map_err(|_| bounds())?;
         }
         for g in &self.goals {
+            let network = proposal.network();
             if !logic::is_value_name(&g.name) || network.goal_named(&g.name).is_some() {
                 return Err(SubmitError::Name(g.name.clone()));
             }
@@ -179,7 +184,7 @@ impl Submission {
                 priority: g.priority,
                 span: 0..0,
             };
-            network.add_goal(goal);
+            proposal.add_goal(goal, None);
         }
         Ok(())
     }

@@ -7,7 +7,8 @@
 //!    `ReElaborate` the goal with its next tactic, cyclically, within its budget (§2.7); a
 //!    re-elaboration that finds no tactic is a failure of that goal with no response left: it
 //!    fails up. Re-elaborations are done once per goal per cycle; if any failure leads to
-//!    safing, safing wins and the safe network is promoted once;
+//!    safing, safing wins and the safe network is promoted once. A mission with no goal types
+//!    declares no responses: its failures are reported and nothing is done;
 //! 3. fires points and dispatches (the Executive), on whatever network now runs.
 //!
 //! Every promotion follows §2.3: the proposal is a copy of the running network
@@ -20,7 +21,7 @@
 //! executive runs either; the mission's initial network is elaborated and promoted when the
 //! controller is made, and those events come with the first `step`.
 
-use super::elaborate::{Context, ElaborationState, elaborate};
+use super::elaborate::{Context, ElaborationState, Rejection, elaborate};
 use super::events::{Explanation, MissionEvent, ResponseStep};
 use super::execution::{EstimateView, Execution, FailureReason, GoalEvent};
 use super::goal::GoalId;
@@ -91,9 +92,10 @@ impl GoalController {
         let mut proposal = controller.proposal(&[], &[], "the mission's network".into());
         proposal.roots = (0..goals as u32).map(|g| (GoalId(g), 0)).collect();
         let mut events = Vec::new();
-        if let Err(reason) =
+        if let Err(rejection) =
             controller.promote_proposal(proposal, now, estimate, reconfiguration, &mut events)
         {
+            let reason = rejection.reason;
             let cause = format!("the mission's network cannot be elaborated: {reason}");
             controller.safe(now, estimate, reconfiguration, cause, &mut events);
         }
@@ -121,6 +123,24 @@ impl GoalController {
         self.safed
     }
 
+    /// Feeds what decides the controller's future to `state` (exploration's deduplication):
+    /// the execution's state, the elaboration tree (each goal's type, whether it is retired,
+    /// the tactic in use per elaborated goal), the re-elaborations spent, whether it is safed
+    /// and whether construction events are still to be reported. The network follows from
+    /// these and the mission.
+    pub fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
+        use std::hash::Hash;
+        self.execution.fingerprint(state);
+        self.state.types.hash(state);
+        self.state.retired.hash(state);
+        for (goal, elaboration) in &self.state.elaborations {
+            (goal, elaboration.tactic).hash(state);
+        }
+        self.reelaborations.hash(state);
+        self.safed.hash(state);
+        self.pending.is_empty().hash(state);
+    }
+
     /// One cycle at `now`: monitoring, the failure responses, then firing (§2.9 steps 3–5).
     pub fn step(
         &mut self,
@@ -138,7 +158,7 @@ impl GoalController {
             })
             .collect();
         events.extend(checked.into_iter().map(MissionEvent::Goal));
-        if !failures.is_empty() && !self.safed {
+        if !failures.is_empty() && !self.safed && self.responds() {
             self.respond(now, estimate, reconfiguration, &failures, &mut events);
         }
         let fired = self.execution.advance(now, estimate);
@@ -173,8 +193,22 @@ impl GoalController {
     ) -> Vec<MissionEvent> {
         let mut events = Vec::new();
         // The reason is in the `PromotionFailed` event.
-        let _ = self.promote_proposal(proposal, now, estimate, reconfiguration, &mut events);
+        let _ = self.try_promote(proposal, now, estimate, reconfiguration, &mut events);
         events
+    }
+
+    /// [`GoalController::promote`], saying whether the proposal was promoted: `Err` carries
+    /// why not (with the scheduler's error, for a caller that reports it typed, as a refused
+    /// submission does). The events are pushed to `events` either way.
+    pub fn try_promote(
+        &mut self,
+        proposal: Proposal,
+        now: f64,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+        events: &mut Vec<MissionEvent>,
+    ) -> Result<(), Rejection> {
+        self.promote_proposal(proposal, now, estimate, reconfiguration, events)
     }
 
     /// Promotes the safe network now, from any state (§2.8).
@@ -223,7 +257,7 @@ impl GoalController {
         estimate: EstimateView,
         reconfiguration: &Reconfiguration,
         events: &mut Vec<MissionEvent>,
-    ) -> Result<(), String> {
+    ) -> Result<(), Rejection> {
         let fired = |p: TimePointId| self.execution.fired_at(p).is_some();
         let context = Context {
             elaborators: &self.mission.elaborators,
@@ -251,11 +285,11 @@ impl GoalController {
                 });
                 Ok(())
             }
-            Err(reason) => {
+            Err(rejection) => {
                 events.push(MissionEvent::PromotionFailed {
-                    reason: reason.clone(),
+                    reason: rejection.reason.clone(),
                 });
-                Err(reason)
+                Err(rejection)
             }
         }
     }
@@ -317,6 +351,14 @@ impl GoalController {
         if let Some(cause) = cause {
             self.safe(now, estimate, reconfiguration, cause, events);
         }
+    }
+
+    /// Whether failures get responses: a mission that declares no goal types declares no
+    /// responses either, and its failed goals stay failed while the network runs on (as a
+    /// network ran before goal types existed, issue 13). With types, a goal without one fails
+    /// up.
+    fn responds(&self) -> bool {
+        !self.mission.elaborators.types.is_empty()
     }
 
     /// The failed goal, the mode ŝ has its SV in and that mode's probability.
@@ -406,6 +448,7 @@ impl GoalController {
             proposal.state.elaborations.remove(&goal);
             proposal.roots = vec![(goal, (in_use + 1) % tactics)];
             self.promote_proposal(proposal, now, estimate, reconfiguration, events)
+                .map_err(|rejection| rejection.reason)
         };
         let mut steps = Vec::new();
         match attempt {

@@ -26,7 +26,7 @@ use super::display;
 use super::events::MissionEvent;
 use super::goal::{Goal, GoalId, GoalKind};
 use super::network::{ExecutableNetwork, GoalNetwork};
-use super::schedule::schedule;
+use super::schedule::{ScheduleError, schedule};
 use super::tactic::{ChildConstraint, Elaborators, PointRef, TypeId};
 use super::temporal_constraint::{Provenance, TemporalConstraint};
 use super::time_point::TimePointId;
@@ -100,6 +100,16 @@ pub struct Elaborated {
     pub state: ElaborationState,
 }
 
+/// Why no elaboration of a proposal fits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rejection {
+    /// In words: the scheduler's explanation, or which goal ran out of tactics.
+    pub reason: String,
+    /// The scheduler's error of the last attempt (`None` when no attempt was scheduled: a
+    /// tactic that could not be applied, or the budget): what a refused submission reports.
+    pub error: Option<ScheduleError>,
+}
+
 /// The choice the search made for one goal.
 struct Visit {
     name: String,
@@ -116,10 +126,11 @@ pub fn elaborate(
     base_state: &ElaborationState,
     roots: &[(GoalId, usize)],
     events: &mut Vec<MissionEvent>,
-) -> Result<Elaborated, String> {
+) -> Result<Elaborated, Rejection> {
     // choices[i]: the offset from its first tactic of the i-th goal visited.
     let mut choices: Vec<usize> = Vec::new();
     for _ in 0..ELABORATION_BUDGET {
+        let mut error = None;
         let mut network = base.clone();
         let mut state = base_state.clone();
         let mut visits = Vec::new();
@@ -133,8 +144,11 @@ pub fn elaborate(
         );
         let outcome = built.and_then(|()| {
             anchor(&mut network, context);
-            schedule(&network, context.reconfiguration, context.current)
-                .map_err(|e| display::explain(&e, &network, context.reconfiguration.plant()))
+            schedule(&network, context.reconfiguration, context.current).map_err(|e| {
+                let reason = display::explain(&e, &network, context.reconfiguration.plant());
+                error = Some(e);
+                reason
+            })
         });
         match outcome {
             Ok(executable) => {
@@ -144,12 +158,20 @@ pub fn elaborate(
                 }));
                 return Ok(Elaborated { executable, state });
             }
-            Err(reason) => backtrack(&mut choices, visits, reason, events)?,
+            Err(reason) => {
+                backtrack(&mut choices, visits, reason, events).map_err(|reason| Rejection {
+                    reason,
+                    error: error.take(),
+                })?
+            }
         }
     }
-    Err(format!(
-        "elaboration failed: its budget of {ELABORATION_BUDGET} schedulings is spent"
-    ))
+    Err(Rejection {
+        reason: format!(
+            "elaboration failed: its budget of {ELABORATION_BUDGET} schedulings is spent"
+        ),
+        error: None,
+    })
 }
 
 /// Steps the most recent choice with an untried tactic (chronological backtracking); `Err`

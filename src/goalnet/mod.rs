@@ -45,7 +45,7 @@ mod xgoal;
 
 pub use constraint_set::ConstraintSet;
 pub use controller::GoalController;
-pub use elaborate::{Elaboration, ElaborationState};
+pub use elaborate::{Elaboration, ElaborationState, Rejection};
 pub use events::{Explanation, MissionEvent, ResponseStep};
 pub use execution::{EstimateView, Execution, FailureReason, GoalEvent};
 pub use goal::{Goal, GoalId, GoalKind};
@@ -55,7 +55,7 @@ pub use projection::{Projection, project};
 pub use proposal::Proposal;
 pub use schedule::{ScheduleError, schedule};
 pub use stn::{GroundError, Inconsistency, Stn, StnError, Window};
-pub use tactic::{Elaborators, GoalType, Response, Tactic, TypeId};
+pub use tactic::{Elaborators, GoalType, MissionNames, Response, Tactic, TypeId};
 pub use temporal_constraint::{ConstraintId, Provenance, TemporalConstraint};
 pub use time_point::{TimePoint, TimePointId};
 pub use xgoal::XGoal;

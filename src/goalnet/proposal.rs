@@ -41,6 +41,12 @@ impl Proposal {
         &self.network
     }
 
+    /// The proposal with `cause` as the reason the `Promoted` event gives.
+    pub fn because(mut self, cause: impl Into<String>) -> Self {
+        self.cause = cause.into();
+        self
+    }
+
     /// Adds a time point (a name already taken gets a prime).
     pub fn add_point(&mut self, name: &str, span: Span) -> TimePointId {
         let name = fresh(name, |n| self.network.point_named(n).is_some());

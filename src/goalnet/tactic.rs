@@ -5,6 +5,7 @@
 
 use super::constraint_set::ConstraintSet;
 use super::goal::{GoalId, GoalKind};
+use super::network::GoalNetwork;
 use crate::diagnostic::Span;
 use crate::plant::ComponentId;
 
@@ -162,5 +163,89 @@ impl Elaborators {
     /// The type of an initial goal.
     pub fn of(&self, goal: GoalId) -> Option<TypeId> {
         self.of_goal.get(goal.index()).copied().flatten()
+    }
+}
+
+/// Every name a point or goal of a running mission can have (the mission's own, those its
+/// elaborations give — `stay-warm.TP_A`, `stay-warm.get-warm.heater1` — and the safe
+/// network's), without the primes a re-elaboration adds (`stay-warm.TP_A′`): what a scenario's
+/// expectations may name before the run has made them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MissionNames {
+    /// Time points.
+    pub points: Vec<String>,
+    /// Goals (macro goals included).
+    pub goals: Vec<String>,
+}
+
+impl MissionNames {
+    /// Whether `name`, primes aside, is one of `names`.
+    fn has(names: &[String], name: &str) -> bool {
+        let unprimed = name.trim_end_matches('′');
+        names.iter().any(|n| n == unprimed)
+    }
+
+    /// Whether a point can have this name.
+    pub fn has_point(&self, name: &str) -> bool {
+        Self::has(&self.points, name)
+    }
+
+    /// Whether a goal can have this name.
+    pub fn has_goal(&self, name: &str) -> bool {
+        Self::has(&self.goals, name)
+    }
+}
+
+impl Elaborators {
+    /// The names of `network`'s points and goals, of everything its typed goals' tactics can
+    /// add (recursively, a type not re-entered below itself), and of `safe`'s, with `safing`,
+    /// the point safing promotes from (`GoalController`'s naming, elaborate.rs and proposal.rs).
+    pub fn names(&self, network: &GoalNetwork, safe: &GoalNetwork) -> MissionNames {
+        let mut names = MissionNames::default();
+        // The safe network's origin becomes the point `safing`.
+        names
+            .points
+            .extend(network.points().iter().map(|p| p.name.clone()));
+        names.points.push("safing".to_string());
+        names
+            .points
+            .extend(safe.points()[1..].iter().map(|p| p.name.clone()));
+        for graph in [network, safe] {
+            let goals = graph.goals().iter().filter(|g| !g.is_macro());
+            names.goals.extend(goals.map(|g| g.name.clone()));
+        }
+        for (i, goal) in network.goals().iter().enumerate() {
+            if let Some(t) = self.of(GoalId(i as u32)) {
+                self.elaborated_names(&goal.name, t, &mut Vec::new(), &mut names);
+            }
+        }
+        names
+    }
+
+    /// The names `goal`'s tactics (of type `t`) give, and their typed children's, depth first.
+    fn elaborated_names(
+        &self,
+        goal: &str,
+        t: TypeId,
+        path: &mut Vec<TypeId>,
+        names: &mut MissionNames,
+    ) {
+        if path.contains(&t) {
+            return;
+        }
+        path.push(t);
+        for tactic in &self.get(t).tactics {
+            names
+                .points
+                .extend(tactic.points.iter().map(|p| format!("{goal}.{p}")));
+            for child in &tactic.goals {
+                let name = format!("{goal}.{}", child.name);
+                if let Some(child_type) = child.goal_type {
+                    self.elaborated_names(&name, child_type, path, names);
+                }
+                names.goals.push(name);
+            }
+        }
+        path.pop();
     }
 }

@@ -219,6 +219,19 @@ impl Plant {
         &self.components
     }
 
+    /// The model with `component` certainly in `mode` at power-on: its initial distribution
+    /// all on that mode (a fault known before the run; a scenario's `believed`).
+    pub fn believing(mut self, component: ComponentId, mode: ValueId) -> Plant {
+        if let Some(c) = self.components.get_mut(component.index()) {
+            let initial = &mut c.initial;
+            initial.iter_mut().for_each(|p| *p = 0.0);
+            if let Some(p) = initial.get_mut(mode.index()) {
+                *p = 1.0;
+            }
+        }
+        self
+    }
+
     /// Each component's most likely initial mode (the first of equals): the state a schedule
     /// made before the first estimate starts from.
     pub fn most_likely_initial(&self) -> Vec<ValueId> {

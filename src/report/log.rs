@@ -280,6 +280,19 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
                 cycle.join("; ")
             ),
         ),
+        E::TacticChosen { goal, tactic } => ("tactic", format!("{goal}: tactic {tactic} chosen")),
+        E::TacticRejected {
+            goal,
+            tactic,
+            reason,
+        } => (
+            "tactic",
+            format!("{goal}: tactic {tactic} rejected: {reason}"),
+        ),
+        E::ResponseTaken { explanation, .. } => ("RESPONSE", explanation.clone()),
+        E::Promoted { cause } => ("promoted", format!("the proposed network ({cause})")),
+        E::PromotionFailed { reason } => ("PROMOTION", format!("failed: {reason}")),
+        E::Safing { cause } => ("SAFING", cause.clone()),
     }
 }
 

@@ -29,6 +29,8 @@ pub(super) struct ScenarioFile {
     #[serde(default)]
     pub(super) deadline: Option<f64>,
     #[serde(default)]
+    pub(super) believed: Entries<String>,
+    #[serde(default)]
     pub(super) include: Vec<String>,
     #[serde(default)]
     pub(super) hidden: Entries<Vec<String>>,
@@ -299,6 +301,18 @@ pub enum EventName {
     TemporalInconsistency,
     /// A scenario rule's submission was refused.
     SubmissionRefused,
+    /// Elaboration chose a tactic for a goal.
+    TacticChosen,
+    /// Elaboration rejected a tactic for a goal.
+    TacticRejected,
+    /// A failed goal's response was carried out.
+    ResponseTaken,
+    /// A proposed network was promoted.
+    Promoted,
+    /// A proposed network could not be promoted.
+    PromotionFailed,
+    /// The safe network was promoted.
+    Safing,
 }
 
 impl EventName {
@@ -331,6 +345,12 @@ impl EventName {
             E::MissionGoalFailed { .. } => EventName::MissionGoalFailed,
             E::TemporalInconsistency { .. } => EventName::TemporalInconsistency,
             E::SubmissionRefused { .. } => EventName::SubmissionRefused,
+            E::TacticChosen { .. } => EventName::TacticChosen,
+            E::TacticRejected { .. } => EventName::TacticRejected,
+            E::ResponseTaken { .. } => EventName::ResponseTaken,
+            E::Promoted { .. } => EventName::Promoted,
+            E::PromotionFailed { .. } => EventName::PromotionFailed,
+            E::Safing { .. } => EventName::Safing,
         }
     }
 }

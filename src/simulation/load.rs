@@ -7,14 +7,14 @@ use std::time::Duration;
 use super::format::{ScenarioFile, ScriptFile, ScriptParts};
 use super::script::Script;
 use super::{Scenario, ScenarioErrors, ScenarioProgram};
-use crate::diagnostic::locate::{Locator, Step};
+use crate::diagnostic::locate::{Entries, Locator, Step};
 use crate::diagnostic::{
     Diagnostic, ReadError, Source, SourceErrors, Span, did_you_mean, ron_error,
 };
 use crate::executive::ScheduledMission;
 use crate::goalnet::{display, mission};
-use crate::logic::{self, Formula, VarId, VarTable};
-use crate::plant::Plant;
+use crate::logic::{self, Formula, ValueId, VarId, VarTable};
+use crate::plant::{ComponentId, Plant};
 use crate::reconfiguration::Reconfiguration;
 use crate::rmpl::{self, LinkOptions};
 
@@ -120,6 +120,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
     drop(parts);
     script.pinned = super::load_script::pinned(&mut ctx, &file.choose, &script);
     let model = super::load_model::model_config(&mut ctx, &file, &plant, settings.end);
+    let believed = believed(&mut ctx, &file.believed, &plant);
     let expectations = super::load_expect::expectations(
         &mut ctx,
         &file.expect,
@@ -156,7 +157,47 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
         script,
         model,
         expectations,
+        believed,
     })
+}
+
+/// The scenario's `believed`: each name a component, each value one of its modes.
+fn believed(
+    ctx: &mut FileCtx,
+    believed: &Entries<String>,
+    plant: &Plant,
+) -> Vec<(ComponentId, ValueId)> {
+    let mut out = Vec::new();
+    for (name, mode) in &believed.0 {
+        let Some(c) = plant.component_named(name) else {
+            let names = plant.components().iter().map(|c| c.name());
+            let mut diagnostic = Diagnostic::new(
+                format!("no component `{name}`"),
+                ctx.span(&[Step::Field("believed"), Step::Key(name)]),
+            )
+            .expected("the name of a component of the plant model");
+            if let Some(close) = did_you_mean(name, names) {
+                diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+            }
+            ctx.push(diagnostic);
+            continue;
+        };
+        let component = plant.component(c);
+        match component.mode_named(mode) {
+            Some(m) => out.push((c, m)),
+            None => {
+                let modes: Vec<&str> = component.modes().iter().map(|m| m.name.as_str()).collect();
+                ctx.push(
+                    Diagnostic::new(
+                        format!("`{mode}` is not a mode of {name}"),
+                        ctx.span(&[Step::Field("believed"), Step::Value(name)]),
+                    )
+                    .expected(format!("one of {name}'s modes: {}", modes.join(", "))),
+                );
+            }
+        }
+    }
+    out
 }
 
 /// The run's numbers, checked.

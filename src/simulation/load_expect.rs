@@ -8,7 +8,7 @@ use super::script::{Delay, Script};
 use crate::diagnostic::locate::Step;
 use crate::diagnostic::{Diagnostic, did_you_mean};
 use crate::executive::Submission;
-use crate::goalnet::GoalNetwork;
+use crate::goalnet::MissionNames;
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, ModeKind, Plant};
 use crate::sequencer::Thca;
@@ -29,7 +29,10 @@ pub(super) fn expectations(
         goals: program
             .thca()
             .map_or_else(Vec::new, |t| program_goals(plant, t)),
-        network: program.mission().map(|m| &m.mission().network),
+        names: program.mission().map(|m| {
+            let mission = m.mission();
+            mission.elaborators.names(&mission.network, &mission.safe)
+        }),
         end,
     };
     files
@@ -64,8 +67,8 @@ struct ExpectLoader<'a> {
     script: &'a Script,
     classes: VarClasses,
     goals: Vec<String>,
-    /// The mission's goal network (`None` for an RMPL program).
-    network: Option<&'a GoalNetwork>,
+    /// The names the mission's points and goals can have (`None` for an RMPL program).
+    names: Option<MissionNames>,
     end: f64,
 }
 
@@ -251,7 +254,7 @@ impl ExpectLoader<'_> {
                 format!("mission goal {goal} failed{}", eventual(*after, *by)),
             ),
             F::NeverFailed { goal, from, to } => {
-                self.network(ctx, at)?;
+                self.names(ctx, at)?;
                 let checked = match goal {
                     Some(goal) => Some(self.network_goal(ctx, at, goal)?),
                     None => None,
@@ -269,7 +272,7 @@ impl ExpectLoader<'_> {
                 )
             }
             F::XGoalActive { sv, goal, time } => {
-                self.network(ctx, at)?;
+                self.names(ctx, at)?;
                 let component = self.component(ctx, at, sv)?;
                 let checked = match goal {
                     Some(goal) => Some(self.network_goal(ctx, at, goal)?),
@@ -524,38 +527,42 @@ impl ExpectLoader<'_> {
 
 /// The mission's names, for `Fired`, `NeverFired`, `Failed`, `NeverFailed`, `XGoalActive`.
 impl ExpectLoader<'_> {
-    /// The mission's network; an error at the expectation when the scenario runs RMPL.
-    fn network(&self, ctx: &mut FileCtx, at: &[Step<'_>]) -> Option<&GoalNetwork> {
-        if self.network.is_none() {
+    /// The mission's names; an error at the expectation when the scenario runs RMPL.
+    fn names(&self, ctx: &mut FileCtx, at: &[Step<'_>]) -> Option<&MissionNames> {
+        if self.names.is_none() {
             ctx.error(
                 at,
                 "this expectation is about a goal network, and the scenario runs an RMPL program",
                 "a scenario with `mission: \"...\"` for time points, goals and XGoals",
             );
         }
-        self.network
+        self.names.as_ref()
     }
 
-    /// A time point of the mission or of a rule's submission, by name.
+    /// A time point of the mission (or one its elaborations or safing can add, or a rule's
+    /// submission), by name.
     fn point(&self, ctx: &mut FileCtx, at: &[Step<'_>], name: &str) -> Option<String> {
-        let network = self.network(ctx, at)?;
-        let names = network.points().iter().map(|p| p.name.as_str());
+        let names = self.names(ctx, at)?;
         let submitted = self.submissions().flat_map(|s| s.points.iter());
-        let names = names.chain(submitted.map(String::as_str));
-        self.known(ctx, &field(at, "point"), name, names, "time point")
+        if names.has_point(name) || submitted.clone().any(|p| p == name) {
+            return Some(name.to_string());
+        }
+        let all = names.points.iter().chain(submitted).map(String::as_str);
+        self.known(ctx, &field(at, "point"), name, all, "time point")
     }
 
-    /// A goal of the mission (not a macro) or of a rule's submission, by name.
+    /// A goal of the mission (or one its elaborations or safing can add, or a rule's
+    /// submission), by name.
     fn network_goal(&self, ctx: &mut FileCtx, at: &[Step<'_>], name: &str) -> Option<String> {
-        let network = self.network(ctx, at)?;
-        let names = network
-            .goals()
-            .iter()
-            .filter(|g| !g.is_macro())
-            .map(|g| g.name.as_str());
-        let submitted = self.submissions().flat_map(|s| s.goals.iter());
-        let names = names.chain(submitted.map(|g| g.name.as_str()));
-        self.known(ctx, &field(at, "goal"), name, names, "goal")
+        let names = self.names(ctx, at)?;
+        let submitted = self
+            .submissions()
+            .flat_map(|s| s.goals.iter().map(|g| &g.name));
+        if names.has_goal(name) || submitted.clone().any(|g| g == name) {
+            return Some(name.to_string());
+        }
+        let all = names.goals.iter().chain(submitted).map(String::as_str);
+        self.known(ctx, &field(at, "goal"), name, all, "goal")
     }
 
     /// What the script's rules submit.

@@ -24,6 +24,10 @@
 //!                                           // at most 10⁷ cycles (`MAX_CYCLES`), below
 //!     kappa: 5,                             // optional (default 10): states tracked by estimation
 //!     deadline: 0.05,                       // optional: wall-time budget per cycle, seconds
+//!     believed: { "switch1": "stuck-open" },   // optional: the executive starts certain of
+//!                                           // these modes (a fault known before the run,
+//!                                           // as the seed's system tests 5 and 6 initialise
+//!                                           // the estimate); the plant is not changed
 //!     include: ["plant.ron"],               // optional: script files (below), read first
 //!     hidden: { "pde": ["off", "on", "latched"] },   // the plant's own hidden state
 //!     initial: { "engine.temp": "low", "pde": "off" },
@@ -199,7 +203,8 @@
 //! a fault), `Waiting`, `PlanFailed`, `EstimatorInconsistency`, `SearchCut`,
 //! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`, and for
 //! missions `TimePointFired`, `TimePointForced`, `XGoalDispatched`, `MissionGoalFailed`,
-//! `TemporalInconsistency`, `SubmissionRefused`.
+//! `TemporalInconsistency`, `SubmissionRefused`, `TacticChosen`, `TacticRejected`,
+//! `ResponseTaken`, `Promoted`, `PromotionFailed`, `Safing`.
 //!
 //! ## Missions
 //!
@@ -262,7 +267,8 @@ pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, Script
 
 use crate::diagnostic::{Source, SourceErrors};
 use crate::executive::{ControlProgram, ScheduledMission};
-use crate::plant::Plant;
+use crate::logic::ValueId;
+use crate::plant::{ComponentId, Plant};
 use crate::sequencer::Thca;
 
 /// What a scenario runs: an RMPL program or a mission (a goal network).
@@ -335,6 +341,9 @@ pub struct Scenario {
     pub model: Option<ModelPlantConfig>,
     /// What must happen.
     pub expectations: Vec<Expectation>,
+    /// Components the executive starts certain of (`believed`): its model's initial
+    /// distribution is replaced by certainty on the mode (the plant played is not changed).
+    pub believed: Vec<(ComponentId, ValueId)>,
 }
 
 impl Scenario {

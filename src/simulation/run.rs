@@ -309,8 +309,11 @@ impl<'s> Simulator<'s> {
 
 /// The scenario's executive (κ, deadline, and the options' retention).
 pub(crate) fn build(scenario: &Scenario, options: RunOptions) -> Result<Executive, BuildError> {
-    let mut builder =
-        Executive::builder(scenario.plant.clone(), scenario.program.clone()).kappa(scenario.kappa);
+    let mut plant = scenario.plant.clone();
+    for &(component, mode) in &scenario.believed {
+        plant = plant.believing(component, mode);
+    }
+    let mut builder = Executive::builder(plant, scenario.program.clone()).kappa(scenario.kappa);
     if let Some(deadline) = scenario.deadline {
         builder = builder.cycle_deadline(deadline);
     }

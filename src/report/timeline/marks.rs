@@ -306,6 +306,14 @@ impl Builder<'_, '_> {
                 "temporal inconsistency",
                 &format!("firing {point} contradicts {}", cycle.join("; ")),
             ),
+            // Safing ends the mission's plan: drawn, with its cause in the tooltip.
+            EventKind::Safing { cause } => self.trouble(time, "safing", "safing", cause),
+            // The responses' chains are in the mission log; the timeline counts them.
+            EventKind::TacticChosen { .. }
+            | EventKind::TacticRejected { .. }
+            | EventKind::ResponseTaken { .. }
+            | EventKind::Promoted { .. }
+            | EventKind::PromotionFailed { .. } => self.omit("goal-network responses"),
         }
     }
 
