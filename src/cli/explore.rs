@@ -177,10 +177,11 @@ fn describe(
         Finding::Error(message) => format!("the run stops: {message}"),
     };
     let rules = scenario.script.rules();
+    let time = |cycle: u64| cycle as f64 * scenario.cycle;
     let path: Vec<String> = (counterexample.choices.iter())
         .map(|c| {
-            let time = c.cycle as f64 * scenario.cycle;
-            format!("`{}` at {time} s (cycle {})", rules[c.rule].name, c.cycle)
+            let at = time(c.cycle);
+            format!("`{}` at {at} s (cycle {})", rules[c.rule].name, c.cycle)
         })
         .collect();
     let path = if path.is_empty() {
@@ -188,6 +189,29 @@ fn describe(
     } else {
         path.join(", then ")
     };
+    let landed = (counterexample.landings.iter()).map(|l| {
+        let (fired, lands) = (time(l.fired), time(l.lands));
+        format!(
+            "`{}` fired at {fired} s lands at {lands} s (cycle {})",
+            rules[l.rule].name, l.lands
+        )
+    });
+    let delivered = (counterexample.deliveries.iter()).map(|d| {
+        let names: Vec<String> = (d.order.iter())
+            .map(|&r| format!("`{}`", rules[r].name))
+            .collect();
+        let at = time(d.cycle);
+        format!(
+            "at {at} s (cycle {}) applied {}",
+            d.cycle,
+            names.join(" then ")
+        )
+    });
+    let path: String = std::iter::once(path)
+        .chain(landed)
+        .chain(delivered)
+        .collect::<Vec<String>>()
+        .join("; ");
     let mut text = format!(
         "\ncounterexample {k}: {what}\n  at cycle {} ({} s); path: {path}\n",
         counterexample.cycle,

@@ -118,6 +118,12 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
     let mut script = super::load_script::script(&plant, &mut parts, settings.end);
     drop(parts);
     script.pinned = super::load_script::pinned(&mut ctx, &file.choose, &script);
+    script.deliveries = super::load_deliver::deliveries(
+        &mut ctx,
+        &file.deliver,
+        &script,
+        (settings.cycle, settings.end),
+    );
     let model = super::load_model::model_config(&mut ctx, &file, &plant, settings.end);
     let expectations = super::load_expect::expectations(
         &mut ctx,
@@ -610,6 +616,7 @@ pub(super) fn empty_script(plant: &Plant) -> Script {
         initial: Vec::new(),
         rules: Vec::new(),
         pinned: Vec::new(),
+        deliveries: Vec::new(),
     }
 }
 

@@ -200,6 +200,7 @@
 mod expect;
 mod format;
 mod load;
+mod load_deliver;
 mod load_expect;
 mod load_model;
 mod load_script;
@@ -219,7 +220,9 @@ pub use load::{DEFAULT_KAPPA, MAX_CYCLES, load, load_source};
 pub use model_plant::{FaultDrawn, ForcedFault, ModelPlant, ModelPlantConfig};
 pub(crate) use run::build as build_executive;
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
-pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
+pub use script::{
+    Delay, Effect, OpenLanding, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger,
+};
 
 use crate::diagnostic::{Source, SourceErrors};
 use crate::executive::{ControlProgram, ScheduledMission};
