@@ -27,9 +27,10 @@ fn pins<'c>(
     fired.chain(landed)
 }
 
-/// The scenario file's text with a `choose` field pinning the counterexample's firings, added
-/// right after `Scenario(` (on the first line that starts with it), and a comment saying what
-/// the path shows. `None` when no line starts with `Scenario(`. The file's relative paths are
+/// The scenario file's text with a `choose` field pinning the counterexample's firings and
+/// landing delays and a `deliver` field pinning its delivery orders (each when it has some),
+/// added right after `Scenario(` (on the first line that starts with it), and a comment saying
+/// what the path shows. `None` when no line starts with `Scenario(`. The file's relative paths are
 /// relative to the scenario's directory: the replay belongs beside it.
 pub fn replay_text(scenario: &Scenario, counterexample: &Counterexample) -> Option<String> {
     let text = &scenario.source.text;
@@ -62,10 +63,12 @@ pub fn replay_text(scenario: &Scenario, counterexample: &Counterexample) -> Opti
         Finding::Error(message) => format!("the run stops: {message}"),
     };
     let mut inserted = format!(
-        "\n    // A counterexample found by `kairos explore`: {}\n    choose: {{ {} }},",
-        shows.replace('\n', " "),
-        pins.join(", ")
+        "\n    // A counterexample found by `kairos explore`: {}",
+        shows.replace('\n', " ")
     );
+    if !pins.is_empty() {
+        inserted.push_str(&format!("\n    choose: {{ {} }},", pins.join(", ")));
+    }
     if !deliver.is_empty() {
         inserted.push_str(&format!("\n    deliver: [{}],", deliver.join(", ")));
     }
