@@ -32,7 +32,7 @@ fn run(scenario: &Scenario) -> RunOutcome {
 }
 
 /// The replay file's text, loaded as a scenario beside the explored one.
-fn replay_file(scenario: &Scenario, text: String) -> Scenario {
+fn replay_file(text: String) -> Scenario {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenarios");
     let source = kairos::diagnostic::Source::new("replay.ron", text);
     simulation::load_source(&source, &dir).unwrap_or_else(|e| panic!("{e}"))
@@ -92,7 +92,7 @@ fn the_late_heat_up_replays() {
         text.contains(r#"choose: { "engine heats up": 57.0 },"#),
         "{text}"
     );
-    let from_file = run(&replay_file(&scenario, text));
+    let from_file = run(&replay_file(text));
     assert!(!from_file.verdicts[3].holds());
 }
 
@@ -131,7 +131,7 @@ fn the_race_replays_with_its_order() {
     let pinned = r#"deliver: [(at: 1.0, order: ["PDE powers up", "latch-up transient"])],"#;
     assert!(text.contains(pinned), "{text}");
     assert!(!text.contains("choose:"), "nothing to choose: {text}");
-    let from_file = run(&replay_file(&scenario, text));
+    let from_file = run(&replay_file(text));
     assert!(!from_file.verdicts[2].holds());
     assert!(from_file.verdicts[1].holds(), "the reset repairs the PDE");
 }

@@ -128,7 +128,7 @@ pub struct Rule {
     pub delay: Delay,
     /// `after: Between(from, to)`: the effect lands at any cycle whose time is in
     /// [fired + from, fired + to] seconds. A run takes `from` unless `choose` pins another
-    /// delay; `kairos explore` tries every such cycle ([`open`]).
+    /// delay; `kairos explore` tries every such cycle.
     pub interval: Option<(f64, f64)>,
     /// What it does.
     pub effect: Effect,

@@ -38,8 +38,8 @@ pub struct OpenLanding {
 }
 
 impl ScriptedPlant<'_> {
-    /// Leaves every interval's landing open ([`Due::Open`]) for `kairos explore` to choose,
-    /// except those `choose` pins.
+    /// Leaves every interval's landing open (pending until [`land`](Self::land)) for
+    /// `kairos explore` to choose, except those `choose` pins.
     pub fn leave_open(&mut self) {
         self.open = true;
     }
