@@ -1,5 +1,6 @@
 //! `kairos explore SCENARIO [--faults N] [--depth D] [--budget STATES|SECONDSs] [--jobs J]`:
-//! every path of a scenario its `Optional` rules allow, every expectation checked on each
+//! every path of a scenario its `Optional` rules, `Between` delays and simultaneous deliveries
+//! allow, every expectation checked on each
 //! (`kairos::exploration`; DESIGN.md §16, thesis §8.1).
 //!
 //! Prints what was explored (states, paths, time, what the budget left out) and, for each
@@ -28,8 +29,9 @@ use super::output::emit;
 /// and `--quiet` apply).
 #[derive(clap::Args)]
 pub struct ExploreArgs {
-    /// The scenario (its `Optional` rules are what is explored), or a rover scenario (the
-    /// interleavings of its controller protocol).
+    /// The scenario (its `Optional` rules, `Between` delays and contending simultaneous
+    /// deliveries are what is explored), or a rover scenario (the interleavings of its
+    /// controller protocol).
     pub scenario: PathBuf,
     /// At most this many optional rules fire on a path.
     #[arg(long, default_value_t = 1)]

@@ -257,6 +257,44 @@ mod tests {
         assert_eq!(distinct_orders(script, &[0, 1, 2, 3]).len(), 2);
     }
 
+    /// Complete and without repeats: every permutation of the due effects leaves the outcome
+    /// of exactly one order returned, for every subset of the fixture's rules (each at most
+    /// twice), checked exhaustively.
+    #[test]
+    fn every_outcome_once() {
+        let scenario = engine_camera(RULES);
+        let script = &scenario.script;
+        let effects = |due: &[usize]| -> Vec<Vec<(String, Write)>> {
+            (due.iter())
+                .map(|&r| writes(script, &script.rules[r].effect))
+                .collect()
+        };
+        for due in [vec![0, 1, 2, 3], vec![1, 0, 1], vec![3, 2, 1, 0, 0]] {
+            let orders = distinct_orders(script, &due);
+            let outcome = |order: &[usize]| {
+                let positions: Vec<usize> = (0..order.len()).collect();
+                last_writes(&positions, &effects(order))
+            };
+            let returned: Vec<_> = orders.iter().map(|o| outcome(o)).collect();
+            for (i, a) in returned.iter().enumerate() {
+                assert!(
+                    !returned[i + 1..].contains(a),
+                    "{due:?}: a repeated outcome"
+                );
+            }
+            assert!(orders.iter().all(|o| is_permutation(o, &due)));
+            assert_eq!(orders[0], due, "the fired order first");
+            let mut permutation: Vec<usize> = (0..due.len()).collect();
+            loop {
+                let order: Vec<usize> = permutation.iter().map(|&k| due[k]).collect();
+                assert!(returned.contains(&outcome(&order)), "{order:?} missed");
+                if !next_permutation(&mut permutation) {
+                    break;
+                }
+            }
+        }
+    }
+
     #[test]
     fn permutations_in_lexicographic_order() {
         let mut items = vec![0, 1, 2];
