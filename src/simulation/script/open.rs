@@ -174,6 +174,10 @@ fn contend(a: &[(String, Write)], b: &[(String, Write)]) -> bool {
 /// One permutation of `due` per distinct outcome (the last write on each contended name), the
 /// fired order first; see the module documentation.
 pub(crate) fn distinct_orders(script: &Script, due: &[usize]) -> Vec<Vec<usize>> {
+    if due.len() < 2 {
+        // The common case, every cycle of a search: nothing to order.
+        return vec![due.to_vec()];
+    }
     let effects: Vec<Vec<(String, Write)>> = (due.iter())
         .map(|&rule| writes(script, &script.rules[rule].effect))
         .collect();
