@@ -140,7 +140,8 @@ fn summary(scenario: &Scenario, options: &ExploreOptions, explored: &Exploration
     text.push_str(&match explored.cut_at {
         None => "covered: every path\n".to_string(),
         Some(cycle) => format!(
-            "covered: partly — the budget ran out; every path whose first optional rule fires \
+            "covered: partly — the budget ran out; every path whose first choice (an optional \
+             rule, a later landing, another order) falls \
              before cycle {cycle} ({} s) was explored, the rest not\n",
             cycle as f64 * scenario.cycle
         ),

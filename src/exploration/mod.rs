@@ -223,7 +223,8 @@ pub struct Exploration {
     /// merged into another is counted with that one).
     pub failing_paths: Vec<u64>,
     /// `None` when the search covered every path; otherwise the earliest cycle from which it
-    /// did not: every path whose first optional rule fires before it was covered.
+    /// did not: every path whose first choice (an optional rule firing, a landing later than
+    /// its lower bound, an order other than the fired one) falls before it was covered.
     pub cut_at: Option<u64>,
     /// Wall time.
     pub wall: Duration,
