@@ -169,6 +169,16 @@ bad_scenario!(
     "a time at or after `from`",
     "1 or more cycles"
 );
+// Issue 17 item 1: `Between` intervals, their `choose` delays, `deliver` orders.
+bad_scenario!(
+    between_interval,
+    "before it opens at 60 s",
+    "is not the start of an interval",
+    "an optional rule's effect cannot land in an interval",
+    "outside the rule's interval",
+    "2.5 s is not the time of a cycle",
+    "did you mean `fine`?"
+);
 bad_scenario!(
     choose_unknown,
     "no optional rule `PDE powers up`",

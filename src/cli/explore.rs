@@ -1,5 +1,6 @@
 //! `kairos explore SCENARIO [--faults N] [--depth D] [--budget STATES|SECONDSs] [--jobs J]`:
-//! every path of a scenario its `Optional` rules allow, every expectation checked on each
+//! every path of a scenario its `Optional` rules, `Between` delays and simultaneous deliveries
+//! allow, every expectation checked on each
 //! (`kairos::exploration`; DESIGN.md §16, thesis §8.1).
 //!
 //! Prints what was explored (states, paths, time, what the budget left out) and, for each
@@ -28,8 +29,9 @@ use super::output::emit;
 /// and `--quiet` apply).
 #[derive(clap::Args)]
 pub struct ExploreArgs {
-    /// The scenario (its `Optional` rules are what is explored), or a rover scenario (the
-    /// interleavings of its controller protocol).
+    /// The scenario (its `Optional` rules, `Between` delays and contending simultaneous
+    /// deliveries are what is explored), or a rover scenario (the interleavings of its
+    /// controller protocol).
     pub scenario: PathBuf,
     /// At most this many optional rules fire on a path.
     #[arg(long, default_value_t = 1)]
@@ -138,7 +140,8 @@ fn summary(scenario: &Scenario, options: &ExploreOptions, explored: &Exploration
     text.push_str(&match explored.cut_at {
         None => "covered: every path\n".to_string(),
         Some(cycle) => format!(
-            "covered: partly — the budget ran out; every path whose first optional rule fires \
+            "covered: partly — the budget ran out; every path whose first choice (an optional \
+             rule, a later landing, another order) falls \
              before cycle {cycle} ({} s) was explored, the rest not\n",
             cycle as f64 * scenario.cycle
         ),
@@ -177,10 +180,11 @@ fn describe(
         Finding::Error(message) => format!("the run stops: {message}"),
     };
     let rules = scenario.script.rules();
+    let time = |cycle: u64| cycle as f64 * scenario.cycle;
     let path: Vec<String> = (counterexample.choices.iter())
         .map(|c| {
-            let time = c.cycle as f64 * scenario.cycle;
-            format!("`{}` at {time} s (cycle {})", rules[c.rule].name, c.cycle)
+            let at = time(c.cycle);
+            format!("`{}` at {at} s (cycle {})", rules[c.rule].name, c.cycle)
         })
         .collect();
     let path = if path.is_empty() {
@@ -188,6 +192,29 @@ fn describe(
     } else {
         path.join(", then ")
     };
+    let landed = (counterexample.landings.iter()).map(|l| {
+        let (fired, lands) = (time(l.fired), time(l.lands));
+        format!(
+            "`{}` fired at {fired} s lands at {lands} s (cycle {})",
+            rules[l.rule].name, l.lands
+        )
+    });
+    let delivered = (counterexample.deliveries.iter()).map(|d| {
+        let names: Vec<String> = (d.order.iter())
+            .map(|&r| format!("`{}`", rules[r].name))
+            .collect();
+        let at = time(d.cycle);
+        format!(
+            "at {at} s (cycle {}) applied {}",
+            d.cycle,
+            names.join(" then ")
+        )
+    });
+    let path: String = std::iter::once(path)
+        .chain(landed)
+        .chain(delivered)
+        .collect::<Vec<String>>()
+        .join("; ");
     let mut text = format!(
         "\ncounterexample {k}: {what}\n  at cycle {} ({} s); path: {path}\n",
         counterexample.cycle,

@@ -8,7 +8,19 @@
 //! cycle of its window whose number is a multiple of `every`, or never, with at most
 //! [`ExploreOptions::faults`] of them per path. Everything else — the executive, the rest of the
 //! script — is deterministic, so the paths are exactly the choices of which optional rules fire
-//! and when.
+//! and when, where in its interval each timed response lands, and in which order simultaneous
+//! deliveries are applied.
+//!
+//! # Timed responses and delivery orders
+//! A rule with `after: Between(from, to)` lands its effect at any cycle whose time is in
+//! [fired + from, fired + to] (the cycles in it, or the first after `from` when none is; one
+//! cycle past the scenario's end stands for every later one). The delay is chosen at the rule's
+//! first firing on a path and kept for its later ones (`simulation::script::open` says why);
+//! the path that takes the lower bound — what `kairos run` does — goes on, every later landing
+//! is a branch. When effects due in one cycle contend (write a common name differently), the
+//! search branches over one order per distinct outcome; otherwise it does not branch. Neither
+//! counts as a fault ([`ExploreOptions::faults`] bounds optional rules only). A counterexample
+//! pins its landings in `choose` (the delay) and its orders in `deliver`, so it replays.
 //!
 //! # The search
 //! A depth-first walk (memory: one saved state per fault on the current path, rather than a
@@ -40,6 +52,7 @@
 //! [`Executive::fingerprint`]: crate::executive::Executive::fingerprint
 
 pub mod deep;
+mod landing;
 mod replay;
 mod search;
 
@@ -96,6 +109,28 @@ pub struct Choice {
     pub rule: usize,
 }
 
+/// Where a timed response with an interval landed on a path (one per rule: its first firing's
+/// delay is kept for the later ones).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Landing {
+    /// The rule, by index into the script's rules.
+    pub rule: usize,
+    /// The cycle it first fired at.
+    pub fired: u64,
+    /// The cycle its effect landed at.
+    pub lands: u64,
+}
+
+/// The order simultaneous effects were applied in at a cycle, where it differed from the
+/// order their rules fired.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Delivery {
+    /// The cycle.
+    pub cycle: u64,
+    /// The rules whose effects were applied, in that order.
+    pub order: Vec<usize>,
+}
+
 /// What a counterexample shows.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Finding {
@@ -121,13 +156,24 @@ pub struct Counterexample {
     pub cycle: u64,
     /// The optional rules that fired, in order.
     pub choices: Vec<Choice>,
+    /// The timed responses that landed later than their interval's lower bound.
+    pub landings: Vec<Landing>,
+    /// The cycles whose simultaneous effects were applied out of their fired order.
+    pub deliveries: Vec<Delivery>,
 }
 
 impl Counterexample {
     /// The ordering that makes one counterexample shorter than another: cycles, then the
-    /// number of firings, then the firings themselves.
-    fn key(&self) -> (u64, usize, &[Choice]) {
-        (self.cycle, self.choices.len(), &self.choices)
+    /// number of firings, then the firings themselves, then the other choices.
+    fn key(&self) -> (u64, usize, &[Choice], usize, &[Landing], &[Delivery]) {
+        (
+            self.cycle,
+            self.choices.len(),
+            &self.choices,
+            self.landings.len() + self.deliveries.len(),
+            &self.landings,
+            &self.deliveries,
+        )
     }
 }
 
@@ -177,7 +223,8 @@ pub struct Exploration {
     /// merged into another is counted with that one).
     pub failing_paths: Vec<u64>,
     /// `None` when the search covered every path; otherwise the earliest cycle from which it
-    /// did not: every path whose first optional rule fires before it was covered.
+    /// did not: every path whose first choice (an optional rule firing, a landing later than
+    /// its lower bound, an order other than the fired one) falls before it was covered.
     pub cut_at: Option<u64>,
     /// Wall time.
     pub wall: Duration,
@@ -201,9 +248,9 @@ pub enum ExploreError {
         "a model-driven plant (`simulator: Model(...)`) draws its own faults; `kairos explore` explores a script's `Optional` rules"
     )]
     ModelDriven,
-    /// A scenario whose `choose` pins optional rules is one path (a replay).
+    /// A scenario whose `choose` or `deliver` pins its choices is one path (a replay).
     #[error(
-        "the scenario pins its optional rules with `choose` (a replay is one path): explore the scenario without it"
+        "the scenario pins its choices with `choose` or `deliver` (a replay is one path): explore the scenario without them"
     )]
     Pinned,
 }
@@ -218,7 +265,7 @@ pub fn explore(
     if scenario.model.is_some() {
         return Err(ExploreError::ModelDriven);
     }
-    if !scenario.script.pinned().is_empty() {
+    if !scenario.script.pinned().is_empty() || !scenario.script.deliveries().is_empty() {
         return Err(ExploreError::Pinned);
     }
     let started = Instant::now();

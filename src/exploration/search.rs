@@ -6,7 +6,8 @@ use std::time::Instant;
 
 use rustc_hash::FxHashMap;
 
-use super::{Choice, Counterexample, Finding, PathCounts, keep_shortest};
+use super::landing;
+use super::{Choice, Counterexample, Delivery, Finding, Landing, PathCounts, keep_shortest};
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
 use crate::executive::{BuildError, Executive, NamedValue, Retention, Step};
 use crate::simulation::{
@@ -45,6 +46,10 @@ struct Node<'s> {
     plant: ScriptedPlant<'s>,
     checker: Checker<'s>,
     choices: Vec<Choice>,
+    /// Timed responses landed later than their lower bound.
+    landings: Vec<Landing>,
+    /// Simultaneous effects applied out of their fired order.
+    deliveries: Vec<Delivery>,
     /// The next cycle to run.
     cycle: u64,
 }
@@ -119,9 +124,11 @@ impl<'s, 'p> Worker<'s, 'p> {
             retention: Some(retention),
             ..RunOptions::default()
         };
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        plant.leave_open();
         let root = Node {
             executive: build_executive(scenario, options)?,
-            plant: ScriptedPlant::new(&scenario.script),
+            plant,
             checker: Checker::new(
                 &scenario.expectations,
                 Names {
@@ -131,6 +138,8 @@ impl<'s, 'p> Worker<'s, 'p> {
                 },
             ),
             choices: Vec::new(),
+            landings: Vec::new(),
+            deliveries: Vec::new(),
             cycle: 0,
         };
         self.walk(root, true);
@@ -146,7 +155,9 @@ impl<'s, 'p> Worker<'s, 'p> {
     }
 
     /// Follows `node`'s path to its end, branching into every alternative at every cycle (on
-    /// the fault-free path, into the alternatives this worker owns).
+    /// the fault-free path, into the alternatives this worker owns): which optional rules fire,
+    /// in which order contending effects due are applied (the fired order is the node's own),
+    /// and where timed responses fired in the cycle land ([`Worker::land`]).
     fn walk(&mut self, mut node: Node<'s>, spine: bool) {
         loop {
             if spine {
@@ -156,26 +167,86 @@ impl<'s, 'p> Worker<'s, 'p> {
                 self.cut_at = Some(self.spine_cycle);
                 return;
             }
-            for forced in self.alternatives(&node) {
-                let owned = !spine || {
-                    let ordinal = self.ordinal;
-                    self.ordinal += 1;
-                    ordinal % self.jobs == self.worker
-                };
-                if !owned {
+            let orders = (node.plant).delivery_orders(node.cycle, self.time(node.cycle));
+            let optional = self.alternatives(&node);
+            for (k, order) in orders.iter().enumerate() {
+                // The fired order without an optional rule is the node's own path.
+                let none = (k > 0).then(Vec::new);
+                for forced in none.into_iter().chain(optional.iter().cloned()) {
+                    if !self.owns(spine) {
+                        continue;
+                    }
+                    let mut child = node.clone();
+                    if k > 0 {
+                        child.plant.force_order(order);
+                        let cycle = node.cycle;
+                        let order = order.clone();
+                        child.deliveries.push(Delivery { cycle, order });
+                    }
+                    self.branch(child, &forced);
+                    if self.cut_at.is_some() {
+                        return;
+                    }
+                }
+            }
+            if self.advance(&mut node, &[], spine) == Next::Stop {
+                return;
+            }
+            self.land(&mut node, spine);
+            if self.cut_at.is_some() {
+                return;
+            }
+        }
+    }
+
+    /// Runs a branch's first cycle with the `forced` optional rules and walks on from it.
+    fn branch(&mut self, mut child: Node<'s>, forced: &[usize]) {
+        if self.advance(&mut child, forced, false) == Next::Continue {
+            self.land(&mut child, false);
+            if self.cut_at.is_none() {
+                self.walk(child, false);
+            }
+        }
+    }
+
+    /// True when this worker explores the next alternative: every one off a branch, and those
+    /// off the fault-free path whose ordinal is its own modulo the workers.
+    fn owns(&mut self, spine: bool) -> bool {
+        !spine || {
+            let ordinal = self.ordinal;
+            self.ordinal += 1;
+            ordinal % self.jobs == self.worker
+        }
+    }
+
+    /// Chooses where the timed responses fired in `node`'s last cycle land: `node` takes each
+    /// one's interval's lower bound (what a run does), and every later landing cycle is a
+    /// branch walked from here.
+    fn land(&mut self, node: &mut Node<'s>, spine: bool) {
+        let scenario = self.scenario;
+        while let Some(open) = node.plant.open_landing() {
+            let cycles = landing::cycles(scenario, open, node.cycle);
+            for &lands in cycles.iter().skip(1) {
+                if !self.owns(spine) {
                     continue;
                 }
                 let mut child = node.clone();
-                if self.advance(&mut child, &forced, false) == Next::Continue {
+                child
+                    .plant
+                    .land(open.rule, landing::delay(scenario, open, lands));
+                let fired = landing::cycle_of(scenario, open.fired);
+                let rule = open.rule;
+                child.landings.push(Landing { rule, fired, lands });
+                self.land(&mut child, false);
+                if self.cut_at.is_none() {
                     self.walk(child, false);
                 }
                 if self.cut_at.is_some() {
                     return;
                 }
             }
-            if self.advance(&mut node, &[], spine) == Next::Stop {
-                return;
-            }
+            node.plant
+                .land(open.rule, landing::lower_bound(scenario, open));
         }
     }
 
@@ -226,7 +297,7 @@ impl<'s, 'p> Worker<'s, 'p> {
             Err(message) => {
                 self.paths.errors += u64::from(self.counts(spine));
                 let finding = Finding::Error(message);
-                self.record(finding, cycle, &node.choices);
+                self.record(finding, cycle, node);
                 return Next::Stop;
             }
         };
@@ -248,7 +319,7 @@ impl<'s, 'p> Worker<'s, 'p> {
             .collect();
         for (expectation, reason) in failed {
             let finding = self.violated(expectation, reason);
-            self.record(finding, cycle, &node.choices);
+            self.record(finding, cycle, node);
         }
         if !self.first_visit(node, spine) {
             self.paths.merged += 1;
@@ -343,7 +414,7 @@ impl<'s, 'p> Worker<'s, 'p> {
             if let crate::simulation::Outcome::Failed { reason } = verdict.outcome {
                 self.failing_paths[expectation] += counted;
                 let finding = self.violated(expectation, reason);
-                self.record(finding, last, &node.choices);
+                self.record(finding, last, node);
             }
         }
     }
@@ -356,11 +427,13 @@ impl<'s, 'p> Worker<'s, 'p> {
         }
     }
 
-    fn record(&mut self, finding: Finding, cycle: u64, choices: &[Choice]) {
+    fn record(&mut self, finding: Finding, cycle: u64, node: &Node<'s>) {
         let candidate = Counterexample {
             finding,
             cycle,
-            choices: choices.to_vec(),
+            choices: node.choices.clone(),
+            landings: node.landings.clone(),
+            deliveries: node.deliveries.clone(),
         };
         keep_shortest(&mut self.found, candidate);
     }

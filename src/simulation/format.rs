@@ -44,6 +44,17 @@ pub(super) struct ScenarioFile {
     pub(super) simulator: Option<SimulatorFile>,
     #[serde(default)]
     pub(super) choose: Entries<f64>,
+    #[serde(default)]
+    pub(super) deliver: Vec<DeliverFile>,
+}
+
+/// `(at: 12.0, order: ["valve closes", "valve opens"])`: the order a run applies the effects
+/// due at the cycle at that time in (a counterexample of `kairos explore`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct DeliverFile {
+    pub(super) at: f64,
+    pub(super) order: Vec<String>,
 }
 
 /// `Model(seed: 7, faults: ["valve1 = stuck-closed @ 17103 s"], noise: 0.01)`: the plant
@@ -118,6 +129,8 @@ pub(super) enum TriggerFile {
 pub(super) enum DelayFile {
     Cycles(i64),
     Seconds(f64),
+    /// An interval of seconds, `Between(from, to)` (rules only).
+    Between(f64, f64),
 }
 
 /// One expectation.

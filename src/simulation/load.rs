@@ -119,6 +119,12 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
     let mut script = super::load_script::script(&plant, mission, &mut parts, settings.end);
     drop(parts);
     script.pinned = super::load_script::pinned(&mut ctx, &file.choose, &script);
+    script.deliveries = super::load_deliver::deliveries(
+        &mut ctx,
+        &file.deliver,
+        &script,
+        (settings.cycle, settings.end),
+    );
     let model = super::load_model::model_config(&mut ctx, &file, &plant, settings.end);
     let believed = believed(&mut ctx, &file.believed, &plant);
     let expectations = super::load_expect::expectations(
@@ -652,6 +658,7 @@ pub(super) fn empty_script(plant: &Plant) -> Script {
         initial: Vec::new(),
         rules: Vec::new(),
         pinned: Vec::new(),
+        deliveries: Vec::new(),
     }
 }
 

@@ -204,6 +204,10 @@ impl RuleLoader<'_> {
             trigger,
             condition,
             delay: delay?,
+            interval: match file.after {
+                Some(DelayFile::Between(from, to)) => Some((from, to)),
+                _ => None,
+            },
             effect: effect?,
             // An optional rule is a fault the plant may have: the log highlights it as one.
             once: file.once || optional,
@@ -454,6 +458,7 @@ fn delay(
             ctx.error(&inner, format!("{s} s is not a delay"), "0 or more seconds");
             return None;
         }
+        Some(DelayFile::Between(from, to)) => interval(ctx, path, from, to, trigger)?,
     };
     let immediate = matches!(delay, Delay::Cycles(0)) || delay == Delay::Seconds(0.0);
     if trigger.after_the_step() && immediate {
@@ -467,7 +472,45 @@ fn delay(
     Some(delay)
 }
 
-/// The scenario's `choose`: each name an optional rule, each time within its window.
+/// `Between(from, to)`: seconds, `from` more than 0 and `to` at least `from`, not on an optional
+/// rule (its firing time is the open choice already, and `choose` pins one number per rule).
+/// The run's delay is `from`.
+fn interval(
+    ctx: &mut FileCtx,
+    path: &[Step],
+    from: f64,
+    to: f64,
+    trigger: &Trigger,
+) -> Option<Delay> {
+    let bound = |k: usize| with(path.to_vec(), Step::Index(k));
+    let before = ctx.errors.len();
+    if trigger.is_optional() {
+        ctx.error(
+            path,
+            "an optional rule's effect cannot land in an interval",
+            "Cycles(n) or Seconds(s): the optional rule's firing time is already open",
+        );
+    }
+    if !(from.is_finite() && from > 0.0) {
+        // A lower bound of 0 would let a time rule's response land in its own cycle, which
+        // exploration (choosing the landing after the cycle) could not offer.
+        ctx.error(
+            &bound(0),
+            format!("{from} s is not the start of an interval"),
+            "more than 0 seconds (Seconds(0.0) or no `after` for an immediate response)",
+        );
+    } else if !(to.is_finite() && to >= from) {
+        ctx.error(
+            &bound(1),
+            format!("the interval closes at {to} s, before it opens at {from} s"),
+            "a delay in seconds at or after the interval's first",
+        );
+    }
+    (ctx.errors.len() == before).then_some(Delay::Seconds(from))
+}
+
+/// The scenario's `choose`: each name an optional rule, each time within its window; or a rule
+/// with an interval, each delay within it.
 pub(super) fn pinned(
     ctx: &mut FileCtx,
     choose: &Entries<f64>,
@@ -482,14 +525,17 @@ pub(super) fn pinned(
             .filter(|r| r.trigger.is_optional())
             .map(|r| r.name.as_str())
             .collect();
-        let Some(i) = script
-            .rule_named(name)
-            .filter(|&i| script.rules[i].trigger.is_optional())
-        else {
-            let mut diagnostic =
-                Diagnostic::new(format!("no optional rule `{name}`"), ctx.span(&key))
-                    .expected("the name of a rule with an `Optional(...)` trigger")
-                    .note(format!("optional rules: {}", optional.join(", ")));
+        let Some(i) = script.rule_named(name).filter(|&i| {
+            script.rules[i].trigger.is_optional() || script.rules[i].interval.is_some()
+        }) else {
+            let mut diagnostic = Diagnostic::new(
+                format!("no optional rule `{name}`"),
+                ctx.span(&key),
+            )
+            .expected(
+                "the name of a rule with an `Optional(...)` trigger or a `Between(...)` delay",
+            )
+            .note(format!("optional rules: {}", optional.join(", ")));
             if let Some(close) = did_you_mean(name, optional.iter().copied()) {
                 diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
             }
@@ -502,6 +548,16 @@ pub(super) fn pinned(
                     &[Step::Field("choose"), Step::Value(name)],
                     format!("{at} s is outside the rule's window, {from} s to {to} s"),
                     "a time within the rule's `Optional` window",
+                );
+                continue;
+            }
+        }
+        if let Some((from, to)) = script.rules[i].interval {
+            if !(at >= from - TIME_EPSILON && at <= to + TIME_EPSILON) {
+                ctx.error(
+                    &[Step::Field("choose"), Step::Value(name)],
+                    format!("a delay of {at} s is outside the rule's interval, {from} s to {to} s"),
+                    "a delay within the rule's `Between` interval",
                 );
                 continue;
             }

@@ -58,7 +58,8 @@
 //!     on: Command("PDE.cmd = engine-standby"),  // the trigger (below)
 //!     when: "pde = on and engine.power = zero", // optional condition over observables and
 //!                                               // hidden variables, the constraint language
-//!     after: Cycles(1),                         // optional delay: Cycles(n) or Seconds(s)
+//!     after: Cycles(1),                         // optional delay: Cycles(n), Seconds(s) or
+//!                                               // Between(from, to) seconds (below)
 //!     set: { "engine.power": "nominal" },       // values from then on
 //!     drop: ["engine.temp"],                    // observables no longer reported (drop-out),
 //!                                               // or garbled names no longer reported
@@ -99,6 +100,25 @@
 //! effects due are applied in the order their rules fired, then time and cycle rules fire, then
 //! the plant reports; after the executive's cycle, command rules and then estimate rules fire.
 //! The condition is tested when the rule fires, on the values the plant reported in that cycle.
+//!
+//! A timed response whose time is uncertain takes an interval: `after: Between(30.0, 60.0)`
+//! (seconds, the first more than 0, the second at least the first) lands the effect at any
+//! cycle whose time is in [fired + 30 s, fired + 60 s] — or, when no cycle's is, the first
+//! after fired + 30 s. A run takes the lower bound (as `Seconds(30.0)` would) unless the
+//! scenario pins the delay: `choose: { "heating ends": 45.0 }` (a delay within the interval, a
+//! located error otherwise) is the delay of every firing of that rule. `kairos explore` tries
+//! every landing cycle, the delay chosen at the rule's first firing on a path and kept for its
+//! later ones (an interval is an uncertain property of the device, not jitter). An optional
+//! rule cannot have an interval (its firing time is the open choice already).
+//!
+//! Effects due at the same cycle are applied in the order their rules fired. Nothing can see
+//! the values between two of them (conditions are tested after all are applied), so the order
+//! matters only where two write the same observable, hidden variable or garbled name
+//! differently; `kairos explore` then tries one order per distinct outcome. A run follows
+//! `deliver: [(at: 12.0, order: ["valve opens", "surge"])]`: at the cycle at that time (a
+//! multiple of the period), the effects due are applied in that order — every rule whose
+//! effect is due, each as often as it is due; an order that is not exactly that is ignored
+//! (the fired order). `kairos explore` writes its counterexamples with it.
 //!
 //! Examples, one per trigger:
 //! ```ron
@@ -243,6 +263,7 @@
 mod expect;
 mod format;
 mod load;
+mod load_deliver;
 mod load_expect;
 mod load_model;
 mod load_script;
@@ -263,7 +284,9 @@ pub use model_plant::{FaultDrawn, ForcedFault, ModelPlant, ModelPlantConfig};
 pub(crate) use run::build as build_executive;
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
 pub(crate) use run::{report_refusals, submit_due};
-pub use script::{Delay, Effect, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger};
+pub use script::{
+    Delay, Effect, OpenLanding, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger,
+};
 
 use crate::diagnostic::{Source, SourceErrors};
 use crate::executive::{ControlProgram, ScheduledMission};

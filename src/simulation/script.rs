@@ -18,6 +18,13 @@
 //! 3. [`send`](ControlAdapter::send): command rules fire on μ(i); their effects are due at cycle
 //!    i + 1 at the earliest.
 //! 4. [`estimated`](ScriptedPlant::estimated): estimate rules fire on ŝ(i); effects likewise.
+//!
+//! What `kairos explore` leaves open beyond optional rules — where in its interval a timed
+//! response lands, and the order of simultaneous deliveries — is in [`open`].
+
+mod open;
+
+pub use open::OpenLanding;
 
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
 use crate::executive::{NamedValue, Submission};
@@ -46,6 +53,9 @@ pub struct Script {
     /// Optional rules a run fires, at the first cycle at or after the time (rule index, time):
     /// the scenario's `choose`.
     pub(crate) pinned: Vec<(usize, f64)>,
+    /// Orders of simultaneous deliveries a run follows (time of the cycle, the rules whose
+    /// effects are due then, in the order they are applied): the scenario's `deliver`.
+    pub(crate) deliveries: Vec<(f64, Vec<usize>)>,
 }
 
 impl Script {
@@ -74,9 +84,15 @@ impl Script {
         &self.hidden
     }
 
-    /// The optional rules a run fires and the times it fires them at (the scenario's `choose`).
+    /// The scenario's `choose`: the optional rules a run fires and the times it fires them at,
+    /// and the delays a run takes for rules with an interval ([`Rule::interval`]).
     pub fn pinned(&self) -> &[(usize, f64)] {
         &self.pinned
+    }
+
+    /// The scenario's `deliver`: the orders a run applies simultaneous effects in.
+    pub fn deliveries(&self) -> &[(f64, Vec<usize>)] {
+        &self.deliveries
     }
 }
 
@@ -108,8 +124,12 @@ pub struct Rule {
     pub trigger: Trigger,
     /// It fires only while this holds over the plant's values (observables and hidden).
     pub condition: Option<Formula>,
-    /// How long after firing its effect shows.
+    /// How long after firing its effect shows (for a rule with an interval, its lower bound).
     pub delay: Delay,
+    /// `after: Between(from, to)`: the effect lands at any cycle whose time is in
+    /// [fired + from, fired + to] seconds. A run takes `from` unless `choose` pins another
+    /// delay; `kairos explore` tries every such cycle.
+    pub interval: Option<(f64, f64)>,
     /// What it does.
     pub effect: Effect,
     /// Fires at most once.
@@ -216,6 +236,8 @@ enum Due {
     Cycle(u64),
     /// At the first cycle at or after this time, and not before this cycle.
     Time { at: f64, not_before: u64 },
+    /// Fired at this time with an interval whose landing `kairos explore` has yet to choose.
+    Open { fired: f64, not_before: u64 },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -267,6 +289,12 @@ pub struct ScriptedPlant<'s> {
     /// Rules whose effect, applied since the last [`take_submissions`](Self::take_submissions),
     /// submits goals.
     submitted: Vec<usize>,
+    /// True when intervals are left open for exploration ([`ScriptedPlant::leave_open`]).
+    open: bool,
+    /// The delay each rule with an interval takes on this path, once chosen.
+    landing: Vec<Option<f64>>,
+    /// The order to apply the effects due at the next cycle in ([`ScriptedPlant::force_order`]).
+    order: Option<Vec<usize>>,
 }
 
 impl<'s> ScriptedPlant<'s> {
@@ -290,6 +318,9 @@ impl<'s> ScriptedPlant<'s> {
             events: Vec::new(),
             forced: Vec::new(),
             submitted: Vec::new(),
+            open: false,
+            landing: vec![None; rules],
+            order: None,
         }
     }
 
@@ -315,7 +346,11 @@ impl<'s> ScriptedPlant<'s> {
             match pending.due {
                 Due::Cycle(n) => (0u8, n).hash(state),
                 Due::Time { at, not_before } => (1u8, at.to_bits(), not_before).hash(state),
+                Due::Open { fired, not_before } => (2u8, fired.to_bits(), not_before).hash(state),
             }
+        }
+        for landing in &self.landing {
+            landing.map(f64::to_bits).hash(state);
         }
         self.held.hash(state);
         for (count, first) in self.fired.iter().zip(&self.first_fired) {
@@ -417,13 +452,7 @@ impl<'s> ScriptedPlant<'s> {
         self.fired[i] += 1;
         self.first_fired[i].get_or_insert((cycle, self.time));
         self.push_event(i, PlantEventKind::Fired);
-        let due = match rule.delay {
-            Delay::Cycles(n) => Due::Cycle((cycle + n).max(earliest)),
-            Delay::Seconds(s) => Due::Time {
-                at: self.time + s,
-                not_before: earliest,
-            },
-        };
+        let due = self.due(i, cycle, earliest);
         if self.is_due(due) {
             self.apply(i);
         } else {
@@ -432,13 +461,8 @@ impl<'s> ScriptedPlant<'s> {
     }
 
     fn is_due(&self, due: Due) -> bool {
-        let Some(cycle) = self.cycle else {
-            return false;
-        };
-        match due {
-            Due::Cycle(n) => n <= cycle,
-            Due::Time { at, not_before } => cycle >= not_before && self.time >= at - TIME_EPSILON,
-        }
+        self.cycle
+            .is_some_and(|cycle| due_at(due, cycle, self.time))
     }
 
     fn apply(&mut self, i: usize) {
@@ -476,16 +500,16 @@ impl<'s> ScriptedPlant<'s> {
         });
     }
 
-    /// Applies the effects due now, in the order their rules fired.
+    /// Applies the effects due now, in the order their rules fired unless an order is forced
+    /// or pinned for this cycle ([`open`]).
     fn apply_due(&mut self) {
-        let mut i = 0;
-        while i < self.pending.len() {
-            if self.is_due(self.pending[i].due) {
-                let pending = self.pending.remove(i);
-                self.apply(pending.rule);
-            } else {
-                i += 1;
-            }
+        let (due, waiting): (Vec<Pending>, Vec<Pending>) = std::mem::take(&mut self.pending)
+            .into_iter()
+            .partition(|p| self.is_due(p.due));
+        self.pending = waiting;
+        let fired: Vec<usize> = due.iter().map(|p| p.rule).collect();
+        for rule in self.delivery_order(fired) {
+            self.apply(rule);
         }
     }
 
@@ -567,12 +591,22 @@ impl<'s> ScriptedPlant<'s> {
     }
 }
 
+/// True when an effect due `due` applies at this cycle and time.
+fn due_at(due: Due, cycle: u64, time: f64) -> bool {
+    match due {
+        Due::Cycle(n) => n <= cycle,
+        Due::Time { at, not_before } => cycle >= not_before && time >= at - TIME_EPSILON,
+        Due::Open { .. } => false,
+    }
+}
+
 impl MonitorAdapter for ScriptedPlant<'_> {
     fn observe(&mut self, time: f64) -> Vec<NamedValue> {
         let cycle = self.cycle.map_or(0, |c| c + 1);
         self.cycle = Some(cycle);
         self.time = time;
         self.apply_due();
+        self.order = None;
         self.fire_timed();
         self.forced.clear();
         self.report()
