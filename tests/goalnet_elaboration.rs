@@ -403,7 +403,7 @@ fn test_9_sensor_failure_leaves_no_tactic_and_safes_once() {
         .find(|l| l.contains(" response "))
         .expect("a response");
     assert!(
-        response.starts_with("188 response stay-warm.sensor failed: sensor = failed (p 1) → fail up → stay-warm: no tactic left (")
+        response.starts_with("188 response stay-warm.sensor failed: sensor = failed (p 1.00) → fail up → stay-warm: no tactic left (")
             && response.ends_with(") → stay-warm is a root → safing"),
         "{response}"
     );
@@ -447,14 +447,14 @@ fn ignore_budget_and_a_custom_safe_network() {
             "0 chosen hold 1",
             "0 promoted",
             "3 failed watch",
-            "3 response watch failed: switch2 = closed (p 1) → ignored",
+            "3 response watch failed: switch2 = closed (p 1.00) → ignored",
             "5 failed hold.keep",
-            "5 response hold.keep failed: switch1 = closed (p 1) → fail up → hold re-elaborated \
+            "5 response hold.keep failed: switch1 = closed (p 1.00) → fail up → hold re-elaborated \
              with tactic 2 → promoted",
             "5 chosen hold 2",
             "5 promoted",
             "10 failed hold.keep′",
-            "10 response hold.keep′ failed: switch1 = stuck-open (p 1) → fail up → hold: no \
+            "10 response hold.keep′ failed: switch1 = stuck-open (p 1.00) → fail up → hold: no \
              tactic left (its re-elaboration budget of 1 is spent) → hold is a root → safing",
             "10 safing",
         ]
@@ -565,9 +565,9 @@ fn safing_wins_over_re_elaboration_in_the_same_cycle() {
         [
             "188 failed know-all.switch1",
             "188 failed stay-warm.heater1",
-            "188 response know-all.switch1 failed: switch1 = stuck-open (p 0.6) → fail up → \
+            "188 response know-all.switch1 failed: switch1 = stuck-open (p 0.60) → fail up → \
              know-all is a root → safing",
-            "188 response stay-warm.heater1 failed: switch1 = stuck-open (p 0.6) → fail up → \
+            "188 response stay-warm.heater1 failed: switch1 = stuck-open (p 0.60) → fail up → \
              safing (another failure of this cycle)",
             "188 safing",
         ]

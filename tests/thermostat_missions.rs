@@ -375,7 +375,7 @@ fn system_test_7_reelaborates_with_tactic_2() {
         "1.000 s fired stay-warm.TP_A",
         "66.000 s fired TP_S",
         "187.000 s GOAL FAILED stay-warm.heater1: ŝ left the maintained set; ŝ has switch1 = stuck-open (p 1.00)",
-        "187.000 s RESPONSE stay-warm.heater1 failed: switch1 = stuck-open (p 1) → fail up → stay-warm re-elaborated with tactic 2 → promoted",
+        "187.000 s RESPONSE stay-warm.heater1 failed: switch1 = stuck-open (p 1.00) → fail up → stay-warm re-elaborated with tactic 2 → promoted",
         "187.000 s tactic stay-warm: tactic 2 chosen",
         "187.000 s promoted the proposed network (re-elaboration of stay-warm)",
         "188.000 s fired stay-warm.TP_A′",
@@ -392,7 +392,7 @@ fn system_test_8_reelaborates_with_tactic_2() {
         "1.000 s fired stay-warm.TP_A",
         "66.000 s fired TP_S",
         "187.000 s GOAL FAILED stay-warm.heater2: ŝ left the maintained set; ŝ has switch2 = stuck-closed (p 1.00)",
-        "187.000 s RESPONSE stay-warm.heater2 failed: switch2 = stuck-closed (p 1) → fail up → stay-warm re-elaborated with tactic 2 → promoted",
+        "187.000 s RESPONSE stay-warm.heater2 failed: switch2 = stuck-closed (p 1.00) → fail up → stay-warm re-elaborated with tactic 2 → promoted",
         "187.000 s tactic stay-warm: tactic 2 chosen",
         "187.000 s promoted the proposed network (re-elaboration of stay-warm)",
         "188.000 s fired stay-warm.TP_A′",
@@ -406,7 +406,7 @@ fn system_test_8_reelaborates_with_tactic_2() {
 #[test]
 fn system_test_9_leaves_no_tactic_and_safes_once() {
     let log = run_mission("system_test_9.ron");
-    let chain = "stay-warm.sensor failed: sensor = failed (p 1) → fail up → stay-warm: no \
+    let chain = "stay-warm.sensor failed: sensor = failed (p 1.00) → fail up → stay-warm: no \
                  tactic left (every tactic of `stay-warm` was rejected) → stay-warm is a root → \
                  safing";
     let mut expected: Vec<String> = NOMINAL.iter().map(|l| l.to_string()).collect();
@@ -486,7 +486,7 @@ fn the_trace_carries_the_controller_events() {
     assert_eq!(
         safing.map(String::as_str),
         Some(
-            "stay-warm.sensor failed: sensor = failed (p 1) → fail up → stay-warm: no tactic \
+            "stay-warm.sensor failed: sensor = failed (p 1.00) → fail up → stay-warm: no tactic \
              left (every tactic of `stay-warm` was rejected) → stay-warm is a root → safing"
         )
     );

@@ -129,12 +129,11 @@ impl fmt::Display for ResponseStep {
 
 impl fmt::Display for Explanation {
     fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        // Two decimals: 0.97, and 1 for a certain mode.
-        let p = (self.probability * 100.0).round() / 100.0;
+        // Two decimals, as the log's diagnoses print a probability.
         write!(
             f,
-            "{} failed: {} = {} (p {p})",
-            self.goal, self.sv, self.mode
+            "{} failed: {} = {} (p {:.2})",
+            self.goal, self.sv, self.mode, self.probability
         )?;
         for step in &self.steps {
             write!(f, " → {step}")?;
