@@ -18,7 +18,8 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/thermostat";
 
 /// The mission scenarios of the directory, one test each below.
-const MISSIONS: [&str; 11] = [
+const MISSIONS: [&str; 12] = [
+    "campaign.ron",
     "know_all.ron",
     "stay_warm_mission.ron",
     "stay_warm_submitted.ron",
@@ -56,6 +57,40 @@ fn every_mission_scenario_of_the_directory_is_run() {
         ],
         "tests/thermostat_missions.rs",
     );
+}
+
+/// Issue 18's thermostat campaign against the sampled model, and the run of it that found a
+/// defect (DESIGN.md §15, mds-goal-networks.md §2.5 step 4 and §2.7): switch 1 sticks open while
+/// the device warms, so `stay-warm.heater1` and `stay-warm.get-warm.heater1` fail in the same
+/// cycle; both fail up, to `stay-warm` and to `stay-warm.get-warm`. Re-elaborating `stay-warm`
+/// replaces its whole subtree, `get-warm` included, so `get-warm` must not be re-elaborated
+/// again in that cycle (it once was, from the removed elaboration, and the promoted network
+/// contradicted itself: no point fired after it). Now the second chain says it was replaced,
+/// tactic 2 holds the device warm and StayWarm's end fires.
+#[test]
+fn two_failures_under_one_re_elaboration_are_answered_once() {
+    let (code, stdout, stderr) = kairos(&[
+        "run",
+        "scenarios/thermostat/campaign.ron",
+        "--seed",
+        "1037798258207736689",
+    ]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    assert_in_order(
+        &stdout,
+        &[
+            "DIAGNOSIS switch1 = stuck-open (p 1.00)",
+            "RESPONSE stay-warm.heater1 failed: switch1 = stuck-open (p 1.00) → fail up → \
+             stay-warm re-elaborated with tactic 2 → promoted",
+            "RESPONSE stay-warm.get-warm.heater1 failed: switch1 = stuck-open (p 1.00) → fail up \
+             → replaced by the re-elaboration of stay-warm",
+            "promoted the proposed network (re-elaboration of stay-warm)",
+            "fired TP_S",
+            "fired TP_E",
+        ],
+    );
+    assert!(!stdout.contains("TEMPORAL"), "{stdout}");
+    assert_eq!(stdout.matches("promoted ").count(), 1, "{stdout}");
 }
 
 /// System test 1 (seed 000 App. A, Table 7): every SV known for 1,000 s, the points fire at their

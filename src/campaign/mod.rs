@@ -75,8 +75,9 @@ pub struct RunRecord {
     pub first_failure: Option<String>,
     /// The faults, oldest first.
     pub faults: Vec<FaultRecord>,
-    /// True when the executive reported a failure it could not recover from (a `GoalFailed` or
-    /// `PlanFailed` event): a run that failed without it failed silently.
+    /// True when the executive reported a failure (a `GoalFailed` or `PlanFailed` event, or for
+    /// a mission a `MissionGoalFailed` or `Safing`): a run that failed without one failed
+    /// silently.
     pub failure_reported: bool,
     /// Cycles run.
     pub cycles: u64,
@@ -134,7 +135,10 @@ pub fn run_one(scenario: &Scenario, index: u64, seed: u64) -> RunRecord {
                     EventKind::Diagnosis {
                         component, mode, ..
                     } => diagnoses.push((*component, mode.clone(), record.step.time)),
-                    EventKind::GoalFailed { .. } | EventKind::PlanFailed { .. } => {
+                    EventKind::GoalFailed { .. }
+                    | EventKind::PlanFailed { .. }
+                    | EventKind::MissionGoalFailed { .. }
+                    | EventKind::Safing { .. } => {
                         failure_reported = true;
                     }
                     _ => {}

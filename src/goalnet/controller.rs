@@ -314,12 +314,26 @@ impl GoalController {
         let mut work = Vec::new();
         // Safing wins: no re-elaboration when a failure already leads there.
         if !chains.iter().any(|c| c.2 == Outcome::Safing) {
+            // Ancestors first: re-elaborating a goal replaces its whole subtree, so a goal
+            // inside it is not re-elaborated again (it would resurrect what was removed).
+            let mut order: Vec<usize> = (0..chains.len()).collect();
+            order.sort_by_key(|&i| match chains[i].2 {
+                Outcome::ReElaborate(target) => self.depth(target),
+                _ => 0,
+            });
             let mut done: Vec<(GoalId, Vec<ResponseStep>, Outcome)> = Vec::new();
-            for (_, explanation, outcome) in &mut chains {
+            for i in order {
+                let (_, explanation, outcome) = &mut chains[i];
                 while let Outcome::ReElaborate(target) = *outcome {
-                    let (steps, next) = match done.iter().find(|d| d.0 == target) {
-                        Some((_, steps, next)) => (steps.clone(), *next),
-                        None => {
+                    let shared = done.iter().find(|d| d.0 == target);
+                    let replaced_by = done.iter().find(|d| self.is_inside(target, d.0));
+                    let (steps, next) = match (shared, replaced_by) {
+                        (Some((_, steps, next)), _) => (steps.clone(), *next),
+                        (None, Some((by, _, _))) => {
+                            let by = self.network().goal(*by).name.clone();
+                            (vec![ResponseStep::Replaced { by }], Outcome::Done)
+                        }
+                        (None, None) => {
                             let result =
                                 self.reelaborate(target, now, estimate, reconfiguration, &mut work);
                             done.push((target, result.0.clone(), result.1));
@@ -384,6 +398,22 @@ impl GoalController {
             probability,
             steps: Vec::new(),
         }
+    }
+
+    /// How many ancestors `goal` has in the elaboration tree.
+    fn depth(&self, goal: GoalId) -> usize {
+        std::iter::successors(self.network().goal(goal).parent, |g| {
+            self.network().goal(*g).parent
+        })
+        .count()
+    }
+
+    /// Whether `goal` lies strictly inside `ancestor`'s subtree.
+    fn is_inside(&self, goal: GoalId, ancestor: GoalId) -> bool {
+        std::iter::successors(self.network().goal(goal).parent, |g| {
+            self.network().goal(*g).parent
+        })
+        .any(|g| g == ancestor)
     }
 
     /// A goal's response as its type declares it (`FailUp` for a goal with no type).

@@ -90,6 +90,12 @@ pub enum ResponseStep {
     /// Another failure of the same cycle led to safing first, so this one's response (a
     /// re-elaboration) was not tried: safing wins (mds-goal-networks.md §2.5 step 4).
     Superseded,
+    /// The goal to re-elaborate lies inside the subtree of a goal another failure of the same
+    /// cycle re-elaborated: that re-elaboration replaced it, so it is not re-elaborated again.
+    Replaced {
+        /// The ancestor re-elaborated in this cycle.
+        by: String,
+    },
 }
 
 /// Why a goal failed and what was done about it: "heater1 failed: switch1 = stuck-open (p 0.97)
@@ -123,6 +129,7 @@ impl fmt::Display for ResponseStep {
             ResponseStep::Root { goal } => write!(f, "{goal} is a root"),
             ResponseStep::Safing => write!(f, "safing"),
             ResponseStep::Superseded => write!(f, "safing (another failure of this cycle)"),
+            ResponseStep::Replaced { by } => write!(f, "replaced by the re-elaboration of {by}"),
         }
     }
 }
