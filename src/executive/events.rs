@@ -117,6 +117,8 @@ pub enum EventKind {
         purpose: String,
         /// True when it repairs a fault.
         repair: bool,
+        /// The goals its transition serves (see [`Served`]); empty when none is asserted.
+        serves: Vec<Served>,
     },
     /// The planner started waiting for a transition that happens by itself.
     Waiting {
@@ -262,6 +264,33 @@ pub enum EventKind {
     Safing {
         /// The failure that led there, explained, on one line.
         cause: String,
+    },
+}
+
+/// A goal a command serves: the goal of the component the planner's descent started from
+/// (`reconfiguration::Command::serves`) — the PDE's `on` serves `engine = standby` when the
+/// engine's heating needs the PDE on. For a program, the conjuncts of g(i) whose formula names
+/// that component's mode; for a mission, the constituent goals of the XGoal active on it; when
+/// neither names it, its mode in the intended configuration (goal interpretation chose it, or
+/// it is kept from an earlier goal).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Served {
+    /// A goal the program asserts.
+    Program {
+        /// The goal, as text.
+        goal: String,
+        /// Where it is written.
+        span: Span,
+    },
+    /// A goal of the mission's network, by name.
+    Mission {
+        /// The goal's name.
+        goal: String,
+    },
+    /// The component's mode in the intended configuration, which no asserted goal names.
+    Intended {
+        /// `component = mode`, as text.
+        goal: String,
     },
 }
 

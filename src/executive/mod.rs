@@ -39,7 +39,7 @@ mod timeline;
 use std::time::{Duration, Instant};
 
 pub use control::ControlProgram;
-pub use events::{Event, EventKind};
+pub use events::{Event, EventKind, Served};
 pub use fingerprint::PROBABILITY_RESOLUTION;
 pub use load::LoadError;
 pub use mission::ScheduledMission;
@@ -499,7 +499,11 @@ impl Executive {
 
         let reconfiguration_started = Instant::now();
         let (goal_state, action) = self.reconfigure(goal.as_ref(), &mut log);
-        let command = self.issue(action.as_ref(), &mut log);
+        let purpose = Purpose {
+            goal: goal.as_ref(),
+            intended: goal_state.as_ref(),
+        };
+        let command = self.issue(action.as_ref(), purpose, &mut log);
         let reconfiguration = reconfiguration_started.elapsed();
 
         let total = started.elapsed();
@@ -908,12 +912,17 @@ impl Executive {
     }
 
     /// Turns the planner's action into μ(i), reports it, and remembers it for estimation.
-    fn issue(&mut self, action: Option<&Action>, log: &mut EventLog) -> Vec<(VarId, ValueId)> {
+    fn issue(
+        &mut self,
+        action: Option<&Action>,
+        purpose: Purpose<'_>,
+        log: &mut EventLog,
+    ) -> Vec<(VarId, ValueId)> {
         let assignments = match action {
             Some(Action::Command(command)) => command.assignments.clone(),
             _ => Vec::new(),
         };
-        self.report_action(action, log);
+        self.report_action(action, purpose, log);
         // The planner only commands controls with their own values, so this cannot fail; were
         // it to, idling is the safe reading.
         self.last_command = Commands::new(&self.plant, &assignments)
@@ -922,7 +931,7 @@ impl Executive {
         assignments
     }
 
-    fn report_action(&mut self, action: Option<&Action>, log: &mut EventLog) {
+    fn report_action(&mut self, action: Option<&Action>, purpose: Purpose<'_>, log: &mut EventLog) {
         let awaited = action.and_then(|a| match a {
             Action::Idle(_) => a.intended(),
             _ => None,
@@ -938,6 +947,7 @@ impl Executive {
                         .collect(),
                     purpose: command.describe(&self.plant),
                     repair: c.repair,
+                    serves: self.served(c.serves, purpose),
                 });
             }
             Some(wait @ Action::Idle(_)) if awaited != self.reported.awaited => {
@@ -960,6 +970,41 @@ impl Executive {
         }
         self.reported.awaited = awaited;
     }
+
+    /// The goals a command moving `component` toward its goal mode serves ([`Served`]): the
+    /// conjuncts of g(i) naming its mode, or the mission's goals on it, or else its mode in the
+    /// intended configuration. Computed only for a cycle that issues a command.
+    fn served(&self, component: ComponentId, purpose: Purpose<'_>) -> Vec<Served> {
+        let var = self.plant.component(component).mode_var();
+        let table = self.plant.table();
+        let mut served: Vec<Served> = match &self.control.0 {
+            Program::Mission(mission) => (mission.serving(component).into_iter())
+                .map(|goal| Served::Mission { goal })
+                .collect(),
+            Program::Rmpl(_) => (purpose.goal.iter())
+                .flat_map(|g| &g.conjuncts)
+                .filter(|c| c.formula.variables().contains(&var))
+                .map(|c| Served::Program {
+                    goal: c.formula.display(table).to_string(),
+                    span: c.span.clone(),
+                })
+                .collect(),
+        };
+        if served.is_empty() {
+            served.extend(purpose.intended.map(|state| Served::Intended {
+                goal: table.assignment(var, state.mode(component)).to_string(),
+            }));
+        }
+        served
+    }
+}
+
+/// What a cycle's action is for: the configuration goal g(i) and the intended configuration
+/// goal interpretation chose for it.
+#[derive(Clone, Copy)]
+struct Purpose<'a> {
+    goal: Option<&'a ConfigurationGoal>,
+    intended: Option<&'a GoalState>,
 }
 
 /// Collects a cycle's events with its cycle number and time.

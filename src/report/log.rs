@@ -14,14 +14,14 @@
 //!   plant     rule `PDE latches up` takes effect: pde = latched  (FAULT)
 //!   believed  PDE: on -> resettable (p 0.91)
 //!   DIAGNOSIS PDE = resettable (p 0.91); next: PDE = on (p 0.09)
-//!   REPAIR    PDE.cmd = reset (PDE: resettable -> on)
+//!   REPAIR    PDE.cmd = reset (PDE: resettable -> on) for engine = standby (programs/mars_edl.rmpl:20:3)
 //! ```
 
 use std::fmt::Write;
 
 use crate::diagnostic::{Source, Span};
 use crate::estimation::Fallback;
-use crate::executive::{Event, EventKind};
+use crate::executive::{Event, EventKind, Served};
 use crate::plant::{ComponentId, Plant};
 use crate::report::timeline::hours_minutes_seconds;
 use crate::sequencer::LocationId;
@@ -68,6 +68,24 @@ impl Names for Sources<'_> {
     fn text(&self, span: &Span) -> Option<String> {
         let text = self.program.text.get(span.clone())?;
         Some(text.trim().to_string())
+    }
+}
+
+/// ` for engine = standby (programs/mars_edl.rmpl:20:3)`: the goals a command serves, joined
+/// by ` and ` (nothing when it serves none).
+fn served(names: &dyn Names, serves: &[Served]) -> String {
+    let goals: Vec<String> = serves
+        .iter()
+        .map(|served| match served {
+            Served::Program { goal, span } => format!("{goal} ({})", names.at(span)),
+            Served::Mission { goal } => format!("goal {goal}"),
+            Served::Intended { goal } => format!("{goal} (the intended configuration)"),
+        })
+        .collect();
+    if goals.is_empty() {
+        String::new()
+    } else {
+        format!(" for {}", goals.join(" and "))
     }
 }
 
@@ -162,6 +180,7 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             assignments,
             purpose,
             repair,
+            serves,
         } => {
             // The planner's purpose already names the command (`command PDE.cmd = on (PDE: off
             // -> on)`); the assignments are shown only when it does not.
@@ -170,11 +189,13 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
                 str::to_string,
             );
             // The tag says it is a repair; the planner's " (repair)" would say it twice.
-            if *repair {
-                ("REPAIR", what.replacen(" (repair)", "", 1))
+            let what = if *repair {
+                what.replacen(" (repair)", "", 1)
             } else {
-                ("command", what)
-            }
+                what
+            };
+            let tag = if *repair { "REPAIR" } else { "command" };
+            (tag, format!("{what}{}", served(names, serves)))
         }
         // `waiting  after Uniform(30, 60) s (engine: heating -> standby)`, not "waiting wait".
         E::Waiting { purpose } => (

@@ -252,6 +252,7 @@ impl Builder<'_, '_> {
                 assignments,
                 purpose,
                 repair,
+                ..
             } => self.command(time, &assignments.join(", "), Some(purpose), *repair),
             EventKind::Waiting { purpose } => self.waiting(time, purpose),
             EventKind::Diagnosis {
