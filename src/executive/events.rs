@@ -32,6 +32,9 @@ pub enum EventKind {
         location: LocationId,
         /// Where the goal is written.
         span: Span,
+        /// True when the location asserted it before in the run, and stopped: the sequencer
+        /// re-entered it (after a preemption, or in a loop).
+        again: bool,
     },
     /// A goal is entailed by the estimate; its location moves on.
     GoalAchieved {

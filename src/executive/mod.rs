@@ -36,6 +36,7 @@ mod oracle;
 mod submit;
 mod timeline;
 
+use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
 
 pub use control::ControlProgram;
@@ -327,6 +328,10 @@ struct Interpretation {
 #[derive(Clone, Default)]
 struct Reported {
     goal_locations: Vec<LocationId>,
+    /// Every location whose goal has been asserted in the run: one asserting again, after a
+    /// cycle without it (the sequencer re-entered it, after a preemption or in a loop), is
+    /// reported re-asserted.
+    asserted: BTreeSet<LocationId>,
     /// The locations whose goal the sequencer found achieved in the previous cycle: a
     /// maintained goal (`always`) is re-asserted and found achieved every cycle it holds, and is
     /// reported achieved again only after a cycle in which it was not.
@@ -768,6 +773,7 @@ impl Executive {
                     goal: conjunct.formula.display(self.plant.table()).to_string(),
                     location: conjunct.location,
                     span: conjunct.span.clone(),
+                    again: !self.reported.asserted.insert(conjunct.location),
                 });
             }
         }

@@ -117,7 +117,12 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
     let at = |span: &Span| names.at(span);
     let component = |c: ComponentId| names.component(c);
     match event {
-        E::GoalAsserted { goal, span, .. } => ("goal", format!("asserted {goal}  ({})", at(span))),
+        E::GoalAsserted {
+            goal, span, again, ..
+        } => {
+            let verb = if *again { "re-asserted" } else { "asserted" };
+            ("goal", format!("{verb} {goal}  ({})", at(span)))
+        }
         E::GoalAchieved { location, span } => (
             "goal",
             format!(
