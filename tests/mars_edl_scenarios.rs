@@ -139,13 +139,20 @@ fn a_resettable_pde_is_reset_and_the_edl_continues() {
         &log,
         &[
             "command PDE.cmd = on (PDE: off -> on) for engine = standby (programs/mars_edl.rmpl:20:3)",
-            "DIAGNOSIS PDE = resettable",
+            // The PDE off, stepped by `on`, would be on: its status fault is the evidence.
+            "DIAGNOSIS PDE = resettable (p 1.00); evidence: PDE.status = fault",
             "REPAIR PDE.cmd = reset (PDE: resettable -> on) for engine = standby (programs/mars_edl.rmpl:20:3)",
             "command PDE.cmd = engine-standby (engine: off -> heating) for engine = standby (programs/mars_edl.rmpl:20:3)",
             "goal achieved engine = standby",
             "clock t1 started",
             "command PDE.cmd = off (PDE: on -> off) for PDE = off (the intended configuration)",
         ],
+    );
+    // The status is the only evidence: the PDE's other observations fit it being on.
+    assert!(
+        (log.lines())
+            .any(|l| l.ends_with("PDE = resettable (p 1.00); evidence: PDE.status = fault")),
+        "{log}"
     );
 }
 
@@ -184,7 +191,7 @@ fn a_valve_that_ignores_the_first_open_command_is_commanded_again_and_the_edl_la
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17109.000 s 4:45:09.000]",
             "believed valve2: closed -> stuck-closed (p 0.59)",
-            "DIAGNOSIS valve2 = stuck-closed (p 0.59); next: valve2 = closed (p 0.35), valve2 = open (p 0.06)",
+            "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35), valve2 = open (p 0.06)",
             "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17110.000 s 4:45:10.000]",
@@ -211,7 +218,9 @@ fn a_valve_stuck_closed_is_retried_once_then_the_goal_fails_naming_the_hypothese
         &[
             "command PDE.cmd = open2 (valve2: closed -> open) for engine = firing (programs/mars_edl.rmpl:71:7)",
             "[ 17109.000 s 4:45:09.000]",
-            "DIAGNOSIS valve2 = stuck-closed (p 0.59); next: valve2 = closed (p 0.35)",
+            // The evidence: after `open2`, the valve that ŝ (closed) stepped by the command
+            // would have opened reports its outlet low (issue 19 item 2).
+            "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35)",
             "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17110.000 s 4:45:10.000]",

@@ -740,6 +740,7 @@ fn hostile_text_huge_times_and_nonsense_windows_still_make_valid_svg() {
                 mode: hostile.to_string(),
                 probability: f64::INFINITY,
                 next: vec![(hostile.to_string(), f64::NAN)],
+                evidence: vec![hostile.to_string()],
             },
         ),
         event(f64::NAN, EventKind::ProgramCompleted),

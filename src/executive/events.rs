@@ -111,6 +111,9 @@ pub enum EventKind {
         /// The component's other modes the belief holds, with their marginals, most probable
         /// first (the next candidates; the least likely are left out).
         next: Vec<(String, f64)>,
+        /// The observations the previous most likely state, stepped by the last command, cannot
+        /// explain (`variable = value`; Livingstone's discrepant observations).
+        evidence: Vec<String>,
     },
     /// A command was issued.
     CommandIssued {
@@ -337,11 +340,12 @@ impl EventKind {
 ///         mode: "resettable".to_string(),
 ///         probability: 0.91,
 ///         next: vec![("on".to_string(), 0.09)],
+///         evidence: vec!["component 0.status = fault".to_string()],
 ///     },
 /// };
 /// assert_eq!(
 ///     event.to_string(),
-///     "[1.200 s] #12 DIAGNOSIS component 0 = resettable (p 0.91); next: component 0 = on (p 0.09)"
+///     "[1.200 s] #12 DIAGNOSIS component 0 = resettable (p 0.91); evidence: component 0.status = fault; next: component 0 = on (p 0.09)"
 /// );
 /// assert_eq!(
 ///     EventKind::ProgramCompleted.to_string(),

@@ -27,6 +27,7 @@
 pub mod adapters;
 mod control;
 mod events;
+mod evidence;
 mod fingerprint;
 mod load;
 mod mission;
@@ -592,8 +593,8 @@ impl Executive {
             .unwrap_or_default();
         let before = std::mem::replace(&mut self.most_likely, after.clone());
         self.estimates = estimates;
-        self.belief = Some(update.belief);
-        self.report_mode_changes(&before, &after, log);
+        let previous = self.belief.replace(update.belief);
+        self.report_mode_changes(&before, &after, previous.as_ref(), log);
         self.refresh_estimate(&after, before != after);
         for (c, &mode) in after.iter().enumerate() {
             let probability = self.marginal(ComponentId(c as u32), mode);
@@ -610,13 +611,27 @@ impl Executive {
             .unwrap_or(0.0)
     }
 
-    fn report_mode_changes(&self, before: &[ValueId], after: &[ValueId], log: &mut EventLog) {
+    /// The cycle's mode changes and diagnoses; `previous` is the belief ŝ(i−1) (`before`) came
+    /// from, for a diagnosis's evidence.
+    fn report_mode_changes(
+        &mut self,
+        before: &[ValueId],
+        after: &[ValueId],
+        previous: Option<&Belief>,
+        log: &mut EventLog,
+    ) {
+        // Computed once, and only in a cycle with a diagnosis.
+        let mut evidence: Option<Vec<String>> = None;
         for (c, &to) in after.iter().enumerate() {
             let from = before.get(c).copied();
             if from == Some(to) {
                 continue;
             }
             let component_id = ComponentId(c as u32);
+            let fault = self.plant.component(component_id).mode(to).kind == ModeKind::Fault;
+            if fault && evidence.is_none() {
+                evidence = Some(self.evidence(before, previous, log.time));
+            }
             let component = self.plant.component(component_id);
             let probability = self.marginal(component_id, to);
             let mode = component.mode(to);
@@ -634,9 +649,30 @@ impl Executive {
                     mode: mode.name.clone(),
                     probability,
                     next: self.next_diagnoses(component_id, to),
+                    evidence: evidence.clone().unwrap_or_default(),
                 });
             }
         }
+    }
+
+    /// The observations ŝ(i−1) (`before`, of the belief `previous`), stepped by the last
+    /// command, cannot explain (`evidence::discrepant`). An explanation is best effort: were
+    /// the theory to refuse the step, the diagnosis goes without evidence rather than the
+    /// cycle failing.
+    fn evidence(&mut self, before: &[ValueId], previous: Option<&Belief>, now: f64) -> Vec<String> {
+        let Some(observation) = self.observed.observation() else {
+            return Vec::new();
+        };
+        evidence::discrepant(
+            &self.plant,
+            &mut self.theory,
+            previous,
+            before,
+            &self.last_command,
+            observation,
+            now,
+        )
+        .unwrap_or_default()
     }
 
     /// The component's other modes the belief holds, most probable first: the candidates a

@@ -13,7 +13,7 @@
 //! [    12.000 s   0:00:12.000] #12
 //!   plant     rule `PDE latches up` takes effect: pde = latched  (FAULT)
 //!   believed  PDE: on -> resettable (p 0.91)
-//!   DIAGNOSIS PDE = resettable (p 0.91); next: PDE = on (p 0.09)
+//!   DIAGNOSIS PDE = resettable (p 0.91); evidence: PDE.status = fault; next: PDE = on (p 0.09)
 //!   REPAIR    PDE.cmd = reset (PDE: resettable -> on) for engine = standby (programs/mars_edl.rmpl:20:3)
 //! ```
 
@@ -172,9 +172,13 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             mode,
             probability,
             next,
+            evidence,
         } => {
             let name = component(*c);
             let mut text = format!("{name} = {mode} (p {probability:.2})");
+            if !evidence.is_empty() {
+                let _ = write!(text, "; evidence: {}", evidence.join(", "));
+            }
             for (k, (other, p)) in next.iter().enumerate() {
                 let lead = if k == 0 { "; next: " } else { ", " };
                 let _ = write!(text, "{lead}{name} = {other} (p {p:.2})");
