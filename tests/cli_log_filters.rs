@@ -1,6 +1,7 @@
 //! The mission log's filters and its wording (issue 19 item 2; DESIGN.md §12): `--hide-plant`,
 //! `--only COMPONENT…`, `--from T`, `--to T` choose what is printed, never what is checked; a
-//! repair and a wait are said once ("REPAIR PDE.cmd = reset", "waiting after …").
+//! repair and a wait are said once ("REPAIR PDE.cmd = reset", "waiting after …"); a goal its
+//! location asserts again is "re-asserted".
 
 use std::process::Command;
 
@@ -103,4 +104,23 @@ fn bad_filters_are_refused_before_the_run() {
     ]);
     assert_eq!(code, Some(2), "{stderr}");
     assert!(stderr.contains("--from 10 is after --to 5"), "{stderr}");
+}
+
+/// A goal asserted again by the same program location — each iteration of the camera loop's
+/// `always` re-enters `camera = taking-picture` (thesis §5.2: the sequencer re-marks the
+/// location) — is reported `re-asserted`; the first assertion, and a location entered once
+/// (`camera = idle`), say `asserted` (issue 19 item 2).
+#[test]
+fn a_goal_asserted_again_by_its_location_is_re_asserted() {
+    let (code, stdout, stderr) = kairos(&["run", "tests/scenarios/camera_pictures.ron"]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let log = blocks(&stdout);
+    let picture = "camera = taking-picture  (tests/scenarios/camera_loop.rmpl:5:43)";
+    let first = format!("goal         asserted {picture}");
+    let again = format!("goal         re-asserted {picture}");
+    assert_eq!(log.matches(&first).count(), 1, "{log}");
+    assert!(log.matches(&again).count() >= 2, "{log}");
+    assert!(log.find(&first) < log.find(&again), "{log}");
+    assert_eq!(log.matches("asserted camera = idle").count(), 1, "{log}");
+    assert!(!log.contains("re-asserted camera = idle"), "{log}");
 }

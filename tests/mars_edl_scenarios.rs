@@ -129,19 +129,30 @@ fn an_engine_losing_power_while_heating_falls_to_its_unconstrained_mode() {
 }
 
 /// §7.2.4-§7.2.5: a resettable PDE is reset and the EDL continues (fault validation
-/// requirement 3 of §7.2.1).
+/// requirement 3 of §7.2.1). Every command names the goal it serves (issue 19 item 2): the
+/// PDE's `on` and `reset` serve the engine's standby goal, which needs the PDE on; the PDE's
+/// `off` afterwards serves no asserted goal but the intended configuration.
 #[test]
 fn a_resettable_pde_is_reset_and_the_edl_continues() {
     let log = run("pde_resettable.ron");
     assert_in_order(
         &log,
         &[
-            "DIAGNOSIS PDE = resettable",
-            "REPAIR PDE.cmd = reset (PDE: resettable -> on)",
-            "command PDE.cmd = engine-standby (engine: off -> heating)",
+            "command PDE.cmd = on (PDE: off -> on) for engine = standby (programs/mars_edl.rmpl:20:3)",
+            // The PDE off, stepped by `on`, would be on: its status fault is the evidence.
+            "DIAGNOSIS PDE = resettable (p 1.00); evidence: PDE.status = fault",
+            "REPAIR PDE.cmd = reset (PDE: resettable -> on) for engine = standby (programs/mars_edl.rmpl:20:3)",
+            "command PDE.cmd = engine-standby (engine: off -> heating) for engine = standby (programs/mars_edl.rmpl:20:3)",
             "goal achieved engine = standby",
             "clock t1 started",
+            "command PDE.cmd = off (PDE: on -> off) for PDE = off (the intended configuration)",
         ],
+    );
+    // The status is the only evidence: the PDE's other observations fit it being on.
+    assert!(
+        (log.lines())
+            .any(|l| l.ends_with("PDE = resettable (p 1.00); evidence: PDE.status = fault")),
+        "{log}"
     );
 }
 
@@ -180,7 +191,7 @@ fn a_valve_that_ignores_the_first_open_command_is_commanded_again_and_the_edl_la
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17109.000 s 4:45:09.000]",
             "believed valve2: closed -> stuck-closed (p 0.59)",
-            "DIAGNOSIS valve2 = stuck-closed (p 0.59); next: valve2 = closed (p 0.35), valve2 = open (p 0.06)",
+            "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35), valve2 = open (p 0.06)",
             "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17110.000 s 4:45:10.000]",
@@ -205,9 +216,11 @@ fn a_valve_stuck_closed_is_retried_once_then_the_goal_fails_naming_the_hypothese
     assert_in_order(
         &log,
         &[
-            "command PDE.cmd = open2 (valve2: closed -> open)",
+            "command PDE.cmd = open2 (valve2: closed -> open) for engine = firing (programs/mars_edl.rmpl:71:7)",
             "[ 17109.000 s 4:45:09.000]",
-            "DIAGNOSIS valve2 = stuck-closed (p 0.59); next: valve2 = closed (p 0.35)",
+            // The evidence: after `open2`, the valve that ŝ (closed) stepped by the command
+            // would have opened reports its outlet low (issue 19 item 2).
+            "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35)",
             "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17110.000 s 4:45:10.000]",
@@ -313,13 +326,14 @@ fn the_descent_mission_lands() {
             "fired TP_att (window [16700, 16800])",
             "[ 17102.500 s 4:45:02.500]",
             "fired TP_bs (window [17000, 17300])",
-            "command PDE.cmd = engine-fire (engine: standby -> firing)",
+            // A command names the mission goal it serves (issue 19 item 2).
+            "command PDE.cmd = engine-fire (engine: standby -> firing) for goal ignite",
             "fired TP_fire",
             "fired TP_12m",
             "[ 17157.000 s 4:45:57.000]",
             "fired TP_td",
-            "command PDE.cmd = engine-off (engine: standby -> off)",
-            "command landing.cmd = set-success (landing: in-progress -> success)",
+            "command PDE.cmd = engine-off (engine: standby -> off) for goal engine-off",
+            "command landing.cmd = set-success (landing: in-progress -> success) for goal landed",
             "fired TP_end",
             "fired TP_rest",
             "completed the program has completed",

@@ -400,6 +400,7 @@ fn crowded_labels_stack_without_overlapping_and_thin_past_the_limit() {
                     assignments: vec![format!("PDE.cmd = command-number-{i}")],
                     purpose: "crowding".to_string(),
                     repair: false,
+                    serves: Vec::new(),
                 },
             )
         })
@@ -729,6 +730,7 @@ fn hostile_text_huge_times_and_nonsense_windows_still_make_valid_svg() {
                 assignments: vec![hostile.to_string()],
                 purpose: hostile.to_string(),
                 repair: true,
+                serves: Vec::new(),
             },
         ),
         event(
@@ -738,6 +740,7 @@ fn hostile_text_huge_times_and_nonsense_windows_still_make_valid_svg() {
                 mode: hostile.to_string(),
                 probability: f64::INFINITY,
                 next: vec![(hostile.to_string(), f64::NAN)],
+                evidence: vec![hostile.to_string()],
             },
         ),
         event(f64::NAN, EventKind::ProgramCompleted),

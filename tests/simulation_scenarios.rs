@@ -71,7 +71,9 @@ fn every_scenario_directory_file_is_listed_and_passes() {
 }
 
 /// Thesis §6.3.3: PDE on, engine standby, wait for heating, both valves, fire; the PDE is
-/// switched off once the goal is achieved.
+/// switched off once the goal is achieved. Each command names the goal it serves (issue 19
+/// item 2): every step toward firing serves `engine = firing`; the PDE's `off` serves the
+/// intended configuration, no asserted goal naming the PDE.
 #[test]
 fn propulsion_reaches_firing_with_the_section_6_3_3_sequence() {
     let log = passes("scenarios/propulsion/nominal.ron");
@@ -82,12 +84,12 @@ fn propulsion_reaches_firing_with_the_section_6_3_3_sequence() {
     assert_eq!(
         commands,
         [
-            "PDE.cmd = on (PDE: off -> on)",
-            "PDE.cmd = engine-standby (engine: off -> heating)",
-            "PDE.cmd = open1 (valve1: closed -> open)",
-            "PDE.cmd = open2 (valve2: closed -> open)",
-            "PDE.cmd = engine-fire (engine: standby -> firing)",
-            "PDE.cmd = off (PDE: on -> off)",
+            "PDE.cmd = on (PDE: off -> on) for engine = firing (programs/propulsion_fire.rmpl:4:13)",
+            "PDE.cmd = engine-standby (engine: off -> heating) for engine = firing (programs/propulsion_fire.rmpl:4:13)",
+            "PDE.cmd = open1 (valve1: closed -> open) for engine = firing (programs/propulsion_fire.rmpl:4:13)",
+            "PDE.cmd = open2 (valve2: closed -> open) for engine = firing (programs/propulsion_fire.rmpl:4:13)",
+            "PDE.cmd = engine-fire (engine: standby -> firing) for engine = firing (programs/propulsion_fire.rmpl:4:13)",
+            "PDE.cmd = off (PDE: on -> off) for PDE = off (the intended configuration)",
         ],
         "{log}"
     );
@@ -103,7 +105,8 @@ fn propulsion_reaches_firing_with_the_section_6_3_3_sequence() {
 }
 
 /// Thesis §6.3, §7.2.4: a resettable PDE injected mid-sequence is diagnosed and reset, and the
-/// engine still fires; the trace shows the diagnosis event.
+/// engine still fires; the trace shows the diagnosis event with its next candidate and its
+/// evidence.
 #[test]
 fn propulsion_repairs_a_resettable_pde_and_the_trace_shows_the_diagnosis() {
     let trace = std::env::temp_dir().join(format!("kairos-trace-{}.jsonl", std::process::id()));
@@ -154,9 +157,14 @@ fn propulsion_repairs_a_resettable_pde_and_the_trace_shows_the_diagnosis() {
         .expect("the diagnosis event");
     let text = event["text"].as_str().expect("a text");
     assert!(
-        text.starts_with("PDE = resettable (p 0.97); next: PDE = on (p 0.03)"),
+        text.starts_with(
+            "PDE = resettable (p 0.97); evidence: engine.power = zero; next: PDE = on (p 0.03)"
+        ),
         "{text}"
     );
+    // Issue 19 item 2: and its evidence — the latched PDE cut the engine's power, which the
+    // PDE on (ŝ of the cycle before) cannot explain.
+    assert_eq!(event["evidence"][0], "engine.power = zero");
     assert_eq!(event["next"][0]["mode"], "on");
     let p = event["next"][0]["p"].as_f64().expect("a probability");
     assert!((0.025..0.035).contains(&p), "{p}");

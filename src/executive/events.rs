@@ -32,6 +32,9 @@ pub enum EventKind {
         location: LocationId,
         /// Where the goal is written.
         span: Span,
+        /// True when the location asserted it before in the run, and stopped: the sequencer
+        /// re-entered it (after a preemption, or in a loop).
+        again: bool,
     },
     /// A goal is entailed by the estimate; its location moves on.
     GoalAchieved {
@@ -108,6 +111,9 @@ pub enum EventKind {
         /// The component's other modes the belief holds, with their marginals, most probable
         /// first (the next candidates; the least likely are left out).
         next: Vec<(String, f64)>,
+        /// The observations the previous most likely state, stepped by the last command, cannot
+        /// explain (`variable = value`; Livingstone's discrepant observations).
+        evidence: Vec<String>,
     },
     /// A command was issued.
     CommandIssued {
@@ -117,6 +123,8 @@ pub enum EventKind {
         purpose: String,
         /// True when it repairs a fault.
         repair: bool,
+        /// The goals its transition serves (see [`Served`]); empty when none is asserted.
+        serves: Vec<Served>,
     },
     /// The planner started waiting for a transition that happens by itself.
     Waiting {
@@ -265,6 +273,33 @@ pub enum EventKind {
     },
 }
 
+/// A goal a command serves: the goal of the component the planner's descent started from
+/// (`reconfiguration::Command::serves`) — the PDE's `on` serves `engine = standby` when the
+/// engine's heating needs the PDE on. For a program, the conjuncts of g(i) whose formula names
+/// that component's mode; for a mission, the constituent goals of the XGoal active on it; when
+/// neither names it, its mode in the intended configuration (goal interpretation chose it, or
+/// it is kept from an earlier goal).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Served {
+    /// A goal the program asserts.
+    Program {
+        /// The goal, as text.
+        goal: String,
+        /// Where it is written.
+        span: Span,
+    },
+    /// A goal of the mission's network, by name.
+    Mission {
+        /// The goal's name.
+        goal: String,
+    },
+    /// The component's mode in the intended configuration, which no asserted goal names.
+    Intended {
+        /// `component = mode`, as text.
+        goal: String,
+    },
+}
+
 impl EventKind {
     /// The program location the event concerns, if any.
     pub fn location(&self) -> Option<LocationId> {
@@ -305,11 +340,12 @@ impl EventKind {
 ///         mode: "resettable".to_string(),
 ///         probability: 0.91,
 ///         next: vec![("on".to_string(), 0.09)],
+///         evidence: vec!["component 0.status = fault".to_string()],
 ///     },
 /// };
 /// assert_eq!(
 ///     event.to_string(),
-///     "[1.200 s] #12 DIAGNOSIS component 0 = resettable (p 0.91); next: component 0 = on (p 0.09)"
+///     "[1.200 s] #12 DIAGNOSIS component 0 = resettable (p 0.91); evidence: component 0.status = fault; next: component 0 = on (p 0.09)"
 /// );
 /// assert_eq!(
 ///     EventKind::ProgramCompleted.to_string(),

@@ -49,6 +49,7 @@ impl Executive {
         self.last_command.hash(state);
         let reported = &self.reported;
         reported.goal_locations.hash(state);
+        reported.asserted.hash(state);
         reported.achieved.hash(state);
         reported.conflicts.hash(state);
         reported.goal_failure.hash(state);

@@ -287,6 +287,24 @@ impl MissionControl {
             .collect()
     }
 
+    /// The names of the goals merged into the XGoal active on `sv`: what a command moving
+    /// `sv` toward its goal serves (empty when no XGoal is active on it).
+    pub(super) fn serving(&self, sv: ComponentId) -> Vec<String> {
+        let Some(controller) = &self.controller else {
+            return Vec::new();
+        };
+        let network = &self.executable().network;
+        controller
+            .execution()
+            .active(sv)
+            .map(|xgoal| {
+                (xgoal.constituents.iter())
+                    .map(|g| network.goal(*g).name.clone())
+                    .collect()
+            })
+            .unwrap_or_default()
+    }
+
     /// The event of an XGoal's dispatch.
     fn dispatched(&self, xgoal: &XGoal) -> EventKind {
         let network = &self.executable().network;

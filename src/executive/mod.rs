@@ -27,6 +27,7 @@
 pub mod adapters;
 mod control;
 mod events;
+mod evidence;
 mod fingerprint;
 mod load;
 mod mission;
@@ -36,10 +37,11 @@ mod oracle;
 mod submit;
 mod timeline;
 
+use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
 
 pub use control::ControlProgram;
-pub use events::{Event, EventKind};
+pub use events::{Event, EventKind, Served};
 pub use fingerprint::PROBABILITY_RESOLUTION;
 pub use load::LoadError;
 pub use mission::ScheduledMission;
@@ -327,6 +329,10 @@ struct Interpretation {
 #[derive(Clone, Default)]
 struct Reported {
     goal_locations: Vec<LocationId>,
+    /// Every location whose goal has been asserted in the run: one asserting again, after a
+    /// cycle without it (the sequencer re-entered it, after a preemption or in a loop), is
+    /// reported re-asserted.
+    asserted: BTreeSet<LocationId>,
     /// The locations whose goal the sequencer found achieved in the previous cycle: a
     /// maintained goal (`always`) is re-asserted and found achieved every cycle it holds, and is
     /// reported achieved again only after a cycle in which it was not.
@@ -499,7 +505,11 @@ impl Executive {
 
         let reconfiguration_started = Instant::now();
         let (goal_state, action) = self.reconfigure(goal.as_ref(), &mut log);
-        let command = self.issue(action.as_ref(), &mut log);
+        let purpose = Purpose {
+            goal: goal.as_ref(),
+            intended: goal_state.as_ref(),
+        };
+        let command = self.issue(action.as_ref(), purpose, &mut log);
         let reconfiguration = reconfiguration_started.elapsed();
 
         let total = started.elapsed();
@@ -583,8 +593,8 @@ impl Executive {
             .unwrap_or_default();
         let before = std::mem::replace(&mut self.most_likely, after.clone());
         self.estimates = estimates;
-        self.belief = Some(update.belief);
-        self.report_mode_changes(&before, &after, log);
+        let previous = self.belief.replace(update.belief);
+        self.report_mode_changes(&before, &after, previous.as_ref(), log);
         self.refresh_estimate(&after, before != after);
         for (c, &mode) in after.iter().enumerate() {
             let probability = self.marginal(ComponentId(c as u32), mode);
@@ -601,13 +611,27 @@ impl Executive {
             .unwrap_or(0.0)
     }
 
-    fn report_mode_changes(&self, before: &[ValueId], after: &[ValueId], log: &mut EventLog) {
+    /// The cycle's mode changes and diagnoses; `previous` is the belief ŝ(i−1) (`before`) came
+    /// from, for a diagnosis's evidence.
+    fn report_mode_changes(
+        &mut self,
+        before: &[ValueId],
+        after: &[ValueId],
+        previous: Option<&Belief>,
+        log: &mut EventLog,
+    ) {
+        // Computed once, and only in a cycle with a diagnosis.
+        let mut evidence: Option<Vec<String>> = None;
         for (c, &to) in after.iter().enumerate() {
             let from = before.get(c).copied();
             if from == Some(to) {
                 continue;
             }
             let component_id = ComponentId(c as u32);
+            let fault = self.plant.component(component_id).mode(to).kind == ModeKind::Fault;
+            if fault && evidence.is_none() {
+                evidence = Some(self.evidence(before, previous, log.time));
+            }
             let component = self.plant.component(component_id);
             let probability = self.marginal(component_id, to);
             let mode = component.mode(to);
@@ -625,9 +649,30 @@ impl Executive {
                     mode: mode.name.clone(),
                     probability,
                     next: self.next_diagnoses(component_id, to),
+                    evidence: evidence.clone().unwrap_or_default(),
                 });
             }
         }
+    }
+
+    /// The observations ŝ(i−1) (`before`, of the belief `previous`), stepped by the last
+    /// command, cannot explain (`evidence::discrepant`). An explanation is best effort: were
+    /// the theory to refuse the step, the diagnosis goes without evidence rather than the
+    /// cycle failing.
+    fn evidence(&mut self, before: &[ValueId], previous: Option<&Belief>, now: f64) -> Vec<String> {
+        let Some(observation) = self.observed.observation() else {
+            return Vec::new();
+        };
+        evidence::discrepant(
+            &self.plant,
+            &mut self.theory,
+            previous,
+            before,
+            &self.last_command,
+            observation,
+            now,
+        )
+        .unwrap_or_default()
     }
 
     /// The component's other modes the belief holds, most probable first: the candidates a
@@ -764,6 +809,7 @@ impl Executive {
                     goal: conjunct.formula.display(self.plant.table()).to_string(),
                     location: conjunct.location,
                     span: conjunct.span.clone(),
+                    again: !self.reported.asserted.insert(conjunct.location),
                 });
             }
         }
@@ -908,12 +954,17 @@ impl Executive {
     }
 
     /// Turns the planner's action into μ(i), reports it, and remembers it for estimation.
-    fn issue(&mut self, action: Option<&Action>, log: &mut EventLog) -> Vec<(VarId, ValueId)> {
+    fn issue(
+        &mut self,
+        action: Option<&Action>,
+        purpose: Purpose<'_>,
+        log: &mut EventLog,
+    ) -> Vec<(VarId, ValueId)> {
         let assignments = match action {
             Some(Action::Command(command)) => command.assignments.clone(),
             _ => Vec::new(),
         };
-        self.report_action(action, log);
+        self.report_action(action, purpose, log);
         // The planner only commands controls with their own values, so this cannot fail; were
         // it to, idling is the safe reading.
         self.last_command = Commands::new(&self.plant, &assignments)
@@ -922,7 +973,7 @@ impl Executive {
         assignments
     }
 
-    fn report_action(&mut self, action: Option<&Action>, log: &mut EventLog) {
+    fn report_action(&mut self, action: Option<&Action>, purpose: Purpose<'_>, log: &mut EventLog) {
         let awaited = action.and_then(|a| match a {
             Action::Idle(_) => a.intended(),
             _ => None,
@@ -938,6 +989,7 @@ impl Executive {
                         .collect(),
                     purpose: command.describe(&self.plant),
                     repair: c.repair,
+                    serves: self.served(c.serves, purpose),
                 });
             }
             Some(wait @ Action::Idle(_)) if awaited != self.reported.awaited => {
@@ -960,6 +1012,41 @@ impl Executive {
         }
         self.reported.awaited = awaited;
     }
+
+    /// The goals a command moving `component` toward its goal mode serves ([`Served`]): the
+    /// conjuncts of g(i) naming its mode, or the mission's goals on it, or else its mode in the
+    /// intended configuration. Computed only for a cycle that issues a command.
+    fn served(&self, component: ComponentId, purpose: Purpose<'_>) -> Vec<Served> {
+        let var = self.plant.component(component).mode_var();
+        let table = self.plant.table();
+        let mut served: Vec<Served> = match &self.control.0 {
+            Program::Mission(mission) => (mission.serving(component).into_iter())
+                .map(|goal| Served::Mission { goal })
+                .collect(),
+            Program::Rmpl(_) => (purpose.goal.iter())
+                .flat_map(|g| &g.conjuncts)
+                .filter(|c| c.formula.variables().contains(&var))
+                .map(|c| Served::Program {
+                    goal: c.formula.display(table).to_string(),
+                    span: c.span.clone(),
+                })
+                .collect(),
+        };
+        if served.is_empty() {
+            served.extend(purpose.intended.map(|state| Served::Intended {
+                goal: table.assignment(var, state.mode(component)).to_string(),
+            }));
+        }
+        served
+    }
+}
+
+/// What a cycle's action is for: the configuration goal g(i) and the intended configuration
+/// goal interpretation chose for it.
+#[derive(Clone, Copy)]
+struct Purpose<'a> {
+    goal: Option<&'a ConfigurationGoal>,
+    intended: Option<&'a GoalState>,
 }
 
 /// Collects a cycle's events with its cycle number and time.

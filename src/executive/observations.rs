@@ -82,6 +82,11 @@ impl LastObservation {
         let (_, checked, observation) = self.last.as_ref().expect("set above");
         Ok((checked, observation))
     }
+
+    /// The last report, typed (none before the first).
+    pub(crate) fn observation(&self) -> Option<&Observation> {
+        self.last.as_ref().map(|(_, _, observation)| observation)
+    }
 }
 
 /// Resolves named observations against the plant's observables. Rejects (as events) unknown

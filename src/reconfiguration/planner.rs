@@ -37,6 +37,10 @@ pub struct Command {
     pub to: ValueId,
     /// True when the transition leaves a fault mode.
     pub repair: bool,
+    /// The component whose goal mode the command is a step toward: the goal the planner's
+    /// descent started from (`engine` for the PDE's `on` that the engine's heating needs), the
+    /// commanded component itself when the step is its own.
+    pub serves: ComponentId,
 }
 
 /// A wait: no command this cycle, because the next step happens by itself (§6.3.3).
@@ -176,7 +180,10 @@ pub(crate) fn next_action(
             // what the held-back descents rely on go on (the program's concurrent threads, e.g.
             // §7.2.3's landing slew and gravity turn); anything else is held back too.
             Action::Command(command) if wait.is_none() || reserved.allows(&command) => {
-                return Action::Command(command);
+                return Action::Command(Command {
+                    serves: c,
+                    ..command
+                });
             }
             Action::Command(_) => reserved.add(reconfiguration, &planner.trail, None),
             action if wait.is_none() => return action,
@@ -396,6 +403,7 @@ impl<'a> Planner<'a> {
             from: step.source,
             to: step.target,
             repair: step.repair,
+            serves: c,
         })
     }
 

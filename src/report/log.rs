@@ -13,15 +13,15 @@
 //! [    12.000 s   0:00:12.000] #12
 //!   plant     rule `PDE latches up` takes effect: pde = latched  (FAULT)
 //!   believed  PDE: on -> resettable (p 0.91)
-//!   DIAGNOSIS PDE = resettable (p 0.91); next: PDE = on (p 0.09)
-//!   REPAIR    PDE.cmd = reset (PDE: resettable -> on)
+//!   DIAGNOSIS PDE = resettable (p 0.91); evidence: PDE.status = fault; next: PDE = on (p 0.09)
+//!   REPAIR    PDE.cmd = reset (PDE: resettable -> on) for engine = standby (programs/mars_edl.rmpl:20:3)
 //! ```
 
 use std::fmt::Write;
 
 use crate::diagnostic::{Source, Span};
 use crate::estimation::Fallback;
-use crate::executive::{Event, EventKind};
+use crate::executive::{Event, EventKind, Served};
 use crate::plant::{ComponentId, Plant};
 use crate::report::timeline::hours_minutes_seconds;
 use crate::sequencer::LocationId;
@@ -71,6 +71,24 @@ impl Names for Sources<'_> {
     }
 }
 
+/// ` for engine = standby (programs/mars_edl.rmpl:20:3)`: the goals a command serves, joined
+/// by ` and ` (nothing when it serves none).
+fn served(names: &dyn Names, serves: &[Served]) -> String {
+    let goals: Vec<String> = serves
+        .iter()
+        .map(|served| match served {
+            Served::Program { goal, span } => format!("{goal} ({})", names.at(span)),
+            Served::Mission { goal } => format!("goal {goal}"),
+            Served::Intended { goal } => format!("{goal} (the intended configuration)"),
+        })
+        .collect();
+    if goals.is_empty() {
+        String::new()
+    } else {
+        format!(" for {}", goals.join(" and "))
+    }
+}
+
 /// No names: `component 3`, `bytes 120..135` (an event printed without its plant and program).
 struct Bare;
 
@@ -99,7 +117,12 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
     let at = |span: &Span| names.at(span);
     let component = |c: ComponentId| names.component(c);
     match event {
-        E::GoalAsserted { goal, span, .. } => ("goal", format!("asserted {goal}  ({})", at(span))),
+        E::GoalAsserted {
+            goal, span, again, ..
+        } => {
+            let verb = if *again { "re-asserted" } else { "asserted" };
+            ("goal", format!("{verb} {goal}  ({})", at(span)))
+        }
         E::GoalAchieved { location, span } => (
             "goal",
             format!(
@@ -149,9 +172,13 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             mode,
             probability,
             next,
+            evidence,
         } => {
             let name = component(*c);
             let mut text = format!("{name} = {mode} (p {probability:.2})");
+            if !evidence.is_empty() {
+                let _ = write!(text, "; evidence: {}", evidence.join(", "));
+            }
             for (k, (other, p)) in next.iter().enumerate() {
                 let lead = if k == 0 { "; next: " } else { ", " };
                 let _ = write!(text, "{lead}{name} = {other} (p {p:.2})");
@@ -162,6 +189,7 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             assignments,
             purpose,
             repair,
+            serves,
         } => {
             // The planner's purpose already names the command (`command PDE.cmd = on (PDE: off
             // -> on)`); the assignments are shown only when it does not.
@@ -170,11 +198,13 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
                 str::to_string,
             );
             // The tag says it is a repair; the planner's " (repair)" would say it twice.
-            if *repair {
-                ("REPAIR", what.replacen(" (repair)", "", 1))
+            let what = if *repair {
+                what.replacen(" (repair)", "", 1)
             } else {
-                ("command", what)
-            }
+                what
+            };
+            let tag = if *repair { "REPAIR" } else { "command" };
+            (tag, format!("{what}{}", served(names, serves)))
         }
         // `waiting  after Uniform(30, 60) s (engine: heating -> standby)`, not "waiting wait".
         E::Waiting { purpose } => (

@@ -16,9 +16,11 @@
 //! - `estimate`: ŝ, the most likely mode of each component, `{"engine": "heating", ..}`;
 //! - `belief`: the tracked plant states, most likely first, `[{"p": .., "modes": {..}}]`;
 //! - `events`: the executive's events, `[{"kind": "Diagnosis", "text": "PDE = resettable (p 0.91);
-//!   next: PDE = on (p 0.09)", "next": [{"mode": "on", "p": 0.09}]}]` (kinds as
-//!   `simulation::EventName` spells them; text as the mission log shows it; `next`, a
-//!   diagnosis's other candidate modes of the component, only on a `Diagnosis`);
+//!   evidence: PDE.status = fault; next: PDE = on (p 0.09)", "next": [{"mode": "on", "p": 0.09}],
+//!   "evidence": ["PDE.status = fault"]}]` (kinds as `simulation::EventName` spells them; text
+//!   as the mission log shows it; `next`, a diagnosis's other candidate modes of the component,
+//!   and `evidence`, the observations the previous most likely state stepped by the last
+//!   command cannot explain, only on a `Diagnosis`);
 //! - `plant`: the scripted plant's rules that fired or took effect, `[{"rule": .., "kind":
 //!   "fired" | "applied", "fault": bool}]`;
 //! - `micros`: wall time of estimation, the sequencer, reconfiguration and the whole cycle.
@@ -65,6 +67,9 @@ struct TraceEvent {
     /// A diagnosis's next candidates, structured for tools (the text has them too).
     #[serde(skip_serializing_if = "Option::is_none")]
     next: Option<Vec<Candidate>>,
+    /// A diagnosis's evidence, `variable = value` each (the text has it too).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    evidence: Option<Vec<String>>,
 }
 
 /// Another mode of a diagnosed component with its marginal.
@@ -76,21 +81,25 @@ struct Candidate {
 
 impl TraceEvent {
     fn new(scenario: &Scenario, kind: &EventKind) -> TraceEvent {
-        let next = match kind {
-            EventKind::Diagnosis { next, .. } => Some(
-                next.iter()
-                    .map(|(mode, p)| Candidate {
-                        mode: mode.clone(),
-                        p: *p,
-                    })
-                    .collect(),
+        let (next, evidence) = match kind {
+            EventKind::Diagnosis { next, evidence, .. } => (
+                Some(
+                    next.iter()
+                        .map(|(mode, p)| Candidate {
+                            mode: mode.clone(),
+                            p: *p,
+                        })
+                        .collect(),
+                ),
+                Some(evidence.clone()),
             ),
-            _ => None,
+            _ => (None, None),
         };
         TraceEvent {
             kind: format!("{:?}", EventName::of(kind)),
             text: describe_event(&scenario.plant, &scenario.program_source, kind).1,
             next,
+            evidence,
         }
     }
 }

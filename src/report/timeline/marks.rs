@@ -240,6 +240,7 @@ impl Builder<'_, '_> {
                 goal,
                 location,
                 span,
+                ..
             } => self.goal_asserted(time, goal, *location, span),
             EventKind::GoalAchieved { location, span } => self.goal_achieved(time, *location, span),
             EventKind::GoalFailed { goal, reason } => self.goal_failed(time, goal, reason),
@@ -252,6 +253,7 @@ impl Builder<'_, '_> {
                 assignments,
                 purpose,
                 repair,
+                ..
             } => self.command(time, &assignments.join(", "), Some(purpose), *repair),
             EventKind::Waiting { purpose } => self.waiting(time, purpose),
             EventKind::Diagnosis {
