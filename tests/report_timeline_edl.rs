@@ -20,16 +20,7 @@ fn the_edl_run_draws_its_lanes_faults_and_the_compressed_cruise() {
     let run = simulation::run(&scenario, RunOptions::default(), &mut |_| {}).expect("it runs");
     assert!(run.passed(), "the scenario's own expectations hold");
     let plant = &scenario.plant;
-    let svg = render(&TimelineInput {
-        plant,
-        program: scenario.program.thca(),
-        timelines: &run.timelines,
-        events: &run.events,
-        injected: &[],
-        start: run.start,
-        end: run.last_time,
-        title: &scenario.name,
-    });
+    let svg = render(&TimelineInput::of_run(&scenario, &run, &[]));
     let document = Document::parse(&svg).expect("the timeline is well-formed XML");
     let class_is = |node: &roxmltree::Node, class: &str| {
         node.attribute("class")

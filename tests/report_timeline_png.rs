@@ -27,16 +27,7 @@ fn picture_of(scenario: &str) -> String {
         injected.extend(InjectedFault::of_cycle(&scenario, record));
     })
     .expect("it runs");
-    render(&TimelineInput {
-        plant: &scenario.plant,
-        program: scenario.program.thca(),
-        timelines: &run.timelines,
-        events: &run.events,
-        injected: &injected,
-        start: run.start,
-        end: run.last_time,
-        title: &scenario.name,
-    })
+    render(&TimelineInput::of_run(&scenario, &run, &injected))
 }
 
 /// Every text element with an id, with its laid-out box (glyph outlines, in picture pixels).

@@ -244,16 +244,7 @@ fn draw(
     path: &Path,
     file: BufWriter<File>,
 ) -> Result<(), Failure> {
-    let svg = timeline::render(&TimelineInput {
-        plant: &scenario.plant,
-        program: scenario.program.thca(),
-        timelines: &outcome.timelines,
-        events: &outcome.events,
-        injected,
-        start: outcome.start,
-        end: outcome.last_time,
-        title: &scenario.name,
-    });
+    let svg = timeline::render(&TimelineInput::of_run(scenario, outcome, injected));
     write_all(path, file, &svg)
 }
 

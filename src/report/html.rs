@@ -84,16 +84,7 @@ impl Recorder {
         outcome: &RunOutcome,
         injected: &[InjectedFault],
     ) -> String {
-        let input = TimelineInput {
-            plant: &scenario.plant,
-            program: scenario.program.thca(),
-            timelines: &outcome.timelines,
-            events: &outcome.events,
-            injected,
-            start: outcome.start,
-            end: outcome.last_time,
-            title: &scenario.name,
-        };
+        let input = TimelineInput::of_run(scenario, outcome, injected);
         let svg = timeline::render(&input);
         let xs = timeline::positions(&input, &self.times);
         let data = json!({

@@ -47,7 +47,7 @@ use svg::node::element::{Circle, Group, Line, Path, Rectangle, Style, Text, Titl
 use crate::executive::{Event, Interval, Timelines};
 use crate::plant::{Component, ModeKind, Plant};
 use crate::sequencer::Thca;
-use crate::simulation::{CycleRecord, FaultDrawn, PlantEventKind, Scenario};
+use crate::simulation::{CycleRecord, FaultDrawn, PlantEventKind, RunOutcome, Scenario};
 
 use labels::{Placement, Request, clean, file_name, ident, place, text_width};
 use legend::{LEGEND_TOP, header_height, legend_key, legend_lines};
@@ -76,6 +76,27 @@ pub struct TimelineInput<'a> {
     pub end: f64,
     /// The picture's title.
     pub title: &'a str,
+}
+
+impl<'a> TimelineInput<'a> {
+    /// The whole of a scenario's run, from its first to its last cycle, titled with the
+    /// scenario's name — what `kairos run --timeline` and `--report` draw.
+    pub fn of_run(
+        scenario: &'a Scenario,
+        outcome: &'a RunOutcome,
+        injected: &'a [InjectedFault],
+    ) -> Self {
+        TimelineInput {
+            plant: &scenario.plant,
+            program: scenario.program.thca(),
+            timelines: &outcome.timelines,
+            events: &outcome.events,
+            injected,
+            start: outcome.start,
+            end: outcome.last_time,
+            title: &scenario.name,
+        }
+    }
 }
 
 /// A fault the simulation injected into the plant: a scripted rule marked `fault: true` taking
