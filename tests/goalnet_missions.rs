@@ -3,6 +3,10 @@
 //! located error (file:line:col, the text, what was expected; DESIGN.md §13), snapshot-tested as
 //! `kairos check` prints it.
 
+#[path = "support/bad_files.rs"]
+#[macro_use]
+mod bad_files;
+
 use std::path::Path;
 
 use kairos::goalnet::{GoalKind, Response, TimePointId, Window, mission};
@@ -12,24 +16,8 @@ fn root() {
     std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
 }
 
-fn errors_of(file: &str) -> String {
-    root();
-    let path = format!("tests/bad_missions/{file}.ron");
-    match mission::load(Path::new(&path)) {
-        Ok(_) => panic!("{path} loaded"),
-        Err(errors) => errors.to_string(),
-    }
-}
-
 macro_rules! bad_mission {
-    ($name:ident, $($must:literal),+) => {
-        #[test]
-        fn $name() {
-            let shown = errors_of(stringify!($name));
-            $(assert!(shown.contains($must), "missing `{}` in:\n{shown}", $must);)+
-            insta::assert_snapshot!(shown);
-        }
-    };
+    ($($case:tt)+) => { bad_file!(mission::load, "tests/bad_missions", $($case)+); };
 }
 
 bad_mission!(syntax_error, "syntax_error.ron:4:5");

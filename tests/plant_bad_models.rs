@@ -3,30 +3,23 @@
 //! `tests/bad_models/` says in its first comment what is wrong with it; its snapshot shows every
 //! error located at file:line:col with the offending text and what was expected.
 
+#[path = "support/bad_files.rs"]
+#[macro_use]
+mod bad_files;
+
 use std::process::Command;
 
 use kairos::diagnostic::Source;
 use kairos::plant::Plant;
 
-fn errors_of(file: &str) -> String {
-    let path = format!("tests/bad_models/{file}.ron");
-    let text = std::fs::read_to_string(format!("{}/{path}", env!("CARGO_MANIFEST_DIR")))
-        .unwrap_or_else(|e| panic!("{path}: {e}"));
-    match Plant::load(&Source::new(path.clone(), text)) {
-        Ok(_) => panic!("{path} loaded"),
-        Err(errors) => errors.to_string(),
-    }
+/// The model at `path`, read as `kairos check` reads it.
+fn load_model(path: &std::path::Path) -> Result<Plant, String> {
+    let source = Source::read(path).map_err(|e| e.to_string())?;
+    Plant::load(&source).map_err(|errors| errors.to_string())
 }
 
 macro_rules! bad_model {
-    ($name:ident, $($must:literal),+) => {
-        #[test]
-        fn $name() {
-            let shown = errors_of(stringify!($name));
-            $(assert!(shown.contains($must), "missing `{}` in:\n{shown}", $must);)+
-            insta::assert_snapshot!(shown);
-        }
-    };
+    ($($case:tt)+) => { bad_file!(load_model, "tests/bad_models", $($case)+); };
 }
 
 bad_model!(

@@ -3,6 +3,9 @@
 //! break the protocol caught with their shortest counterexamples, `kairos explore` on a rover
 //! scenario, and the scenario file's located errors (DESIGN.md §13).
 
+#[path = "support/bad_files.rs"]
+#[macro_use]
+mod bad_files;
 #[path = "support/cli.rs"]
 mod cli;
 
@@ -321,28 +324,11 @@ fn kairos_explore_runs_a_rover_scenario() {
     assert!(stdout.contains("covered: partly"), "{stdout}");
 }
 
-fn errors_of(file: &str) -> String {
-    let path = format!("tests/bad_rover/{file}.ron");
-    // Relative to the crate root, so that the messages name files as a user at the root sees them.
-    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
-    match scenario::load(Path::new(&path)) {
-        Ok(_) => panic!("{path} loaded"),
-        Err(errors) => errors.to_string(),
-    }
-}
-
 /// Each file in `tests/bad_rover/` says in its first comment what is wrong with it; its
 /// snapshot shows the message as `kairos explore` prints it (DESIGN.md §13: file:line:column,
 /// the offending text, what was expected).
 macro_rules! bad_rover {
-    ($name:ident, $($must:literal),+) => {
-        #[test]
-        fn $name() {
-            let shown = errors_of(stringify!($name));
-            $(assert!(shown.contains($must), "missing `{}` in:\n{shown}", $must);)+
-            insta::assert_snapshot!(shown);
-        }
-    };
+    ($($case:tt)+) => { bad_file!(scenario::load, "tests/bad_rover", $($case)+); };
 }
 
 bad_rover!(syntax_error, "syntax_error.ron:4:5");

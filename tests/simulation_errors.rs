@@ -3,29 +3,14 @@
 //! `tests/bad_scenarios/` says in its first comment what is wrong with it; its snapshot shows the
 //! message as `kairos run` prints it.
 
-use std::path::Path;
+#[path = "support/bad_files.rs"]
+#[macro_use]
+mod bad_files;
 
 use kairos::simulation;
 
-fn errors_of(file: &str) -> String {
-    let path = format!("tests/bad_scenarios/{file}.ron");
-    // Relative to the crate root, so that the messages name files as a user at the root sees them.
-    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
-    match simulation::load(Path::new(&path)) {
-        Ok(_) => panic!("{path} loaded"),
-        Err(errors) => errors.to_string(),
-    }
-}
-
 macro_rules! bad_scenario {
-    ($name:ident, $($must:literal),+) => {
-        #[test]
-        fn $name() {
-            let shown = errors_of(stringify!($name));
-            $(assert!(shown.contains($must), "missing `{}` in:\n{shown}", $must);)+
-            insta::assert_snapshot!(shown);
-        }
-    };
+    ($($case:tt)+) => { bad_file!(simulation::load, "tests/bad_scenarios", $($case)+); };
 }
 
 bad_scenario!(syntax_error, "syntax_error.ron:6:5", "Expected comma");
