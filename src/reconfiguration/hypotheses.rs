@@ -304,7 +304,7 @@ fn describe_differences(plant: &Plant, differences: &[(ComponentId, ValueId)]) -
 mod tests {
     use super::super::testing::{SWITCH_GADGET, load, mode, state};
     use super::super::{Action, Reconfiguration};
-    use super::{Ambiguity, AmbiguityOptions, Hypothesis};
+    use super::{Ambiguity, AmbiguityOptions, Hypothesis, Retry};
     use crate::logic::Formula;
     use crate::plant::Plant;
 
@@ -324,6 +324,37 @@ mod tests {
         plant: Plant,
         reconfiguration: Reconfiguration,
         theory: crate::opsat::Theory,
+    }
+
+    impl Fixture {
+        /// The modes `switch = names[0]`, `gadget = names[1]`.
+        fn state(&self, names: [&str; 2]) -> Vec<crate::logic::ValueId> {
+            state(&self.plant, &names)
+        }
+
+        /// What `ambiguity` does for `goal`, unreachable from ŝ = the switch stuck with the
+        /// gadget at `a`, when the belief also holds `hypothesis` at probability `p`.
+        fn retry_with(
+            &mut self,
+            ambiguity: &mut Ambiguity,
+            goal: &Formula,
+            (hypothesis, p): ([&str; 2], f64),
+            options: &AmbiguityOptions,
+        ) -> Option<Retry> {
+            let stuck = self.state(["stuck", "a"]);
+            let modes = self.state(hypothesis);
+            let belief = [Hypothesis {
+                modes: &modes,
+                probability: p,
+            }];
+            ambiguity.retry(
+                (&self.reconfiguration, &mut self.theory),
+                goal,
+                (&stuck, &stuck),
+                belief,
+                options,
+            )
+        }
     }
 
     fn fixture() -> Fixture {
@@ -393,17 +424,10 @@ mod tests {
     fn hypotheses_below_the_threshold_are_not_acted_on() {
         let mut f = fixture();
         let goal = gadget_b(&f.plant);
-        let stuck = state(&f.plant, &["stuck", "a"]);
-        let off = state(&f.plant, &["off", "a"]);
-        let belief = [Hypothesis {
-            modes: &off,
-            probability: 0.04,
-        }];
-        let retry = Ambiguity::default().retry(
-            (&f.reconfiguration, &mut f.theory),
+        let retry = f.retry_with(
+            &mut Ambiguity::default(),
             &goal,
-            (&stuck, &stuck),
-            belief,
+            (["off", "a"], 0.04),
             &AmbiguityOptions::default(),
         );
         assert_eq!(retry, None);
@@ -413,28 +437,19 @@ mod tests {
     fn retries_are_bounded_per_goal_and_the_failure_names_every_hypothesis_tried() {
         let mut f = fixture();
         let goal = gadget_b(&f.plant);
-        let stuck = state(&f.plant, &["stuck", "a"]);
-        let off = state(&f.plant, &["off", "a"]);
+        let stuck = f.state(["stuck", "a"]);
         let options = AmbiguityOptions {
             threshold: 0.05,
             retries: 2,
         };
         let mut ambiguity = Ambiguity::default();
-        let mut attempts = Vec::new();
-        for p in [0.4, 0.3, 0.2] {
-            let belief = [Hypothesis {
-                modes: &off,
-                probability: p,
-            }];
-            let retry = ambiguity.retry(
-                (&f.reconfiguration, &mut f.theory),
-                &goal,
-                (&stuck, &stuck),
-                belief,
-                &options,
-            );
-            attempts.push(retry.map(|r| r.attempt));
-        }
+        let attempts: Vec<_> = [0.4, 0.3, 0.2]
+            .into_iter()
+            .map(|p| {
+                f.retry_with(&mut ambiguity, &goal, (["off", "a"], p), &options)
+                    .map(|r| r.attempt)
+            })
+            .collect();
         assert_eq!(attempts, [Some(1), Some(2), None]);
         let failed = f
             .reconfiguration
@@ -452,31 +467,18 @@ mod tests {
     fn a_new_goal_gets_a_new_budget() {
         let mut f = fixture();
         let goal = gadget_b(&f.plant);
-        let stuck = state(&f.plant, &["stuck", "a"]);
-        let off = state(&f.plant, &["off", "a"]);
+        let other = Formula::And(vec![goal.clone(), is(&f.plant, "switch", "on")]);
         let options = AmbiguityOptions {
             threshold: 0.05,
             retries: 1,
         };
-        let belief = [Hypothesis {
-            modes: &off,
-            probability: 0.4,
-        }];
         let mut ambiguity = Ambiguity::default();
         let mut retry = |goal: &Formula| {
-            ambiguity
-                .retry(
-                    (&f.reconfiguration, &mut f.theory),
-                    goal,
-                    (&stuck, &stuck),
-                    belief,
-                    &options,
-                )
+            f.retry_with(&mut ambiguity, goal, (["off", "a"], 0.4), &options)
                 .map(|r| r.attempt)
         };
         assert_eq!(retry(&goal), Some(1));
         assert_eq!(retry(&goal), None);
-        let other = Formula::And(vec![goal.clone(), is(&f.plant, "switch", "on")]);
         assert_eq!(retry(&other), Some(1));
     }
 
@@ -504,24 +506,12 @@ mod tests {
     fn no_retries_act_on_the_estimate_alone() {
         let mut f = fixture();
         let goal = gadget_b(&f.plant);
-        let stuck = state(&f.plant, &["stuck", "a"]);
-        let off = state(&f.plant, &["off", "a"]);
         let options = AmbiguityOptions {
             threshold: 0.05,
             retries: 0,
         };
-        let belief = [Hypothesis {
-            modes: &off,
-            probability: 0.4,
-        }];
         let mut ambiguity = Ambiguity::default();
-        let retry = ambiguity.retry(
-            (&f.reconfiguration, &mut f.theory),
-            &goal,
-            (&stuck, &stuck),
-            belief,
-            &options,
-        );
+        let retry = f.retry_with(&mut ambiguity, &goal, (["off", "a"], 0.4), &options);
         assert_eq!(retry, None);
         assert_eq!(ambiguity.tried().count(), 0);
         assert_eq!(ambiguity.retries(), 0);
@@ -531,19 +521,13 @@ mod tests {
     fn a_hypothesis_that_cannot_serve_the_goal_is_not_searched_again() {
         let mut f = fixture();
         let goal = gadget_b(&f.plant);
-        let stuck = state(&f.plant, &["stuck", "a"]);
-        let broken = state(&f.plant, &["stuck", "broken"]);
-        let belief = [Hypothesis {
-            modes: &broken,
-            probability: 0.4,
-        }];
+        let stuck = f.state(["stuck", "a"]);
         let mut ambiguity = Ambiguity::default();
         for _ in 0..2 {
-            let retry = ambiguity.retry(
-                (&f.reconfiguration, &mut f.theory),
+            let retry = f.retry_with(
+                &mut ambiguity,
                 &goal,
-                (&stuck, &stuck),
-                belief,
+                (["stuck", "broken"], 0.4),
                 &AmbiguityOptions::default(),
             );
             assert_eq!(retry, None);
