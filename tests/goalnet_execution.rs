@@ -1,7 +1,8 @@
 //! Execution and monitoring of a scheduled network (issue 13 §4; mds-goal-networks.md §2.4–2.5;
 //! DESIGN.md §15.3), driven by scripted estimates of the thermostat for system test 4's network
 //! (`missions/thermostat_stay_warm.ron`): when each point fires, the configuration goal, a
-//! maintain failure narrowed to its constituent, a forced point failing a transition goal.
+//! maintain failure narrowed to its constituent, a forced point failing a transition goal; and
+//! a point ending a transition that nothing follows (`tests/missions/close_switch1.ron`).
 
 use std::path::Path;
 
@@ -40,8 +41,12 @@ fn estimate(plant: &Plant, modes: &[(&str, &str)]) -> (Vec<ValueId>, Vec<Vec<f64
 
 impl Harness {
     fn new() -> Self {
+        Self::of("missions/thermostat_stay_warm.ron")
+    }
+
+    fn of(path: &str) -> Self {
         std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
-        let mission = mission::load(Path::new("missions/thermostat_stay_warm.ron")).expect("loads");
+        let mission = mission::load(Path::new(path)).expect("loads");
         let reconfiguration = Reconfiguration::compile(&mission.plant).expect("compiles");
         let current = vec![ValueId(0); mission.plant.components().len()];
         let executable = schedule(&mission.network, &reconfiguration, &current).expect("schedules");
@@ -220,6 +225,45 @@ fn a_forced_end_point_fails_the_unreached_transition() {
         failures.iter().any(|(t, g, r)| *t == 161.0
             && g == "get-warm"
             && matches!(r, FailureReason::EndForced(_))),
+        "{failures:?}"
+    );
+}
+
+/// A point that ends a Transition goal is ready only once the transition is complete (§2.4 (a),
+/// `is_ready_to_transition(incoming, …)`): TP_A waits within [10, 15] s for switch 1 and fires
+/// the cycle it is believed closed, though no goal starting there asks for it.
+#[test]
+fn a_transition_end_waits_for_its_set() {
+    let mut h = Harness::of("tests/missions/close_switch1.ron");
+    h.run(0, 20, |t| {
+        if t >= 13.0 {
+            vec![("switch1", "closed")]
+        } else {
+            vec![]
+        }
+    });
+    assert_eq!(h.fired("TP_H"), Some(10.0));
+    assert_eq!(h.fired("TP_A"), Some(13.0));
+    assert_eq!(h.forced(), 0);
+    assert_eq!(h.goal_failures(), []);
+}
+
+/// The same transition never completed (switch 1 stays open, still reachable, so monitoring
+/// does not fail it): TP_A is forced at its latest time and the goal fails there — before
+/// readiness looked at incoming transitions, TP_A fired on time at 10 s and the unreached goal
+/// passed unnoticed.
+#[test]
+fn a_transition_end_never_reached_is_forced_and_fails() {
+    let mut h = Harness::of("tests/missions/close_switch1.ron");
+    h.run(0, 20, |_| vec![]);
+    assert_eq!(h.fired("TP_A"), Some(15.0));
+    assert_eq!(h.forced(), 1);
+    let failures = h.goal_failures();
+    assert!(
+        matches!(
+            failures.as_slice(),
+            [(15.0, goal, FailureReason::EndForced(_))] if goal == "close-switch1"
+        ),
         "{failures:?}"
     );
 }

@@ -11,11 +11,11 @@
 //!    is reported once and stays failed (the responses are [`GoalController`]'s);
 //! 2. **firing** (the Executive), repeated to a fixpoint: an unfired point fires when its
 //!    earliest time has passed, every point constrained to precede it (a constraint into it with
-//!    a minimum ≥ 0) has fired, and every XGoal starting at it is *ready* (a Maintain XGoal's set
-//!    holds for ŝ; other kinds are ready at once) — or anyway at the first cycle at or after its
-//!    latest time (`TimePointForced`; a Transition XGoal ending there unreached fails). Firing
-//!    grounds the point and re-propagates incrementally, and dispatches the XGoals that start
-//!    there.
+//!    a minimum ≥ 0) has fired, and it is *ready*: every Maintain XGoal starting at it holds for
+//!    ŝ and every Transition XGoal ending at it has reached its set — or anyway at the first
+//!    cycle at or after its latest time (`TimePointForced`; a Transition XGoal ending there
+//!    unreached fails). Firing grounds the point and re-propagates incrementally, and
+//!    dispatches the XGoals that start there.
 //!
 //! The **configuration goal** is the conjunction of the active Maintain and Transition XGoals'
 //! control sets on controllable state variables; knowledge goals never become commands.
@@ -375,16 +375,25 @@ impl Execution {
         false
     }
 
-    /// Every XGoal starting at `point` is ready to be entered (§2.4 (a)).
+    /// `point` is ready to transition (§2.4 (a), the seeds' `is_ready_to_transition(incoming,
+    /// current, outgoing)`): every Maintain XGoal starting there holds for ŝ, and every
+    /// Transition XGoal ending there has reached its set. The incoming half is why a point that
+    /// ends a transition waits within its window for the transition to complete, and is forced
+    /// — failing the transition unreached — only at its latest time; without it an on-time end
+    /// would let an unreached Transition goal pass unnoticed.
     fn ready(&self, point: TimePointId, estimate: EstimateView) -> bool {
+        let holds = |x: &XGoal| {
+            x.constraint.satisfied_by(
+                estimate.modes[x.sv.index()],
+                &estimate.beliefs[x.sv.index()],
+                self.threshold,
+            )
+        };
         self.executable.timelines.iter().all(|t| {
-            t.xgoals.iter().filter(|x| x.start == point).all(|x| {
-                x.kind != GoalKind::Maintain
-                    || x.constraint.satisfied_by(
-                        estimate.modes[x.sv.index()],
-                        &estimate.beliefs[x.sv.index()],
-                        self.threshold,
-                    )
+            t.xgoals.iter().all(|x| {
+                let entering = x.start == point && x.kind == GoalKind::Maintain;
+                let completing = x.end == point && x.kind == GoalKind::Transition;
+                !(entering || completing) || holds(x)
             })
         })
     }
