@@ -122,7 +122,9 @@ pub enum EventKind {
         /// first (the next candidates; the least likely are left out).
         next: Vec<(String, f64)>,
         /// The observations the previous most likely state, stepped by the last command, cannot
-        /// explain (`variable = value`; Livingstone's discrepant observations).
+        /// explain (`variable = value`; Livingstone's discrepant observations), against the
+        /// initial state in cycle 0. When none is discrepant alone but some are together, one
+        /// entry names a minimal such set: `a = x & b = y`.
         evidence: Vec<String>,
     },
     /// A command was issued.

@@ -656,7 +656,8 @@ impl Executive {
     }
 
     /// The observations ŝ(i−1) (`before`, of the belief `previous`), stepped by the last
-    /// command, cannot explain (`evidence::discrepant`). An explanation is best effort: were
+    /// command, cannot explain, or in cycle 0 the initial state (`evidence::discrepant`); a
+    /// minimal set when they are discrepant only together. An explanation is best effort: were
     /// the theory to refuse the step, the diagnosis goes without evidence rather than the
     /// cycle failing.
     fn evidence(&mut self, before: &[ValueId], previous: Option<&Belief>, now: f64) -> Vec<String> {
