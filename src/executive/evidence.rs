@@ -139,3 +139,75 @@ fn stepped(
             .unwrap_or(usize::MAX)
     }))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::Source;
+
+    /// A chain that must read the same at a, b and c while `level`; `d` has no part in it.
+    const CHAIN: &str = r#"Plant(
+        name: "chain",
+        components: [
+            Component(
+                name: "x",
+                attributes: {
+                    "a": ["low", "high"], "b": ["low", "high"],
+                    "c": ["low", "high"], "d": ["low", "high"],
+                },
+                modes: [
+                    Mode(name: "level", constraint: "x.a = x.b and x.b = x.c", reward: 0),
+                    Mode(name: "broken", kind: Fault, constraint: "true", reward: -1),
+                ],
+                initial: { "level": 1.0 },
+                transitions: [],
+            ),
+        ],
+        controls: {},
+        observables: ["x.a", "x.b", "x.c", "x.d"],
+    )"#;
+
+    /// Issue 19 item 2: with `a = low`, `b = low`, `c = high`, `d = low` none is discrepant
+    /// alone; both {a, c} and {b, c} are minimal jointly inconsistent sets, {a, b, c} is not
+    /// minimal. The set named is one of the two: inconsistent with `level`, consistent when any
+    /// member is dropped, and without `d`.
+    #[test]
+    fn the_jointly_unexplained_set_is_minimal() {
+        let plant = Plant::load(&Source::new("chain.ron", CHAIN)).expect("a valid model");
+        let mut theory = plant.theory().expect("a theory");
+        let table = plant.table();
+        let observed: Vec<(crate::logic::VarId, ValueId)> = [
+            ("x.a", "low"),
+            ("x.b", "low"),
+            ("x.c", "high"),
+            ("x.d", "low"),
+        ]
+        .iter()
+        .map(|&(name, value)| {
+            let var = table.variable_id(name).expect("a variable");
+            (var, table.variable(var).value(value).expect("a value"))
+        })
+        .collect();
+        let observation = Observation::new(&plant, &observed).expect("an observation");
+        let level = plant.most_likely_initial();
+        let evidence = unexplained(&plant, &mut theory, &level, &observation);
+        assert!(
+            evidence == ["x.a = low & x.c = high"] || evidence == ["x.b = low & x.c = high"],
+            "{evidence:?}"
+        );
+
+        let modes = mode_literals(&plant, &level);
+        let all: Vec<Literal> = (observed.iter())
+            .map(|&(var, value)| Literal::Is(var, value))
+            .collect();
+        let named = jointly_unexplained(&mut theory, &modes, &all).expect("a set");
+        assert_eq!(named.len(), 2, "{named:?}");
+        assert!(!named.contains(&all[3]), "d has no part in it");
+        assert!(!theory.is_consistent(&[modes.clone(), named.clone()].concat()));
+        for k in 0..named.len() {
+            let mut fewer = named.clone();
+            fewer.remove(k);
+            assert!(theory.is_consistent(&[modes.clone(), fewer].concat()));
+        }
+    }
+}
