@@ -1,7 +1,7 @@
 //! The mission log's filters and its wording (issue 19 item 2; DESIGN.md §12): `--hide-plant`,
 //! `--only COMPONENT…`, `--from T`, `--to T` choose what is printed, never what is checked; a
 //! repair and a wait are said once ("REPAIR PDE.cmd = reset", "waiting after …"); a goal its
-//! location asserts again is "re-asserted".
+//! location asserts again is "re-asserted"; a preemption names its construct and condition.
 
 use std::process::Command;
 
@@ -123,4 +123,72 @@ fn a_goal_asserted_again_by_its_location_is_re_asserted() {
     assert!(log.find(&first) < log.find(&again), "{log}");
     assert_eq!(log.matches("asserted camera = idle").count(), 1, "{log}");
     assert!(!log.contains("re-asserted camera = idle"), "{log}");
+}
+
+/// A preemption names the construct and the condition whose entailment preempted it (issue 19
+/// item 2; thesis §5.2 `do A watching c`, Figure 5-3 step 2): when IMU_1 fails, `do (IMU_1 =
+/// on) watching (IMU_1 = failed)` is preempted "IMU_1 = failed became entailed", the
+/// condition quoted from the program; the trace carries it rendered from the formula, with
+/// `entailed`; an event printed on its own (`Display`, no program) renders it too.
+#[test]
+fn a_preemption_names_the_construct_and_the_condition_that_became_entailed() {
+    let scenario = "scenarios/spacecraft_deployment/imu_1_fails.ron";
+    let trace = std::env::temp_dir().join(format!("kairos-preempt-{}.jsonl", std::process::id()));
+    let trace_arg = trace.display().to_string();
+    let (code, stdout, stderr) = kairos(&[
+        "run",
+        scenario,
+        "--hide-plant",
+        "--from",
+        "600",
+        "--to",
+        "605",
+        "--trace",
+        &trace_arg,
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let log = blocks(&stdout);
+    let watch = "preempted    do … watching (programs/spacecraft_deployment.rmpl:33:3): \
+                 IMU_1 = failed became entailed";
+    assert!(log.contains(watch), "{log}");
+    insta::assert_snapshot!(log);
+
+    let text = std::fs::read_to_string(&trace).expect("the trace is written");
+    let _ = std::fs::remove_file(&trace);
+    let preemptions: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str::<serde_json::Value>(l).expect("each line is JSON"))
+        .flat_map(|l| l["events"].as_array().cloned().unwrap_or_default())
+        .filter(|e| e["kind"] == "Preempted")
+        .collect();
+    let conditions: Vec<&str> = preemptions
+        .iter()
+        .map(|e| e["condition"].as_str().expect("a condition"))
+        .collect();
+    assert_eq!(
+        conditions,
+        [
+            "SSR_A = on or SSR_B = on",
+            "IMU_1 = failed",
+            "spacecraft_deployment = success or spacecraft_deployment = failure",
+        ]
+    );
+    assert!(preemptions.iter().all(|e| e["entailed"] == true));
+
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(scenario);
+    let loaded = kairos::simulation::load(&path).expect("the scenario loads");
+    let options = kairos::simulation::RunOptions::default();
+    let run = kairos::simulation::run(&loaded, options, &mut |_| {}).expect("it runs");
+    let bare: Vec<String> = run
+        .events
+        .iter()
+        .filter(|e| matches!(e.kind, kairos::executive::EventKind::Preempted { .. }))
+        .map(|e| e.kind.to_string())
+        .collect();
+    assert!(
+        bare.iter()
+            .any(|e| e.starts_with("preempted do … watching (bytes ")
+                && e.ends_with("): IMU_1 = failed became entailed")),
+        "{bare:?}"
+    );
 }

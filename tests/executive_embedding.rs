@@ -1,6 +1,8 @@
 //! The embedding use of the executive (DESIGN.md §1 user 2, §10; issue 6 acceptance): a flight
 //! loop written by hand drives `Executive::step` against a plant simulated in plain Rust, the
-//! propulsion subsystem of thesis Figures 6-14/6-15 (`models/propulsion.ron`).
+//! propulsion subsystem of thesis Figures 6-14/6-15 (`models/propulsion.ron`); and what a
+//! diagnosis names as evidence in cycle 0 and for observations discrepant only together, on a
+//! sensor pair written for the test (issue 19 item 2).
 
 use std::cell::RefCell;
 
@@ -553,4 +555,103 @@ fn an_ambiguous_diagnosis_is_retried_only_above_the_threshold_and_within_the_bud
     let (sent, events) = fire_with_valve2_stuck(AmbiguityOptions { retries: 0, ..low });
     assert_eq!(retries_and_failure(&events).0, 0, "{events:?}");
     assert_eq!(open2(&sent), 1, "{sent:?}");
+}
+
+/// Two sensors that must agree while the pair is healthy, and a third that reads low while it
+/// is: `a = low` or `b = high` alone fits `agreeing` (the other sensor could read the same);
+/// both together do not. `c = high` alone does not.
+const SENSOR_PAIR: &str = r#"Plant(
+    name: "sensor_pair",
+    components: [
+        Component(
+            name: "pair",
+            attributes: {
+                "cmd": ["none", "reset"],
+                "a": ["low", "high"],
+                "b": ["low", "high"],
+                "c": ["low", "high"],
+            },
+            modes: [
+                Mode(name: "agreeing", constraint: "pair.a = pair.b and pair.c = low", reward: 0),
+                Mode(name: "split", kind: Fault, constraint: "true", reward: -10),
+            ],
+            initial: { "agreeing": 0.99, "split": 0.01 },
+            transitions: [
+                (from: "agreeing", to: "split", probability: 0.01),
+            ],
+        ),
+    ],
+    controls: { "pair.cmd": "none" },
+    observables: ["pair.a", "pair.b", "pair.c"],
+)"#;
+
+/// An executive on the sensor pair with a program that only wants it healthy.
+fn sensor_pair() -> Executive {
+    let plant = Plant::load(&Source::new("sensor_pair.ron", SENSOR_PAIR)).expect("a valid model");
+    let options = LinkOptions {
+        plant: Some(plant.table()),
+        ..LinkOptions::default()
+    };
+    let program = Source::new("pair.rmpl", "Pair() :: { pair = agreeing }");
+    let thca = rmpl::load(&program, &options).expect("links");
+    Executive::builder(plant, thca).build().expect("builds")
+}
+
+/// The evidence of the cycle's diagnoses (one per diagnosis).
+fn evidence(step: &Step) -> Vec<Vec<String>> {
+    step.events
+        .iter()
+        .filter_map(|e| match &e.kind {
+            EventKind::Diagnosis { evidence, .. } => Some(evidence.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
+fn readings(a: &str, b: &str, c: &str) -> [NamedValue; 3] {
+    [
+        NamedValue::new("pair.a", a),
+        NamedValue::new("pair.b", b),
+        NamedValue::new("pair.c", c),
+    ]
+}
+
+/// Issue 19 item 2: a diagnosis in cycle 0 has no previous belief; its evidence is what the
+/// state the executive starts from — the model's most likely initial state (thesis §6.2.2,
+/// P_Θ), here `agreeing` — cannot explain: `pair.c = high`.
+#[test]
+fn a_diagnosis_in_cycle_0_names_what_the_initial_state_cannot_explain() {
+    let mut executive = sensor_pair();
+    let step = executive
+        .step(0.0, &readings("low", "low", "high"))
+        .expect("the cycle runs");
+    assert_eq!(evidence(&step), [["pair.c = high"]]);
+}
+
+/// Issue 19 item 2: observations that contradict the previous most likely state only jointly.
+/// In cycle 1 the pair reads `a = low`, `b = high`: neither alone is discrepant with `agreeing`
+/// (stepped by no command it stays `agreeing`), together they are, and `c = low` has no part
+/// in it — the evidence is the minimal set `pair.a = low & pair.b = high`, printed joined by
+/// ` & ` after `evidence:`.
+#[test]
+fn observations_discrepant_only_together_are_named_as_a_minimal_set() {
+    let mut executive = sensor_pair();
+    let step = executive
+        .step(0.0, &readings("low", "low", "low"))
+        .expect("the cycle runs");
+    assert!(evidence(&step).is_empty(), "agreeing: nothing to diagnose");
+    let step = executive
+        .step(1.0, &readings("low", "high", "low"))
+        .expect("the cycle runs");
+    assert_eq!(evidence(&step), [["pair.a = low & pair.b = high"]]);
+    let diagnosis = step
+        .events
+        .iter()
+        .find(|e| matches!(e.kind, EventKind::Diagnosis { .. }))
+        .expect("a diagnosis");
+    let line = diagnosis.to_string();
+    assert!(
+        line.contains("= split (p 1.00); evidence: pair.a = low & pair.b = high"),
+        "{line}"
+    );
 }

@@ -192,11 +192,17 @@ fn odd_observations_are_events_and_the_run_completes() {
     }
 }
 
-/// The fault scenarios show their diagnosis within the tolerance they state.
+/// The fault scenarios show their diagnosis within the tolerance they state, with its evidence.
 #[test]
 fn fault_scenarios_diagnose_their_fault() {
     let log = passes("scenarios/driver_valve/valve_stuck.ron");
     assert!(log.contains("DIAGNOSIS    valve = stuck-closed"), "{log}");
+    // Issue 19 item 2: the valve open (ŝ stepped by `open`) passes its inflow (§6.1.3,
+    // `flow_out = flow_in`); nominal in and zero out each fit it alone, not together.
+    assert!(
+        log.contains("evidence: valve.flow_in = nominal & valve.flow_out = zero;"),
+        "{log}"
+    );
     assert!(log.contains("GOAL FAILED  valve = open"), "{log}");
     let log = passes("scenarios/engine_camera/flameout.ron");
     assert!(log.contains("DIAGNOSIS    engine = failed"), "{log}");

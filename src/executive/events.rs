@@ -8,7 +8,7 @@ use crate::diagnostic::Span;
 use crate::estimation::Fallback;
 use crate::opsat::Cut;
 use crate::plant::ComponentId;
-use crate::sequencer::{GoalSource, LocationId};
+use crate::sequencer::{Construct, GoalSource, LocationId};
 
 /// One notable thing in one cycle.
 #[derive(Debug, Clone, PartialEq)]
@@ -75,12 +75,22 @@ pub enum EventKind {
         second: GoalSource,
     },
     /// A `do … watching` or `maintaining` construct was preempted: its maintenance no longer
-    /// holds.
+    /// holds, because the watched condition became entailed or the maintained one is not.
     Preempted {
         /// The composite location.
         location: LocationId,
         /// Its construct.
         span: Span,
+        /// Which construct it is (`do … watching`, `maintaining`).
+        construct: Construct,
+        /// The condition whose entailment preempted, rendered from its formula with the
+        /// program's names (the log prints its source text where it has the program).
+        condition: String,
+        /// Where the condition is written.
+        condition_span: Span,
+        /// True when the condition became entailed (`do … watching c`); false when it is not
+        /// entailed (`… maintaining c`).
+        entailed: bool,
     },
     /// A program clock started.
     ClockStarted {
@@ -112,7 +122,9 @@ pub enum EventKind {
         /// first (the next candidates; the least likely are left out).
         next: Vec<(String, f64)>,
         /// The observations the previous most likely state, stepped by the last command, cannot
-        /// explain (`variable = value`; Livingstone's discrepant observations).
+        /// explain (`variable = value`; Livingstone's discrepant observations), against the
+        /// initial state in cycle 0. When none is discrepant alone but some are together, one
+        /// entry names a minimal such set: `a = x & b = y`.
         evidence: Vec<String>,
     },
     /// A command was issued.

@@ -59,7 +59,7 @@ use crate::plant::{Commands, ComponentId, ModeKind, Plant};
 use crate::reconfiguration::{
     Action, Ambiguity, AmbiguityOptions, GoalFailed, GoalState, Hypothesis, Reconfiguration,
 };
-use crate::sequencer::{self, ConfigurationGoal, LocationId, SequencerError, Thca};
+use crate::sequencer::{self, ConfigurationGoal, LocationId, Sense, SequencerError, Thca};
 use control::Program;
 use observations::LastObservation;
 use oracle::{AnswerCache, CachedOracle, VersionedEstimate};
@@ -656,7 +656,8 @@ impl Executive {
     }
 
     /// The observations ŝ(i−1) (`before`, of the belief `previous`), stepped by the last
-    /// command, cannot explain (`evidence::discrepant`). An explanation is best effort: were
+    /// command, cannot explain, or in cycle 0 the initial state (`evidence::discrepant`); a
+    /// minimal set when they are discrepant only together. An explanation is best effort: were
     /// the theory to refuse the step, the diagnosis goes without evidence rather than the
     /// cycle failing.
     fn evidence(&mut self, before: &[ValueId], previous: Option<&Belief>, now: f64) -> Vec<String> {
@@ -768,37 +769,13 @@ impl Executive {
             if repeated {
                 continue;
             }
-            self.report_sequencer_event(event, log);
+            report_sequencer_event(sequencer.thca(), &mut self.reported, event, log);
         }
         self.reported.achieved = achieved;
         if let Some(goal) = &goal {
             self.report_new_goals(goal, log);
         }
         Ok(goal)
-    }
-
-    fn report_sequencer_event(&mut self, event: sequencer::Event, log: &mut EventLog) {
-        use sequencer::Event as S;
-        let kind = match event {
-            S::ClockStarted { clock, span, .. } => EventKind::ClockStarted {
-                clock: self.control.table().clock_name(clock).to_string(),
-                span,
-            },
-            S::Preempted { location, span } | S::MaintenanceViolated { location, span } => {
-                EventKind::Preempted { location, span }
-            }
-            S::GoalConflict { first, second } => {
-                let pair = (first.location, second.location);
-                if self.reported.conflicts.contains(&pair) {
-                    return;
-                }
-                self.reported.conflicts.push(pair);
-                EventKind::GoalConflict { first, second }
-            }
-            S::GoalAchieved { location, span } => EventKind::GoalAchieved { location, span },
-            S::Completed => EventKind::ProgramCompleted,
-        };
-        log.push(kind);
     }
 
     fn report_new_goals(&mut self, goal: &ConfigurationGoal, log: &mut EventLog) {
@@ -1064,4 +1041,54 @@ impl EventLog {
             kind,
         });
     }
+}
+
+/// A sequencer event as the executive reports it: clocks and conditions by name, a goal conflict
+/// once until it goes away (`reported`).
+fn report_sequencer_event(
+    thca: &Thca,
+    reported: &mut Reported,
+    event: sequencer::Event,
+    log: &mut EventLog,
+) {
+    use sequencer::Event as S;
+    let kind = match event {
+        S::ClockStarted { clock, span, .. } => EventKind::ClockStarted {
+            clock: thca.table().clock_name(clock).to_string(),
+            span,
+        },
+        S::Preempted {
+            location,
+            span,
+            construct,
+            condition,
+        }
+        | S::MaintenanceViolated {
+            location,
+            span,
+            construct,
+            condition,
+        } => EventKind::Preempted {
+            location,
+            span,
+            construct,
+            condition: thca
+                .formula(condition.formula)
+                .display(thca.table())
+                .to_string(),
+            condition_span: condition.span,
+            entailed: condition.sense == Sense::NotEntailed,
+        },
+        S::GoalConflict { first, second } => {
+            let pair = (first.location, second.location);
+            if reported.conflicts.contains(&pair) {
+                return;
+            }
+            reported.conflicts.push(pair);
+            EventKind::GoalConflict { first, second }
+        }
+        S::GoalAchieved { location, span } => EventKind::GoalAchieved { location, span },
+        S::Completed => EventKind::ProgramCompleted,
+    };
+    log.push(kind);
 }

@@ -156,7 +156,29 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
                 at(&second.span)
             ),
         ),
-        E::Preempted { span, .. } => ("preempted", format!("the construct at {}", at(span))),
+        // `do … watching (file:28:3): (SSR_A = on) ∨ (SSR_B = on) became entailed`: the
+        // construct, then the condition as the program writes it.
+        E::Preempted {
+            span,
+            construct,
+            condition,
+            condition_span,
+            entailed,
+            ..
+        } => {
+            let condition = names
+                .text(condition_span)
+                .unwrap_or_else(|| condition.clone());
+            let change = if *entailed {
+                "became entailed"
+            } else {
+                "is not entailed"
+            };
+            (
+                "preempted",
+                format!("{construct} ({}): {condition} {change}", at(span)),
+            )
+        }
         E::ClockStarted { clock, span } => ("clock", format!("{clock} started  ({})", at(span))),
         E::ModeChanged {
             component: c,

@@ -20,7 +20,10 @@
 //!   "evidence": ["PDE.status = fault"]}]` (kinds as `simulation::EventName` spells them; text
 //!   as the mission log shows it; `next`, a diagnosis's other candidate modes of the component,
 //!   and `evidence`, the observations the previous most likely state stepped by the last
-//!   command cannot explain, only on a `Diagnosis`);
+//!   command cannot explain (one entry `a = x & b = y` for a set discrepant only together),
+//!   only on a `Diagnosis`; `condition` and `entailed`, the condition
+//!   whose entailment preempted and whether it became entailed (`do … watching`) or is not
+//!   entailed (`maintaining`), only on a `Preempted`);
 //! - `plant`: the scripted plant's rules that fired or took effect, `[{"rule": .., "kind":
 //!   "fired" | "applied", "fault": bool}]`;
 //! - `micros`: wall time of estimation, the sequencer, reconfiguration and the whole cycle.
@@ -67,9 +70,17 @@ struct TraceEvent {
     /// A diagnosis's next candidates, structured for tools (the text has them too).
     #[serde(skip_serializing_if = "Option::is_none")]
     next: Option<Vec<Candidate>>,
-    /// A diagnosis's evidence, `variable = value` each (the text has it too).
+    /// A diagnosis's evidence, `variable = value` each, or `a = x & b = y` for a set
+    /// discrepant only together (the text has it too).
     #[serde(skip_serializing_if = "Option::is_none")]
     evidence: Option<Vec<String>>,
+    /// A preemption's condition, rendered from its formula (the text quotes the program).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    condition: Option<String>,
+    /// Whether that condition became entailed (`do … watching`) or is not entailed
+    /// (`maintaining`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    entailed: Option<bool>,
 }
 
 /// Another mode of a diagnosed component with its marginal.
@@ -95,11 +106,21 @@ impl TraceEvent {
             ),
             _ => (None, None),
         };
+        let (condition, entailed) = match kind {
+            EventKind::Preempted {
+                condition,
+                entailed,
+                ..
+            } => (Some(condition.clone()), Some(*entailed)),
+            _ => (None, None),
+        };
         TraceEvent {
             kind: format!("{:?}", EventName::of(kind)),
             text: describe_event(&scenario.plant, &scenario.program_source, kind).1,
             next,
             evidence,
+            condition,
+            entailed,
         }
     }
 }

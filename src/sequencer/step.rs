@@ -17,7 +17,9 @@ use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 
 use super::oracle::{Entailment, entailed_in_every_case};
-use super::thca::{Condition, FormulaId, Location, LocationId, LocationKind, Sense, Thca};
+use super::thca::{
+    Condition, Construct, FormulaId, Location, LocationId, LocationKind, Sense, Thca,
+};
 use crate::diagnostic::Span;
 use crate::logic::{Atom, ClockId, Formula};
 
@@ -42,6 +44,11 @@ pub enum Event {
         location: LocationId,
         /// Its construct's text.
         span: Span,
+        /// Which construct it is (`do … watching`, `maintaining`).
+        construct: Construct,
+        /// The maintenance constraint ŝ(i) ∧ ω(i) violated: `⊭ c` of `do … watching c` (c
+        /// became entailed) or `⊨ c` of `… maintaining c` (c is not entailed).
+        condition: Condition,
     },
     /// A marked primitive location's own maintenance constraint is violated: it asserts no goal
     /// and its transitions are enabled (Figure 5-3, steps 4, 7, 8a).
@@ -50,6 +57,10 @@ pub enum Event {
         location: LocationId,
         /// Its construct's text.
         span: Span,
+        /// Which construct it is.
+        construct: Construct,
+        /// The maintenance constraint violated.
+        condition: Condition,
     },
     /// Step 4: two goals asserted in the same cycle cannot hold together; neither is part of
     /// the configuration goal.
@@ -552,11 +563,23 @@ fn check_maintenance<E: Entailment>(
         };
         if !evaluator.holds(maintenance) {
             violated[i] = true;
-            let (location, span) = (location.id, location.origin.span.clone());
+            let (span, construct) = (location.origin.span.clone(), location.origin.construct);
+            let condition = maintenance.clone();
+            let location = location.id;
             events.push(if thca.location(location).is_composite() {
-                Event::Preempted { location, span }
+                Event::Preempted {
+                    location,
+                    span,
+                    construct,
+                    condition,
+                }
             } else {
-                Event::MaintenanceViolated { location, span }
+                Event::MaintenanceViolated {
+                    location,
+                    span,
+                    construct,
+                    condition,
+                }
             });
         }
     }
@@ -748,6 +771,45 @@ mod tests {
             [Event::MaintenanceViolated { .. }]
         ));
         assert_eq!(numbers(&sequencer), [2], "step 8a: progress on violation");
+    }
+
+    #[test]
+    fn a_preemption_carries_the_watched_condition() {
+        // Figure 5-3 step 2: `do A watching c` is a composite with maintenance ⊭ c (thesis
+        // §5.2); when ŝ(i) entails c the composite is preempted, and the event names the
+        // construct and the condition whose entailment preempted it (issue 19 item 2).
+        let mut hand = Hand::new();
+        let watching = Origin {
+            construct: Construct::Watching,
+            ..origin()
+        };
+        let c = hand.builder.composite(None, watching);
+        let inside = hand.primitive(Some(c), Some("y = yes"));
+        let watched = Condition {
+            span: 7..14,
+            ..hand.condition("x = yes", Sense::NotEntailed)
+        };
+        hand.builder.set_maintenance(c, watched.clone());
+        hand.builder.add_start(Some(c), inside);
+        hand.builder.add_start(None, c);
+        let thca = hand.builder.build().unwrap();
+        let mut oracle = AssignmentOracle::new(thca.table());
+        let mut sequencer = Sequencer::new(thca);
+        let quiet = estimate(&[(0, 0)]);
+        let step = sequencer.step(0.0, &quiet, &quiet, &mut oracle).unwrap();
+        assert!(step.start.events.is_empty(), "x = no: the watch holds");
+        let entailed = estimate(&[(0, 1)]);
+        let start = sequencer.begin_cycle(1.0, &entailed, &mut oracle).unwrap();
+        assert_eq!(
+            start.events,
+            [Event::Preempted {
+                location: c,
+                span: 0..0,
+                construct: Construct::Watching,
+                condition: watched,
+            }]
+        );
+        assert_eq!(start.goal.formula, Formula::True, "nothing inside asserts");
     }
 
     #[test]

@@ -255,10 +255,10 @@ impl Figure {
                     self.text(span)
                 )
             }
-            Event::Preempted { location, span } => {
+            Event::Preempted { location, span, .. } => {
                 format!("location {location} preempted (`{}`)", self.text(span))
             }
-            Event::MaintenanceViolated { location, span } => format!(
+            Event::MaintenanceViolated { location, span, .. } => format!(
                 "maintenance of location {location} violated (`{}`)",
                 self.text(span)
             ),

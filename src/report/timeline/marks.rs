@@ -247,7 +247,12 @@ impl Builder<'_, '_> {
             EventKind::GoalConflict { first, second } => {
                 self.goal_conflict(time, &first.span, &second.span)
             }
-            EventKind::Preempted { span, .. } => self.preempted(time, span),
+            EventKind::Preempted {
+                span,
+                condition,
+                condition_span,
+                ..
+            } => self.preempted(time, span, condition, condition_span),
             EventKind::ProgramCompleted => self.completed(time),
             EventKind::CommandIssued {
                 assignments,
@@ -461,12 +466,14 @@ impl Builder<'_, '_> {
         });
     }
 
-    fn preempted(&mut self, time: f64, span: &Span) {
-        let condition = self.snippet(span).and_then(|text| watched_condition(&text));
-        let mut label = match &condition {
-            Some(condition) => format!("preempted: {}", shorten(condition, MAX_QUOTE)),
-            None => "preempted".to_string(),
-        };
+    /// `preempted: c (line N)`, `c` the condition whose entailment preempted, as the program
+    /// writes it (on one line) or, without the program, as the event renders it.
+    fn preempted(&mut self, time: f64, span: &Span, condition: &str, condition_span: &Span) {
+        let condition = self.snippet(condition_span).map_or_else(
+            || condition.to_string(),
+            |text| text.split_whitespace().collect::<Vec<_>>().join(" "),
+        );
+        let mut label = format!("preempted: {}", shorten(&condition, MAX_QUOTE));
         if let Some(line) = self.line(span) {
             label.push_str(&format!(" (line {line})"));
         }
@@ -673,37 +680,5 @@ impl Builder<'_, '_> {
     fn snippet(&self, span: &Span) -> Option<String> {
         let text = &self.sources.program?.source().text;
         text.get(span.clone()).map(|s| s.to_string())
-    }
-}
-
-/// The condition of a `do … watching c` or `… maintaining c` construct, from its text.
-fn watched_condition(text: &str) -> Option<String> {
-    let at = ["watching", "maintaining"]
-        .iter()
-        .filter_map(|keyword| text.rfind(keyword).map(|i| i + keyword.len()))
-        .max()?;
-    let condition = text[at..].split_whitespace().collect::<Vec<_>>().join(" ");
-    let condition = condition
-        .strip_prefix('(')
-        .and_then(|c| c.strip_suffix(')'))
-        .unwrap_or(&condition)
-        .trim()
-        .to_string();
-    (!condition.is_empty()).then_some(condition)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_watched_condition_is_read_from_the_construct() {
-        let text = "do {\n  always (att = entry-orient)\n} watching (entry = initiated)";
-        assert_eq!(
-            watched_condition(text).as_deref(),
-            Some("entry = initiated")
-        );
-        assert_eq!(watched_condition("a = b").as_deref(), None);
-        assert_eq!(watched_condition("do { x } watching").as_deref(), None);
     }
 }
