@@ -166,6 +166,13 @@ impl GoalController {
         events
     }
 
+    /// The controller of a delegated goal ended its constraint (see
+    /// [`Execution::end_delegated`]): a failure is reported, and responded to, by the next
+    /// [`GoalController::step`].
+    pub fn end_delegated(&mut self, goal: GoalId, failure: Option<FailureReason>) {
+        self.execution.end_delegated(goal, failure);
+    }
+
     /// The configuration goal of the running network (see [`Execution::configuration_goal`]).
     pub fn configuration_goal(
         &self,
@@ -305,8 +312,8 @@ impl GoalController {
     ) {
         let mut chains: Vec<(GoalId, Explanation, Outcome)> = failures
             .iter()
-            .map(|(goal, _)| {
-                let mut explanation = self.explain(*goal, estimate);
+            .map(|(goal, reason)| {
+                let mut explanation = self.explain(*goal, reason, estimate);
                 let outcome = self.climb(*goal, &mut explanation.steps);
                 (*goal, explanation, outcome)
             })
@@ -375,12 +382,24 @@ impl GoalController {
         !self.mission.elaborators.types.is_empty()
     }
 
-    /// The failed goal, the mode ŝ has its SV in and that mode's probability.
-    fn explain(&self, goal: GoalId, estimate: EstimateView) -> Explanation {
+    /// The failed goal, the mode ŝ has its SV in and that mode's probability; for a delegated
+    /// goal, its state variable and the value its controller reported (its estimator is a sort
+    /// conversion: certain, p 1).
+    fn explain(&self, goal: GoalId, reason: &FailureReason, estimate: EstimateView) -> Explanation {
         let g = self.network().goal(goal);
         let plant = &self.mission.plant;
-        let (sv, mode, probability) = match g.sv {
-            Some(sv) => {
+        let delegated = g
+            .delegate
+            .map(|d| &self.mission.controllers[d.controller].sv);
+        let (sv, mode, probability) = match (g.sv, delegated) {
+            (_, Some(name)) => {
+                let value = match reason {
+                    FailureReason::Delegated { value: Some(v), .. } => v.clone(),
+                    _ => "not reported".to_string(),
+                };
+                (name.clone(), value, 1.0)
+            }
+            (Some(sv), None) => {
                 let mode = estimate.modes[sv.index()];
                 let component = plant.component(sv);
                 (
@@ -389,7 +408,7 @@ impl GoalController {
                     estimate.beliefs[sv.index()][mode.index()],
                 )
             }
-            None => (String::new(), String::new(), 0.0),
+            (None, None) => (String::new(), String::new(), 0.0),
         };
         Explanation {
             goal: g.name.clone(),
