@@ -181,8 +181,8 @@ mod tests {
     fn run(delegation: &mut Delegation, constraint: Constraint) -> (Vec<Vec<Delivered>>, Outcome) {
         let mut cycles = vec![delegation.send(0, constraint)];
         for _ in 0..20 {
-            if let Some(Delivered::Ended { outcome, .. }) = cycles.last().and_then(|c| c.last()) {
-                return (cycles, *outcome);
+            if let Some(&Delivered::Ended { outcome, .. }) = cycles.last().and_then(|c| c.last()) {
+                return (cycles, outcome);
             }
             cycles.push(delegation.cycle());
         }

@@ -137,7 +137,7 @@ impl Loader<'_> {
         let sv = self.controllers[controller].sv.clone();
         if spec.kind.kind() != GoalKind::Transition {
             let message = format!(
-                "a {} goal on `{sv}`, which its controller achieves",
+                "a {} goal on `{sv}`: its course-of-action controller reaches a pose, it does not hold one",
                 spec.kind.kind().name()
             );
             let expected = "kind: Transition (the course-of-action controller reaches a pose)";

@@ -1,0 +1,102 @@
+//! A mission goal delegated to the course-of-action controller (issue 17 item 3; seed 001,
+//! mds-goal-networks.md §1.7, §2.9, §4), run by the executive through `kairos run`: the goal on
+//! the rover's pose — a state variable that is not a plant component — is sent to its
+//! controller when its start point fires, the controller's commands go to the device one a
+//! cycle, `endcstr success` lets the end point fire, and `endcstr coanosuccess` fails the goal
+//! so that its type's failure response (safing) runs.
+
+#[path = "support/cli.rs"]
+mod cli;
+#[path = "support/scenario_run.rs"]
+mod scenario_run;
+
+use scenario_run::{assert_in_order, run_passing};
+
+/// §4.2 R1's course of action from (0, 0) heading N to x = 3, y = 2 (turn E, drive ×3, turn N,
+/// drive ×2), one command a cycle from the cycle TP_S fires (§2.9: a command's report is the
+/// next cycle's measurement); `endcstr success` in the cycle after the last, and TP_E fires in
+/// that cycle (it waited for the `endcstr`).
+#[test]
+fn the_delegated_traverse_reaches_the_rock_and_its_end_point_fires() {
+    let log = run_passing("scenarios/rover/mission_traverse.ron");
+    assert_in_order(
+        &log,
+        &[
+            "command motors.cmd = on (motors: off -> on) for goal power",
+            "[ 2.000 s",
+            "fired TP_S",
+            "delegated to-the-rock: constraint (x=3, y=2) sent to the controller of pose",
+            "controller pose: turn(E) (for goal to-the-rock)",
+            "[ 3.000 s",
+            "controller pose: drive",
+            "[ 4.000 s",
+            "controller pose: drive",
+            "[ 5.000 s",
+            "controller pose: drive",
+            "[ 6.000 s",
+            "controller pose: turn(N)",
+            "[ 7.000 s",
+            "controller pose: drive",
+            "[ 8.000 s",
+            "controller pose: drive",
+            "[ 9.000 s",
+            "endcstr to-the-rock: the controller of pose ended it success; pose = (3, 2, N)",
+            "fired TP_E",
+            "completed",
+        ],
+    );
+    assert!(!log.contains("GOAL FAILED"), "{log}");
+}
+
+/// §4.2 R3 inside a mission: the obstacle at (2, 0) blocks two drives, the fixed course of
+/// action runs out at (1, 2) and the controller answers `coanosuccess`; the goal fails with the
+/// controller named as the evidence, its type Traverse responds by safing, the safe network
+/// switches the motors off, and TP_E never fires.
+#[test]
+fn an_obstacle_fails_the_delegated_goal_and_its_response_safes_the_mission() {
+    let log = run_passing("scenarios/rover/mission_blocked.ron");
+    assert_in_order(
+        &log,
+        &[
+            "delegated to-the-rock: constraint (x=3, y=2) sent to the controller of pose",
+            "[ 8.000 s",
+            "controller pose: drive",
+            "[ 9.000 s",
+            "ENDCSTR to-the-rock: the controller of pose ended it coanosuccess; pose = (1, 2, N)",
+            "GOAL FAILED to-the-rock: the controller of pose ended its constraint coanosuccess",
+            "RESPONSE to-the-rock failed: pose = (1, 2, N) (p 1.00) → safing",
+            "SAFING",
+            "command motors.cmd = off (motors: on -> off) for goal motors-off",
+        ],
+    );
+    assert!(!log.contains("fired TP_E"), "{log}");
+}
+
+/// The cycles of both runs as the mission log prints them (snapshot), and the same on a second
+/// run: the protocol is delivered first in, first out, so a run is deterministic.
+#[test]
+fn the_delegated_goal_in_the_mission_log() {
+    let cycles = |scenario: &str| -> String {
+        let log = run_passing(scenario);
+        let lines: Vec<&str> = log
+            .lines()
+            .skip_while(|l| !l.starts_with('['))
+            .take_while(|l| !l.starts_with("run ended"))
+            .collect();
+        format!("# {scenario}\n{}", lines.join("\n"))
+    };
+    let runs = [
+        "scenarios/rover/mission_traverse.ron",
+        "scenarios/rover/mission_blocked.ron",
+    ]
+    .map(cycles)
+    .join("\n");
+    let again = [
+        "scenarios/rover/mission_traverse.ron",
+        "scenarios/rover/mission_blocked.ron",
+    ]
+    .map(cycles)
+    .join("\n");
+    assert_eq!(runs, again, "two runs print the same log");
+    insta::assert_snapshot!(runs);
+}
