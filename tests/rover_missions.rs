@@ -10,7 +10,28 @@ mod cli;
 #[path = "support/scenario_run.rs"]
 mod scenario_run;
 
-use scenario_run::{assert_in_order, run_passing};
+use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
+
+/// Every file of `scenarios/rover/` is a mission scenario tested here, one of the protocol
+/// scenarios R1–R7 that `tests/rover_protocol.rs` explores, or the script of the motors.
+#[test]
+fn every_rover_scenario_is_tested() {
+    assert_every_file_is_tested(
+        "scenarios/rover",
+        &["mission_traverse.ron", "mission_blocked.ron"],
+        &[
+            "r1.ron",
+            "r2.ron",
+            "r3.ron",
+            "r4.ron",
+            "r5.ron",
+            "r6.ron",
+            "r7.ron",
+            "plant.ron",
+        ],
+        "tests/rover_missions.rs and tests/rover_protocol.rs",
+    );
+}
 
 /// §4.2 R1's course of action from (0, 0) heading N to x = 3, y = 2 (turn E, drive ×3, turn N,
 /// drive ×2), one command a cycle from the cycle TP_S fires (§2.9: a command's report is the
@@ -99,4 +120,36 @@ fn the_delegated_goal_in_the_mission_log() {
     .join("\n");
     assert_eq!(runs, again, "two runs print the same log");
     insta::assert_snapshot!(runs);
+}
+
+/// Achievability of a delegated goal is its controller's (mds-goal-networks.md §1.7
+/// `is_achievable`): from `uk` the course-of-action controller has nothing to plan from (§4.2,
+/// §5 C12), so a mission whose estimator starts unknowing is refused when it is scheduled, with
+/// the goal, the state variable and its value as the evidence; the same goal from a known pose
+/// is achievable even with an obstacle in the way, which the controller does not know of (R3).
+#[test]
+fn a_goal_its_controller_cannot_reach_from_uk_is_unachievable_at_scheduling() {
+    use kairos::executive::ScheduledMission;
+    use kairos::goalnet::{ScheduleError, display, mission};
+    use kairos::reconfiguration::Reconfiguration;
+    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
+    let schedule = |path: &str| {
+        let loaded = mission::load(std::path::Path::new(path)).expect("loads");
+        let reconfiguration = Reconfiguration::compile(&loaded.plant).expect("compiles");
+        let network = loaded.network.clone();
+        let plant = loaded.plant.clone();
+        ScheduledMission::schedule(loaded, &reconfiguration)
+            .map_err(|e| (display::explain(&e, &network, &plant), e))
+    };
+    let (text, error) = schedule("tests/missions/delegated_from_uk.ron").expect_err("refused");
+    assert!(
+        matches!(&error, ScheduleError::DelegatedUnachievable { sv, value, .. } if sv == "pose" && value == "uk"),
+        "{error:?}"
+    );
+    assert_eq!(
+        text,
+        "unachievable: goal `to-the-rock` (x = 3 and y = 2) on pose — from pose = uk its \
+         controller has no course of action that reaches it"
+    );
+    assert!(schedule("missions/rover_traverse_blocked.ron").is_ok());
 }

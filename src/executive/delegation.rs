@@ -20,6 +20,7 @@ use std::collections::BTreeSet;
 use super::events::EventKind;
 use crate::goalnet::{FailureReason, GoalController, GoalId, Mission};
 use crate::protocol::messages::Outcome;
+use crate::protocol::posandhead::StateValue;
 use crate::protocol::{Delegation, Delivered};
 
 /// The protocols of a mission's controllers and the delegated goals already sent.
@@ -38,6 +39,11 @@ impl Delegations {
             runs: mission.controllers.iter().map(Delegation::new).collect(),
             sent: BTreeSet::new(),
         }
+    }
+
+    /// The values of the controlled state variables, one per controller.
+    pub(super) fn values(&self) -> Vec<StateValue> {
+        self.runs.iter().map(Delegation::value).collect()
     }
 
     /// The value controller `controller`'s state variable holds, as the log prints it.

@@ -25,7 +25,7 @@ use super::submit::{Submission, SubmitError};
 use crate::estimation::PlantEstimate;
 use crate::goalnet::{
     EstimateView, ExecutableNetwork, FailureReason, GoalController, GoalEvent, Mission,
-    MissionEvent, ScheduleError, TimePointId, Window, XGoal, display, schedule,
+    MissionEvent, ScheduleError, TimePointId, Window, XGoal, display, judge_delegated, schedule,
 };
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
@@ -50,6 +50,13 @@ impl ScheduledMission {
     ) -> Result<ScheduledMission, ScheduleError> {
         let current = mission.plant.most_likely_initial();
         let executable = schedule(&mission.network, reconfiguration, &current)?;
+        // Nothing has fired: every delegated goal is judged from its SV's declared value.
+        let initial: Vec<_> = (mission.controllers.iter())
+            .map(|c| c.initial_value())
+            .collect();
+        judge_delegated(&executable.network, &mission.controllers, &initial, |_| {
+            false
+        })?;
         Ok(ScheduledMission {
             mission,
             executable,
@@ -184,6 +191,7 @@ impl MissionControl {
             .controller
             .get_or_insert_with(|| GoalController::new(&self.mission, reconfiguration, now, view));
         let delivered = self.delegations.cycle(&self.mission, controller);
+        controller.observe_delegated(self.delegations.values());
         let mut stepped = controller.step(now, view, reconfiguration);
         let sent = self.delegations.dispatch(&self.mission, controller);
         if !self.started {

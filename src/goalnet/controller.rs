@@ -21,6 +21,7 @@
 //! executive runs either; the mission's initial network is elaborated and promoted when the
 //! controller is made, and those events come with the first `step`.
 
+use super::achievable::judge_delegated;
 use super::elaborate::{Context, ElaborationState, Rejection, elaborate};
 use super::events::{Explanation, MissionEvent, ResponseStep};
 use super::execution::{EstimateView, Execution, FailureReason, GoalEvent};
@@ -33,6 +34,7 @@ use super::tactic::Response;
 use super::time_point::TimePointId;
 use crate::logic::Formula;
 use crate::plant::ComponentId;
+use crate::protocol::posandhead::StateValue;
 use crate::reconfiguration::Reconfiguration;
 
 /// A mission being run, one cycle at a time.
@@ -46,6 +48,9 @@ pub struct GoalController {
     safed: bool,
     /// Events of the construction, reported by the first step.
     pending: Vec<MissionEvent>,
+    /// Per controller of the mission, its state variable's value as last observed: what its
+    /// delegated goals are judged from at a promotion.
+    delegated: Vec<StateValue>,
 }
 
 /// Where a failure's chain of responses ends.
@@ -88,6 +93,9 @@ impl GoalController {
             reelaborations: vec![0; goals],
             safed: false,
             pending: Vec::new(),
+            delegated: (mission.controllers.iter())
+                .map(|c| c.initial_value())
+                .collect(),
         };
         let mut proposal = controller.proposal(&[], &[], "the mission's network".into());
         proposal.roots = (0..goals as u32).map(|g| (GoalId(g), 0)).collect();
@@ -164,6 +172,12 @@ impl GoalController {
         let fired = self.execution.advance(now, estimate);
         events.extend(fired.into_iter().map(MissionEvent::Goal));
         events
+    }
+
+    /// The values of the controlled state variables (one per controller of the mission, in its
+    /// order), which the next promotions judge delegated goals from.
+    pub fn observe_delegated(&mut self, values: Vec<StateValue>) {
+        self.delegated = values;
     }
 
     /// The controller of a delegated goal ended its constraint (see
@@ -281,6 +295,17 @@ impl GoalController {
             &proposal.roots,
             events,
         );
+        let elaborated = elaborated.and_then(|elaborated| {
+            let network = &elaborated.executable.network;
+            let controllers = &self.mission.controllers;
+            match judge_delegated(network, controllers, &self.delegated, fired) {
+                Ok(()) => Ok(elaborated),
+                Err(error) => Err(Rejection {
+                    reason: super::display::explain(&error, network, &self.mission.plant),
+                    error: Some(error),
+                }),
+            }
+        });
         match elaborated {
             Ok(elaborated) => {
                 let retired = proposal.retired_points;

@@ -153,6 +153,14 @@ pub fn explain(error: &ScheduleError, network: &GoalNetwork, plant: &Plant) -> S
             xgoal_line(network, plant, previous),
             xgoal_line(network, plant, next),
         ),
+        ScheduleError::DelegatedUnachievable { goal, sv, value } => {
+            let goal = network.goal(*goal);
+            format!(
+                "unachievable: goal `{}` ({}) on {sv} — from {sv} = {value} its controller has \
+                 no course of action that reaches it",
+                goal.name, goal.text
+            )
+        }
     }
 }
 
