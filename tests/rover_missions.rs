@@ -153,3 +153,17 @@ fn a_goal_its_controller_cannot_reach_from_uk_is_unachievable_at_scheduling() {
     );
     assert!(schedule("missions/rover_traverse_blocked.ron").is_ok());
 }
+
+/// `kairos schedule` lists a delegated goal apart from the component timelines: it is on none,
+/// its controller judges and achieves it.
+#[test]
+fn kairos_schedule_lists_the_delegated_goal() {
+    let (code, stdout, stderr) = cli::kairos(&["schedule", "missions/rover_traverse.ron"]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    assert!(
+        stdout.ends_with(
+            "delegated to the controllers of their state variables:\n  [TP_S, TP_E] Transition x = 3 and y = 2: to-the-rock\n"
+        ),
+        "{stdout}"
+    );
+}
