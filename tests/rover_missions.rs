@@ -167,3 +167,56 @@ fn kairos_schedule_lists_the_delegated_goal() {
         "{stdout}"
     );
 }
+
+/// The end point of a delegated goal waits for its controller's `endcstr`; at its latest time
+/// it is forced, and the goal fails with the controller's silence as the reason (the embedding
+/// API, 1 s cycles). The controller carries on; its later `endcstr` fails nothing twice.
+#[test]
+fn a_delegated_goal_not_ended_by_its_end_points_latest_time_fails_when_it_is_forced() {
+    use kairos::executive::{EventKind, Executive, NamedValue, ScheduledMission};
+    use kairos::goalnet::mission;
+    use kairos::reconfiguration::Reconfiguration;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/missions/delegated_too_slow.ron");
+    let loaded = mission::load(&path).expect("loads");
+    let reconfiguration = Reconfiguration::compile(&loaded.plant).expect("compiles");
+    let plant = loaded.plant.clone();
+    let scheduled = ScheduledMission::schedule(loaded, &reconfiguration).expect("schedules");
+    let mut executive = Executive::builder(plant, scheduled)
+        .build()
+        .expect("builds");
+    let off = [NamedValue::new("motors.current", "zero")];
+    let mut events = Vec::new();
+    for t in 0..=10 {
+        let step = executive.step(f64::from(t), &off).expect("a cycle");
+        events.extend(step.events.into_iter().map(|e| (e.time, e.kind)));
+    }
+    let forced = events
+        .iter()
+        .find(|(_, e)| matches!(e, EventKind::TimePointForced { point, .. } if point == "TP_E"));
+    assert_eq!(forced.map(|(t, _)| *t), Some(3.0), "{events:#?}");
+    let failed: Vec<(f64, &str)> = events
+        .iter()
+        .filter_map(|(t, e)| match e {
+            EventKind::MissionGoalFailed { goal, reason, .. } if goal == "to-the-rock" => {
+                Some((*t, reason.as_str()))
+            }
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        failed,
+        [(
+            3.0,
+            "its end point was forced before its controller ended the constraint"
+        )]
+    );
+    let ended = events.iter().find(
+        |(_, e)| matches!(e, EventKind::ConstraintEnded { outcome, .. } if outcome == "success"),
+    );
+    assert_eq!(
+        ended.map(|(t, _)| *t),
+        Some(7.0),
+        "the controller carries on: {events:#?}"
+    );
+}

@@ -71,7 +71,10 @@ fn write_network(
         if i == 0 {
             out.push_str("delegated to the controllers of their state variables:\n");
         }
-        let (start, end) = (&network.point(goal.start).name, &network.point(goal.end).name);
+        let (start, end) = (
+            &network.point(goal.start).name,
+            &network.point(goal.end).name,
+        );
         let (kind, text) = (goal.kind.name(), &goal.text);
         let _ = writeln!(out, "  [{start}, {end}] {kind} {text}: {}", goal.name);
     }
