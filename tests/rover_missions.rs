@@ -9,6 +9,14 @@
 mod cli;
 #[path = "support/scenario_run.rs"]
 mod scenario_run;
+#[path = "support/seeded.rs"]
+mod seeded;
+
+use kairos::protocol::messages::Outcome;
+use kairos::protocol::posandhead::{Command, Constraint, Heading, Pose, StateValue, coa, satisfy};
+use kairos::protocol::rover::Grid;
+use kairos::protocol::{CoaDeclaration, Delegation, Delivered};
+use proptest::prelude::*;
 
 use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 
@@ -219,4 +227,83 @@ fn a_delegated_goal_not_ended_by_its_end_points_latest_time_fails_when_it_is_for
         Some(7.0),
         "the controller carries on: {events:#?}"
     );
+}
+
+/// A delegation run as the executive runs it: the constraint sent, then one cycle at a time
+/// until its `endcstr`; the commands issued per cycle and the outcome.
+fn delegate(declaration: &CoaDeclaration, constraint: Constraint) -> (Vec<Vec<Command>>, Outcome) {
+    let mut delegation = Delegation::new(declaration);
+    let mut delivered = delegation.send(0, constraint);
+    let mut cycles = Vec::new();
+    loop {
+        let commands = (delivered.iter())
+            .filter_map(|d| match d {
+                Delivered::Command { command, .. } => Some(*command),
+                Delivered::Ended { .. } => None,
+            })
+            .collect();
+        cycles.push(commands);
+        let ended = delivered.iter().find_map(|d| match d {
+            Delivered::Ended { outcome, .. } => Some(*outcome),
+            Delivered::Command { .. } => None,
+        });
+        if let Some(outcome) = ended {
+            let value = delegation.value();
+            assert_eq!(
+                outcome == Outcome::Success,
+                satisfy(&value, &constraint),
+                "{value}"
+            );
+            return (cycles, outcome);
+        }
+        assert!(cycles.len() <= 20, "no endcstr after {cycles:?}");
+        delivered = delegation.cycle();
+    }
+}
+
+fn heading() -> impl Strategy<Value = Heading> {
+    prop::sample::select(vec![
+        Heading::N,
+        Heading::NE,
+        Heading::E,
+        Heading::SE,
+        Heading::S,
+        Heading::SW,
+        Heading::W,
+        Heading::NW,
+    ])
+}
+
+proptest! {
+    #![proptest_config(seeded::config(256))]
+
+    /// The executive's run of the protocol (§2.9, one step a cycle) keeps the seed's
+    /// properties on any 5×5 grid (mds-goal-networks.md §4.2): exactly one `endcstr`, success
+    /// exactly when the estimate satisfies the constraint (P-succ/P-fail), at most one command
+    /// a cycle, the commands a prefix of `coa(v0, c)` (P-cmds) — all of it without obstacles.
+    #[test]
+    fn a_delegated_constraint_ends_once_after_a_prefix_of_its_course_of_action(
+        (x0, y0, h0) in (0..5i32, 0..5i32, heading()),
+        (x, y, h) in (prop::option::of(0..5i32), prop::option::of(0..5i32), prop::option::of(heading())),
+        obstacles in prop::collection::btree_set((0..5i32, 0..5i32), 0..6),
+    ) {
+        let rover = Pose { x: x0, y: y0, heading: h0 };
+        let obstacles = obstacles.into_iter().filter(|&c| c != (x0, y0)).collect();
+        let constraint = Constraint::PosHead { x, y, heading: h };
+        let declaration = |obstacles| CoaDeclaration {
+            sv: "pose".into(),
+            grid: Grid { size: 5, obstacles },
+            rover,
+            known: true,
+        };
+        let plan = coa(&StateValue::Known(rover), &constraint);
+        // `delegate` checks the outcome against the estimate (P-succ/P-fail).
+        let (cycles, _) = delegate(&declaration(obstacles), constraint);
+        prop_assert!(cycles.iter().all(|c| c.len() <= 1), "{cycles:?}");
+        let issued: Vec<Command> = cycles.into_iter().flatten().collect();
+        prop_assert!(plan.starts_with(&issued), "{issued:?} is not a prefix of {plan:?}");
+        let (free, free_outcome) = delegate(&declaration(Default::default()), constraint);
+        prop_assert_eq!(free_outcome, Outcome::Success);
+        prop_assert_eq!(free.into_iter().flatten().collect::<Vec<_>>(), plan);
+    }
 }
