@@ -307,3 +307,49 @@ proptest! {
         prop_assert_eq!(free.into_iter().flatten().collect::<Vec<_>>(), plan);
     }
 }
+
+/// A delegated goal is a goal of the network like any other: its type's tactic elaborates it
+/// (mds-goal-networks.md §2.1) into a Maintain goal on the motors over its interval, which the
+/// goal controller dispatches at TP_S beside the constraint sent to the controller of `pose`.
+#[test]
+fn a_delegated_goal_is_elaborated_by_its_types_tactic() {
+    use kairos::executive::{EventKind, Executive, NamedValue, ScheduledMission};
+    use kairos::goalnet::mission;
+    use kairos::reconfiguration::Reconfiguration;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/missions/delegated_elaborated.ron");
+    let loaded = mission::load(&path).expect("loads");
+    let reconfiguration = Reconfiguration::compile(&loaded.plant).expect("compiles");
+    let plant = loaded.plant.clone();
+    let scheduled = ScheduledMission::schedule(loaded, &reconfiguration).expect("schedules");
+    let mut executive = Executive::builder(plant, scheduled)
+        .build()
+        .expect("builds");
+    let mut events = Vec::new();
+    for t in 0..=6 {
+        let current = if t == 0 { "zero" } else { "nominal" };
+        let observed = [NamedValue::new("motors.current", current)];
+        let step = executive.step(f64::from(t), &observed).expect("a cycle");
+        events.extend(step.events.into_iter().map(|e| (e.time, e.kind)));
+    }
+    let at = |wanted: &dyn Fn(&EventKind) -> bool| {
+        events.iter().find(|(_, e)| wanted(e)).map(|(t, _)| *t)
+    };
+    let tactic =
+        at(&|e| matches!(e, EventKind::TacticChosen { goal, tactic: 1 } if goal == "to-the-rock"));
+    assert_eq!(tactic, Some(0.0), "{events:#?}");
+    let child = at(
+        &|e| matches!(e, EventKind::XGoalDispatched { goals, .. } if goals == &["to-the-rock.motors"]),
+    );
+    assert_eq!(child, Some(2.0), "{events:#?}");
+    let sent =
+        at(&|e| matches!(e, EventKind::ConstraintSent { goal, .. } if goal == "to-the-rock"));
+    assert_eq!(sent, Some(2.0));
+    // turn(E) at 2 s, drive at 3 s, success at 4 s; TP_E fires then.
+    let ended =
+        at(&|e| matches!(e, EventKind::ConstraintEnded { outcome, .. } if outcome == "success"));
+    assert_eq!(ended, Some(4.0), "{events:#?}");
+    let end = at(&|e| matches!(e, EventKind::TimePointFired { point, .. } if point == "TP_E"));
+    assert_eq!(end, Some(4.0));
+    assert!(at(&|e| matches!(e, EventKind::MissionGoalFailed { .. })).is_none());
+}
