@@ -233,3 +233,60 @@ fn the_thermostat_mission_declares_the_seeds_goal_types() {
         3
     );
 }
+
+// Controllers of state variables that are not components, and the goals delegated to them
+// (issue 17 item 3; `missions/rover_traverse.ron`'s format).
+bad_mission!(
+    bad_controller,
+    "bad_controller.ron:6:29",
+    "`motors` is a component of the plant",
+    "a grid of 0 cells a side",
+    "state variable `pose` has a controller already",
+    "(5, 1) is off the grid",
+    "(1, 1) holds an obstacle"
+);
+bad_mission!(
+    bad_delegated_goal,
+    "bad_delegated_goal.ron:10:50",
+    "a Maintain goal on `pose`",
+    "y = 7 is not on the grid",
+    "`up` is not a heading",
+    "`x` is constrained twice",
+    "`speed = 2` is not a constraint on a pose",
+    "a goal on `pose` needs a constraint"
+);
+
+/// The rover missions load: one controller of `pose` (seed 001's course-of-action controller,
+/// its device on the 5×5 grid of mds-goal-networks.md §4.2) and a Transition goal delegated to
+/// it, beside the goals on the motors, a component.
+#[test]
+fn the_rover_missions_delegate_the_traverse_to_the_pose_controller() {
+    root();
+    for (file, obstacles) in [
+        ("missions/rover_traverse.ron", vec![]),
+        ("missions/rover_traverse_blocked.ron", vec![(2, 0)]),
+    ] {
+        let loaded = mission::load(Path::new(file)).expect("the rover mission loads");
+        assert_eq!(loaded.controllers.len(), 1);
+        let controller = &loaded.controllers[0];
+        assert_eq!(controller.sv, "pose");
+        assert_eq!(controller.grid.size, 5);
+        assert_eq!(
+            controller
+                .grid
+                .obstacles
+                .iter()
+                .copied()
+                .collect::<Vec<_>>(),
+            obstacles
+        );
+        let network = &loaded.network;
+        let goal = network.goal(network.goal_named("to-the-rock").expect("the traverse"));
+        assert_eq!(goal.sv, None);
+        assert_eq!(goal.kind, GoalKind::Transition);
+        let delegate = goal.delegate.expect("delegated");
+        assert_eq!(delegate.controller, 0);
+        assert_eq!(delegate.constraint.to_string(), "(x=3, y=2)");
+        assert!(!goal.is_macro());
+    }
+}

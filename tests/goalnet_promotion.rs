@@ -202,6 +202,7 @@ fn apply(proposal: &mut kairos::goalnet::Proposal, plant: &Plant, edit: &Edit, i
                 sv: Some(sv),
                 kind,
                 constraint,
+                delegate: None,
                 text: String::new(),
                 start: point(start),
                 end: point(end),

@@ -220,6 +220,37 @@ pub enum EventKind {
         /// That mode's marginal probability.
         probability: f64,
     },
+    /// A delegated goal's start point fired: its constraint was sent to the controller of its
+    /// state variable (issue 17 item 3; the protocol's constraint message).
+    ConstraintSent {
+        /// The goal.
+        goal: String,
+        /// The controlled state variable (not a plant component).
+        sv: String,
+        /// The constraint, as the protocol prints it (`(x=3, y=2)`).
+        constraint: String,
+    },
+    /// The controller of a state variable issued a command to its device (through its
+    /// actuator), for a delegated goal.
+    ControllerCommand {
+        /// The controlled state variable.
+        sv: String,
+        /// The command (`drive`, `turn(N)`).
+        command: String,
+        /// The goal the command serves.
+        goal: String,
+    },
+    /// The controller of a state variable ended a delegated goal's constraint (`endcstr`).
+    ConstraintEnded {
+        /// The goal.
+        goal: String,
+        /// The controlled state variable.
+        sv: String,
+        /// `success` or the reason it failed (`coanosuccess`).
+        outcome: String,
+        /// The state variable's value as the controller last heard it.
+        value: String,
+    },
     /// Grounding a fired point contradicted the temporal constraints.
     TemporalInconsistency {
         /// The point.

@@ -13,13 +13,19 @@
 //! the configuration goal. A state variable is controllable when mode reconfiguration can move
 //! it at all (its concurrent policy has a step): a sensor's health is monitored, never
 //! commanded.
+//!
+//! A goal on a state variable that is not a component is delegated to the controller the
+//! mission declares for it (`delegation.rs`): its protocol runs before the goal controller's
+//! step (the device's reports, `newval`, the next command or `endcstr`) and after it (the
+//! constraints of the delegated goals whose start fired are sent).
 
+use super::delegation::Delegations;
 use super::events::EventKind;
 use super::submit::{Submission, SubmitError};
 use crate::estimation::PlantEstimate;
 use crate::goalnet::{
     EstimateView, ExecutableNetwork, FailureReason, GoalController, GoalEvent, Mission,
-    MissionEvent, ScheduleError, TimePointId, Window, XGoal, display, schedule,
+    MissionEvent, ScheduleError, TimePointId, Window, XGoal, display, judge_delegated, schedule,
 };
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
@@ -44,6 +50,13 @@ impl ScheduledMission {
     ) -> Result<ScheduledMission, ScheduleError> {
         let current = mission.plant.most_likely_initial();
         let executable = schedule(&mission.network, reconfiguration, &current)?;
+        // Nothing has fired: every delegated goal is judged from its SV's declared value.
+        let initial: Vec<_> = (mission.controllers.iter())
+            .map(|c| c.initial_value())
+            .collect();
+        judge_delegated(&executable.network, &mission.controllers, &initial, |_| {
+            false
+        })?;
         Ok(ScheduledMission {
             mission,
             executable,
@@ -80,6 +93,11 @@ pub(super) struct MissionControl {
     /// has none in the network), so that a failure reported in the cycle a promotion retires
     /// its goal still names its SV's mode. Refreshed with the windows.
     svs: Vec<Option<ComponentId>>,
+    /// Per goal, the controller it is delegated to, kept like `svs` when a promotion retires
+    /// it.
+    delegated: Vec<Option<usize>>,
+    /// The protocols of the mission's controllers, for its delegated goals.
+    delegations: Delegations,
     /// Per component, the marginal of each of its modes (reused from cycle to cycle).
     beliefs: Vec<Vec<f64>>,
     /// Whether a cycle has been stepped: the first reports the XGoals active from the origin.
@@ -100,6 +118,7 @@ impl MissionControl {
             .iter()
             .map(|c| vec![0.0; c.modes().len()])
             .collect();
+        let delegations = Delegations::new(&mission);
         let mut control = MissionControl {
             mission,
             scheduled: executable,
@@ -107,6 +126,8 @@ impl MissionControl {
             pending: Vec::new(),
             windows: Vec::new(),
             svs: Vec::new(),
+            delegated: Vec::new(),
+            delegations,
             beliefs,
             started: false,
             completed: false,
@@ -125,6 +146,7 @@ impl MissionControl {
             controller.fingerprint(state);
         }
         self.pending.len().hash(state);
+        self.delegations.hash(state);
         self.started.hash(state);
         self.completed.hash(state);
     }
@@ -149,8 +171,10 @@ impl MissionControl {
             .is_some_and(|c| c.execution().is_complete())
     }
 
-    /// Monitoring, the failure responses, firing and dispatch at `now` from ŝ (`modes`) and the
-    /// belief's plant states; returns the events and the configuration goal.
+    /// The delegated goals' protocols (their devices' reports and their controllers' answers),
+    /// then monitoring, the failure responses, firing and dispatch at `now` from ŝ (`modes`)
+    /// and the belief's plant states, then the constraints of the delegated goals that started;
+    /// returns the events and the configuration goal.
     pub(super) fn step(
         &mut self,
         now: f64,
@@ -166,7 +190,10 @@ impl MissionControl {
         let controller = self
             .controller
             .get_or_insert_with(|| GoalController::new(&self.mission, reconfiguration, now, view));
+        let delivered = self.delegations.cycle(&self.mission, controller);
+        controller.observe_delegated(self.delegations.values());
         let mut stepped = controller.step(now, view, reconfiguration);
+        let sent = self.delegations.dispatch(&self.mission, controller);
         if !self.started {
             // The mission's network starting is shown by the dispatches of cycle 0, not as a
             // promotion (its tactic choices are reported): the first promotion the controller
@@ -181,7 +208,9 @@ impl MissionControl {
         let mut events = std::mem::take(&mut self.pending);
         events.extend(stepped);
         let refresh = events.iter().any(changes_windows);
-        let mut kinds = self.describe_cycle(events, modes);
+        let mut kinds = delivered;
+        kinds.extend(self.describe_cycle(events, modes));
+        kinds.extend(sent);
         if refresh {
             self.refresh_windows();
         }
@@ -330,7 +359,14 @@ impl MissionControl {
             .map(|i| network.stn().window(TimePointId(i as u32)))
             .collect();
         let svs: Vec<Option<ComponentId>> = network.goals().iter().map(|g| g.sv).collect();
+        let delegated: Vec<Option<usize>> = (network.goals().iter())
+            .map(|g| g.delegate.map(|d| d.controller))
+            .collect();
         self.windows = windows;
+        self.delegated.resize(delegated.len(), None);
+        for (kept, controller) in self.delegated.iter_mut().zip(delegated) {
+            *kept = controller.or(*kept);
+        }
         self.svs.resize(svs.len(), None);
         for (kept, sv) in self.svs.iter_mut().zip(svs) {
             *kept = sv.or(*kept);
@@ -402,6 +438,18 @@ impl MissionControl {
             }
             GoalEvent::GoalFailed { goal: id, reason } => {
                 let goal = network.goal(id);
+                let delegated = (goal.delegate.map(|d| d.controller))
+                    .or_else(|| self.delegated.get(id.index()).copied().flatten());
+                if let Some(controller) = delegated {
+                    // The protocol's estimator is a sort conversion: its value is certain.
+                    let sv = &self.mission.controllers[controller].sv;
+                    return Some(EventKind::MissionGoalFailed {
+                        goal: goal.name.clone(),
+                        reason: failure_text(&reason, self.mission.knowledge_threshold),
+                        mode: format!("{sv} = {}", self.delegations.value(controller)),
+                        probability: 1.0,
+                    });
+                }
                 let sv = goal
                     .sv
                     .or_else(|| self.svs.get(id.index()).copied().flatten())
@@ -487,6 +535,7 @@ fn failure_text(reason: &FailureReason, threshold: f64) -> String {
         FailureReason::Unreachable(_) => "its set can no longer be reached".to_string(),
         FailureReason::EndForced(_) => "its end point was forced before the set was reached".into(),
         FailureReason::NotKnown => format!("not known (P below {threshold} or a least belief)"),
+        FailureReason::Delegated { why, .. } => why.clone(),
     }
 }
 

@@ -26,6 +26,7 @@
 
 pub mod adapters;
 mod control;
+mod delegation;
 mod events;
 mod evidence;
 mod fingerprint;

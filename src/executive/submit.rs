@@ -177,6 +177,7 @@ impl Submission {
                 sv: Some(g.sv),
                 kind: g.kind,
                 constraint: g.constraint.clone(),
+                delegate: None,
                 text: g.text.clone(),
                 start: point(network, &g.start)?,
                 end: point(network, &g.end)?,

@@ -21,6 +21,7 @@
 //! executive runs either; the mission's initial network is elaborated and promoted when the
 //! controller is made, and those events come with the first `step`.
 
+use super::achievable::judge_delegated;
 use super::elaborate::{Context, ElaborationState, Rejection, elaborate};
 use super::events::{Explanation, MissionEvent, ResponseStep};
 use super::execution::{EstimateView, Execution, FailureReason, GoalEvent};
@@ -33,6 +34,7 @@ use super::tactic::Response;
 use super::time_point::TimePointId;
 use crate::logic::Formula;
 use crate::plant::ComponentId;
+use crate::protocol::posandhead::StateValue;
 use crate::reconfiguration::Reconfiguration;
 
 /// A mission being run, one cycle at a time.
@@ -46,6 +48,9 @@ pub struct GoalController {
     safed: bool,
     /// Events of the construction, reported by the first step.
     pending: Vec<MissionEvent>,
+    /// Per controller of the mission, its state variable's value as last observed: what its
+    /// delegated goals are judged from at a promotion.
+    delegated: Vec<StateValue>,
 }
 
 /// Where a failure's chain of responses ends.
@@ -88,6 +93,9 @@ impl GoalController {
             reelaborations: vec![0; goals],
             safed: false,
             pending: Vec::new(),
+            delegated: (mission.controllers.iter())
+                .map(|c| c.initial_value())
+                .collect(),
         };
         let mut proposal = controller.proposal(&[], &[], "the mission's network".into());
         proposal.roots = (0..goals as u32).map(|g| (GoalId(g), 0)).collect();
@@ -164,6 +172,19 @@ impl GoalController {
         let fired = self.execution.advance(now, estimate);
         events.extend(fired.into_iter().map(MissionEvent::Goal));
         events
+    }
+
+    /// The values of the controlled state variables (one per controller of the mission, in its
+    /// order), which the next promotions judge delegated goals from.
+    pub fn observe_delegated(&mut self, values: Vec<StateValue>) {
+        self.delegated = values;
+    }
+
+    /// The controller of a delegated goal ended its constraint (see
+    /// [`Execution::end_delegated`]): a failure is reported, and responded to, by the next
+    /// [`GoalController::step`].
+    pub fn end_delegated(&mut self, goal: GoalId, failure: Option<FailureReason>) {
+        self.execution.end_delegated(goal, failure);
     }
 
     /// The configuration goal of the running network (see [`Execution::configuration_goal`]).
@@ -274,6 +295,17 @@ impl GoalController {
             &proposal.roots,
             events,
         );
+        let elaborated = elaborated.and_then(|elaborated| {
+            let network = &elaborated.executable.network;
+            let controllers = &self.mission.controllers;
+            match judge_delegated(network, controllers, &self.delegated, fired) {
+                Ok(()) => Ok(elaborated),
+                Err(error) => Err(Rejection {
+                    reason: super::display::explain(&error, network, &self.mission.plant),
+                    error: Some(error),
+                }),
+            }
+        });
         match elaborated {
             Ok(elaborated) => {
                 let retired = proposal.retired_points;
@@ -305,8 +337,8 @@ impl GoalController {
     ) {
         let mut chains: Vec<(GoalId, Explanation, Outcome)> = failures
             .iter()
-            .map(|(goal, _)| {
-                let mut explanation = self.explain(*goal, estimate);
+            .map(|(goal, reason)| {
+                let mut explanation = self.explain(*goal, reason, estimate);
                 let outcome = self.climb(*goal, &mut explanation.steps);
                 (*goal, explanation, outcome)
             })
@@ -375,12 +407,24 @@ impl GoalController {
         !self.mission.elaborators.types.is_empty()
     }
 
-    /// The failed goal, the mode ŝ has its SV in and that mode's probability.
-    fn explain(&self, goal: GoalId, estimate: EstimateView) -> Explanation {
+    /// The failed goal, the mode ŝ has its SV in and that mode's probability; for a delegated
+    /// goal, its state variable and the value its controller reported (its estimator is a sort
+    /// conversion: certain, p 1).
+    fn explain(&self, goal: GoalId, reason: &FailureReason, estimate: EstimateView) -> Explanation {
         let g = self.network().goal(goal);
         let plant = &self.mission.plant;
-        let (sv, mode, probability) = match g.sv {
-            Some(sv) => {
+        let delegated = g
+            .delegate
+            .map(|d| &self.mission.controllers[d.controller].sv);
+        let (sv, mode, probability) = match (g.sv, delegated) {
+            (_, Some(name)) => {
+                let value = match reason {
+                    FailureReason::Delegated { value: Some(v), .. } => v.clone(),
+                    _ => "not reported".to_string(),
+                };
+                (name.clone(), value, 1.0)
+            }
+            (Some(sv), None) => {
                 let mode = estimate.modes[sv.index()];
                 let component = plant.component(sv);
                 (
@@ -389,7 +433,7 @@ impl GoalController {
                     estimate.beliefs[sv.index()][mode.index()],
                 )
             }
-            None => (String::new(), String::new(), 0.0),
+            (None, None) => (String::new(), String::new(), 0.0),
         };
         Explanation {
             goal: g.name.clone(),

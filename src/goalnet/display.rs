@@ -65,6 +65,19 @@ fn write_network(
             let _ = writeln!(out, "  {}{marker}", xgoal_line(network, plant, xgoal));
         }
     }
+    // Goals on state variables that are not components: on no timeline, their controllers'.
+    let delegated = network.goals().iter().filter(|g| g.delegate.is_some());
+    for (i, goal) in delegated.enumerate() {
+        if i == 0 {
+            out.push_str("delegated to the controllers of their state variables:\n");
+        }
+        let (start, end) = (
+            &network.point(goal.start).name,
+            &network.point(goal.end).name,
+        );
+        let (kind, text) = (goal.kind.name(), &goal.text);
+        let _ = writeln!(out, "  [{start}, {end}] {kind} {text}: {}", goal.name);
+    }
     out
 }
 
@@ -153,6 +166,14 @@ pub fn explain(error: &ScheduleError, network: &GoalNetwork, plant: &Plant) -> S
             xgoal_line(network, plant, previous),
             xgoal_line(network, plant, next),
         ),
+        ScheduleError::DelegatedUnachievable { goal, sv, value } => {
+            let goal = network.goal(*goal);
+            format!(
+                "unachievable: goal `{}` ({}) on {sv} — from {sv} = {value} its controller has \
+                 no course of action that reaches it",
+                goal.name, goal.text
+            )
+        }
     }
 }
 

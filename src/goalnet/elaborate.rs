@@ -316,6 +316,7 @@ fn apply(
             sv: Some(sv),
             kind: child.kind,
             constraint,
+            delegate: None,
             text,
             start,
             end,

@@ -17,6 +17,12 @@
 //!    unreached fails). Firing grounds the point and re-propagates incrementally, and
 //!    dispatches the XGoals that start there.
 //!
+//! A goal **delegated** to a controller (a state variable that is not a component, issue 17
+//! item 3) is on no timeline: its controller judges it. [`Execution::end_delegated`] says that
+//! the controller ended its constraint; until then the goal's end point is not ready (it is
+//! forced at its latest time, and the goal fails); a failure the controller reports is reported
+//! by the next monitoring, like any other, so the failure responses apply to it.
+//!
 //! The **configuration goal** is the conjunction of the active Maintain and Transition XGoals'
 //! control sets on controllable state variables; knowledge goals never become commands.
 
@@ -52,6 +58,14 @@ pub enum FailureReason {
     EndForced(ValueId),
     /// The knowledge requirement is not met.
     NotKnown,
+    /// A delegated goal's controller ended its constraint unachieved, or had not ended it when
+    /// the goal's end point was forced.
+    Delegated {
+        /// The state variable's value as the controller last heard it, if known here.
+        value: Option<String>,
+        /// What the controller said (or did not say), in words.
+        why: String,
+    },
 }
 
 /// Something that happened to the network this cycle.
@@ -107,6 +121,10 @@ pub struct Execution {
     predecessors: Vec<Vec<TimePointId>>,
     /// Points of an earlier network that a promotion retired: they never fire.
     retired: Vec<bool>,
+    /// Per goal, whether the controller of a delegated goal has ended its constraint.
+    ended: Vec<bool>,
+    /// Failures of delegated goals their controllers reported, for the next monitoring.
+    reported: Vec<(GoalId, FailureReason)>,
 }
 
 impl Execution {
@@ -121,6 +139,10 @@ impl Execution {
         self.active.hash(state);
         self.failed.hash(state);
         self.retired.hash(state);
+        self.ended.hash(state);
+        for (goal, _) in &self.reported {
+            goal.hash(state);
+        }
     }
 
     /// Starts executing `executable` with the mission's knowledge threshold; the origin has
@@ -130,13 +152,15 @@ impl Execution {
         let mut fired = vec![None; n];
         fired[TimePointId::ORIGIN.index()] = Some(0.0);
         let goals = executable.network.goals().len();
-        Self::with_history(
+        let mut execution = Self::with_history(
             executable,
             threshold,
             fired,
             vec![false; goals],
             vec![false; n],
-        )
+        );
+        execution.ended = vec![false; goals];
+        execution
     }
 
     /// Continues `previous` on `executable`, a promoted network that extends its network (the
@@ -150,7 +174,13 @@ impl Execution {
         fired.resize(network.points().len(), None);
         let mut failed = previous.failed.clone();
         failed.resize(network.goals().len(), false);
-        Self::with_history(executable, previous.threshold, fired, failed, retired)
+        let mut ended = previous.ended.clone();
+        ended.resize(network.goals().len(), false);
+        let mut execution =
+            Self::with_history(executable, previous.threshold, fired, failed, retired);
+        execution.ended = ended;
+        execution.reported = previous.reported.clone();
+        execution
     }
 
     fn with_history(
@@ -182,6 +212,8 @@ impl Execution {
             failed,
             predecessors,
             retired,
+            ended: Vec::new(),
+            reported: Vec::new(),
         }
     }
 
@@ -220,6 +252,21 @@ impl Execution {
         self.failed.get(goal.index()).copied().unwrap_or(false)
     }
 
+    /// The controller of a delegated goal ended its constraint: achieved (`None`) or not (the
+    /// failure, reported by the next monitoring). Either way the goal no longer holds its end
+    /// point back.
+    pub fn end_delegated(&mut self, goal: GoalId, failure: Option<FailureReason>) {
+        if let Some(ended) = self.ended.get_mut(goal.index()) {
+            *ended = true;
+            self.reported.extend(failure.map(|f| (goal, f)));
+        }
+    }
+
+    /// Whether the controller of a delegated goal has ended its constraint.
+    pub fn has_ended(&self, goal: GoalId) -> bool {
+        self.ended.get(goal.index()).copied().unwrap_or(false)
+    }
+
     /// The active XGoal of a state variable.
     pub fn active(&self, sv: ComponentId) -> Option<&XGoal> {
         let t = self.executable.timelines.iter().position(|t| t.sv == sv)?;
@@ -254,6 +301,9 @@ impl Execution {
         reconfiguration: &Reconfiguration,
     ) -> Vec<GoalEvent> {
         let mut events = Vec::new();
+        for (goal, reason) in std::mem::take(&mut self.reported) {
+            self.fail(goal, reason, &mut events);
+        }
         self.monitor(estimate, reconfiguration, &mut events);
         events
     }
@@ -376,11 +426,12 @@ impl Execution {
     }
 
     /// `point` is ready to transition (§2.4 (a), the seeds' `is_ready_to_transition(incoming,
-    /// current, outgoing)`): every Maintain XGoal starting there holds for ŝ, and every
-    /// Transition XGoal ending there has reached its set. The incoming half is why a point that
-    /// ends a transition waits within its window for the transition to complete, and is forced
-    /// — failing the transition unreached — only at its latest time; without it an on-time end
-    /// would let an unreached Transition goal pass unnoticed.
+    /// current, outgoing)`): every Maintain XGoal starting there holds for ŝ, every Transition
+    /// XGoal ending there has reached its set, and every delegated goal ending there has been
+    /// ended by its controller. The incoming half is why a point that ends a transition waits
+    /// within its window for the transition to complete, and is forced — failing the transition
+    /// unreached — only at its latest time; without it an on-time end would let an unreached
+    /// Transition goal pass unnoticed.
     fn ready(&self, point: TimePointId, estimate: EstimateView) -> bool {
         let holds = |x: &XGoal| {
             x.constraint.satisfied_by(
@@ -389,13 +440,17 @@ impl Execution {
                 self.threshold,
             )
         };
-        self.executable.timelines.iter().all(|t| {
-            t.xgoals.iter().all(|x| {
-                let entering = x.start == point && x.kind == GoalKind::Maintain;
-                let completing = x.end == point && x.kind == GoalKind::Transition;
-                !(entering || completing) || holds(x)
+        let delegated_ended = (self.executable.network.goals().iter().enumerate())
+            .filter(|(_, g)| g.delegate.is_some() && g.end == point)
+            .all(|(i, _)| self.ended[i]);
+        delegated_ended
+            && self.executable.timelines.iter().all(|t| {
+                t.xgoals.iter().all(|x| {
+                    let entering = x.start == point && x.kind == GoalKind::Maintain;
+                    let completing = x.end == point && x.kind == GoalKind::Transition;
+                    !(entering || completing) || holds(x)
+                })
             })
-        })
     }
 
     fn fire(
@@ -435,7 +490,8 @@ impl Execution {
         }
     }
 
-    /// A forced end point fails the Transition goals ending there unreached (§2.4 (b)).
+    /// A forced end point fails the Transition goals ending there unreached (§2.4 (b)), and the
+    /// delegated goals ending there that their controller has not ended.
     fn fail_unreached_transitions(
         &mut self,
         point: TimePointId,
@@ -444,6 +500,14 @@ impl Execution {
     ) {
         let mut failures = Vec::new();
         for (id, goal) in self.executable.network.goals().iter().enumerate() {
+            if goal.delegate.is_some() && goal.end == point && !self.ended[id] {
+                let why = "its end point was forced before its controller ended the constraint";
+                let reason = FailureReason::Delegated {
+                    value: None,
+                    why: why.to_string(),
+                };
+                failures.push((GoalId(id as u32), reason));
+            }
             let Some(sv) = goal.sv else { continue };
             let mode = estimate.modes[sv.index()];
             if goal.end == point

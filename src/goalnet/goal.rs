@@ -5,6 +5,7 @@ use super::constraint_set::ConstraintSet;
 use super::time_point::TimePointId;
 use crate::diagnostic::Span;
 use crate::plant::ComponentId;
+use crate::protocol::posandhead::Constraint;
 
 /// A goal's index in its network.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -60,6 +61,9 @@ pub struct Goal {
     pub kind: GoalKind,
     /// The constraint on the SV's values.
     pub constraint: ConstraintSet,
+    /// For a goal on a state variable that is not a component (`sv` is `None`): the
+    /// controller it is delegated to and the constraint sent to it.
+    pub delegate: Option<Delegate>,
     /// The constraint as written (the constraint language), for messages.
     pub text: String,
     /// The point where it starts to apply.
@@ -75,8 +79,21 @@ pub struct Goal {
 }
 
 impl Goal {
-    /// Whether it is a macro goal (no state variable).
+    /// Whether it is a macro goal (no state variable, not delegated).
     pub fn is_macro(&self) -> bool {
-        self.sv.is_none()
+        self.sv.is_none() && self.delegate.is_none()
     }
+}
+
+/// A goal delegated to the controller a mission declares for a state variable that is not a
+/// plant component (issue 17 item 3; mds-goal-networks.md §1.7: the SV's controller achieves
+/// its control goals). The goal is on no component timeline: the scheduler and mode
+/// reconfiguration never see it; its controller judges it, and its end point waits for the
+/// controller's `endcstr`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Delegate {
+    /// The controller: its index in the mission's `controllers`.
+    pub controller: usize,
+    /// The constraint sent to it when the goal's start point fires.
+    pub constraint: Constraint,
 }

@@ -38,6 +38,11 @@
 //!     // `elaborators`, `missions/thermostat.ron`). A goal or macro of `network` takes one
 //!     // with `type: "StayWarm"`.
 //!     types: [GoalType(name: "StayWarm", response: ReElaborate, tactics: [...])],
+//!     // Optional: controllers of state variables that are not plant components; a goal on
+//!     // such a state variable is delegated to its controller (module `delegated`,
+//!     // `missions/rover_traverse.ron`):
+//!     controllers: [CourseOfAction(sv: "pose",
+//!         device: Grid(size: 5, obstacles: [(2, 0)], rover: (x: 0, y: 0, heading: E)))],
 //! )
 //! ```
 //! A goal's `parent` names a macro or a goal declared before it, so the goals form a tree.
@@ -47,6 +52,7 @@
 //!
 //! Every error names the file, line and column, shows the text and says what was expected.
 
+mod delegated;
 mod elaborators;
 mod submission;
 
@@ -67,6 +73,7 @@ use crate::diagnostic::locate::{Locator, Step};
 use crate::diagnostic::{Diagnostic, ReadError, Source, SourceErrors, did_you_mean, ron_error};
 use crate::logic::{self, Atom, CmpOp, Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
+use crate::protocol::CoaDeclaration;
 use crate::simulation::{ScenarioErrors, resolve_path};
 
 /// The knowledge threshold when the mission does not give one.
@@ -91,6 +98,9 @@ pub struct Mission {
     pub safe: GoalNetwork,
     /// The goal types (elaborators, tactics, failure responses) and the initial goals' types.
     pub elaborators: Elaborators,
+    /// The controllers of state variables that are not plant components, which goals on them
+    /// are delegated to (a [`Delegate`](super::goal::Delegate) indexes this list).
+    pub controllers: Vec<CoaDeclaration>,
 }
 
 /// Why a mission could not be loaded: the file is unreadable, or its problems grouped by file
@@ -108,6 +118,8 @@ struct MissionFile {
     safe: NetworkFile,
     #[serde(default)]
     types: Vec<elaborators::TypeFile>,
+    #[serde(default)]
+    controllers: Vec<delegated::ControllerFile>,
 }
 
 /// A `Network(...)` as written: a mission's network, its safe network, or the goals a scenario's
@@ -209,6 +221,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Mission, MissionErrors
         locate: Locator::new(&source.text),
         source,
         errors: Vec::new(),
+        controllers: Vec::new(),
     };
     let plant_path = resolve_path(dir, &file.plant).display().to_string();
     let plant_source = match Source::read(Path::new(&plant_path)) {
@@ -225,6 +238,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Mission, MissionErrors
     };
     let plant = Plant::load(&plant_source).map_err(|e| ScenarioErrors::Invalid(vec![e]))?;
     let knowledge_threshold = loader.threshold(file.knowledge_threshold);
+    loader.controllers = loader.controllers(&plant, &file.controllers);
     let network = loader.network(&plant, &file.network, "network");
     let safe = loader.network(&plant, &file.safe, "safe");
     let elaborators = loader.elaborators(&plant, &file, &network);
@@ -245,6 +259,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Mission, MissionErrors
         network,
         safe,
         elaborators,
+        controllers: loader.controllers,
     })
 }
 
@@ -252,6 +267,8 @@ struct Loader<'a> {
     source: &'a Source,
     locate: Locator,
     errors: Vec<Diagnostic>,
+    /// The mission's controllers of state variables that are not components.
+    controllers: Vec<CoaDeclaration>,
 }
 
 /// Where a goal's or macro's fields are: `network.goals[i]`, `network.macros[i]`, or a
@@ -453,6 +470,7 @@ impl Loader<'_> {
             sv,
             kind,
             constraint,
+            delegate: None,
             text,
             start,
             end,
@@ -471,6 +489,17 @@ impl Loader<'_> {
             priority: spec.priority,
         };
         let build = self.header(network, &item, &header);
+        if let Some(controller) = self.controllers.iter().position(|c| c.sv == spec.sv) {
+            let delegate = self.delegate(&item, spec, controller);
+            if let (Some(build), Some(delegate)) = (build, delegate) {
+                let text = spec.constraint.clone().unwrap_or_default();
+                let unconstrained = ConstraintSet::unconstrained(0);
+                let mut goal = build(None, GoalKind::Transition, unconstrained, text);
+                goal.delegate = Some(delegate);
+                network.add_goal(goal);
+            }
+            return;
+        }
         let Some(sv) = self.state_variable(plant, &item.path("sv"), &spec.sv) else {
             return;
         };

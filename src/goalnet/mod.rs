@@ -13,6 +13,8 @@
 //! - [`GoalNetwork`] (unscheduled) and [`ExecutableNetwork`] (scheduled, per-SV timelines);
 //! - [`schedule()`]: merging and scheduling into an [`ExecutableNetwork`] or a [`ScheduleError`];
 //!   [`display`] renders both for people;
+//! - [`judge_delegated`]: whether the controllers of state variables that are not components
+//!   can achieve the goals delegated to them (the scheduler's achievability, asked of them);
 //! - [`project()`]: the nominal [`Projection`] of a scheduled network to a time (every point
 //!   fired as early as it may), for `kairos schedule --at`;
 //! - [`Execution`]: firing, grounding, dispatch and monitoring, one cycle at a time, and the
@@ -25,6 +27,7 @@
 //!   (re-elaboration, fail up, safing), promotion, firing — reporting [`MissionEvent`]s, each
 //!   failure with its [`Explanation`] chain.
 
+mod achievable;
 mod constraint_set;
 mod controller;
 pub mod display;
@@ -43,6 +46,7 @@ mod temporal_constraint;
 mod time_point;
 mod xgoal;
 
+pub use achievable::judge_delegated;
 pub use constraint_set::ConstraintSet;
 pub use controller::GoalController;
 pub use elaborate::{Elaboration, ElaborationState, Rejection};

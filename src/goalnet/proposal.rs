@@ -101,6 +101,7 @@ pub(super) fn copy(
         let mut goal = goal.clone();
         if retired_goals.get(i).copied().unwrap_or(false) {
             goal.sv = None;
+            goal.delegate = None;
         }
         out.add_goal(goal);
     }

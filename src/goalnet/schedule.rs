@@ -67,6 +67,16 @@ pub enum ScheduleError {
         /// The XGoal that cannot be entered.
         next: Box<XGoal>,
     },
+    /// A goal delegated to the controller of a state variable that is not a component cannot
+    /// be achieved by it from the SV's value ([`judge_delegated`](super::judge_delegated)).
+    DelegatedUnachievable {
+        /// The goal.
+        goal: GoalId,
+        /// The controlled state variable.
+        sv: String,
+        /// Its value.
+        value: String,
+    },
 }
 
 /// Schedules `network` for a plant whose components are in `current` (a mode per component).

@@ -13,12 +13,15 @@
 //! - [`messages`]: the protocol's messages;
 //! - [`controller`]: the [`Controller`] trait and the seed's [`CoaController`];
 //! - [`components`]: actuator, sensor and estimator (sort conversions) and the state variable;
+//! - [`delegation`]: the protocol run one cycle at a time by the executive, for a mission goal
+//!   delegated to a course-of-action controller;
 //! - [`scenario`]: the rover scenario file (R1–R7, `scenarios/rover/`);
 //! - [`explore()`]: every interleaving of the messages, and the properties P-succ/P-fail,
 //!   P-excl, P-term and P-cmds checked on each.
 
 pub mod components;
 pub mod controller;
+pub mod delegation;
 pub mod explore;
 pub mod messages;
 pub mod posandhead;
@@ -26,5 +29,6 @@ pub mod rover;
 pub mod scenario;
 
 pub use controller::{CoaController, Controller};
+pub use delegation::{CoaDeclaration, Delegation, Delivered};
 pub use explore::{Counterexample, Property, ProtocolExploration, explore};
 pub use scenario::{RoverScenario, is_rover_scenario};

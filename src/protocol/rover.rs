@@ -8,7 +8,7 @@ use std::collections::BTreeSet;
 use super::posandhead::{Command, Pose};
 
 /// The grid the rover drives on: cells (x, y) with 0 ≤ x, y < `size`, some holding obstacles.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Grid {
     /// Cells per side (§4.2: 5).
     pub size: i32,

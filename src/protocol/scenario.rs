@@ -122,20 +122,23 @@ struct File {
     ends_at: Option<PoseFile>,
 }
 
-fn default_grid() -> i64 {
+/// The grid's side when a file does not say.
+pub(crate) fn default_grid() -> i64 {
     DEFAULT_GRID
 }
 
+/// A pose as written: `(x: 0, y: 0, heading: N)` (also a mission's course-of-action device).
 #[derive(Deserialize, Clone, Copy)]
 #[serde(deny_unknown_fields)]
-struct PoseFile {
+pub(crate) struct PoseFile {
     x: i64,
     y: i64,
     heading: Heading,
 }
 
+/// Whether the state variable starts at the rover's pose (`Known`) or at `uk`.
 #[derive(Deserialize, Default, Clone, Copy, PartialEq)]
-enum Estimate {
+pub(crate) enum Estimate {
     #[default]
     Known,
     Unknown,
@@ -196,14 +199,7 @@ pub fn load_source(source: &Source) -> Result<RoverScenario, ScenarioErrors> {
     let file: File = options
         .from_str(&source.text)
         .map_err(|e| invalid(vec![ron_error(source, &e)]))?;
-    let mut checker = Checker {
-        locate: Locator::new(&source.text),
-        errors: Vec::new(),
-        grid: Grid {
-            size: 0,
-            obstacles: BTreeSet::new(),
-        },
-    };
+    let mut checker = Checker::new(&source.text);
     let scenario = checker.scenario(&file, source);
     match checker.errors.is_empty() {
         true => Ok(scenario),
@@ -211,15 +207,53 @@ pub fn load_source(source: &Source) -> Result<RoverScenario, ScenarioErrors> {
     }
 }
 
-/// Validates a file read by serde, collecting located errors.
-struct Checker {
+/// Validates a file read by serde, collecting located errors: a rover scenario, or the device
+/// of a mission's course-of-action controller (`goalnet::mission`).
+pub(crate) struct Checker {
     locate: Locator,
-    errors: Vec<Diagnostic>,
+    /// The errors found so far.
+    pub(crate) errors: Vec<Diagnostic>,
     /// The grid, once read (cells are checked against it).
-    grid: Grid,
+    pub(crate) grid: Grid,
 }
 
 impl Checker {
+    /// A checker of the file whose text is `text` (paths are from its root).
+    pub(crate) fn new(text: &str) -> Self {
+        Checker {
+            locate: Locator::new(text),
+            errors: Vec::new(),
+            grid: Grid {
+                size: 0,
+                obstacles: BTreeSet::new(),
+            },
+        }
+    }
+
+    /// Reads the grid: its side (at `side_at`) and its obstacles (at `obstacles_at`), each on
+    /// the grid.
+    pub(crate) fn grid(
+        &mut self,
+        side_at: &[Step],
+        side: i64,
+        obstacles_at: &[Step],
+        obstacles: &[(i64, i64)],
+    ) {
+        self.grid.size = if (1..=MAX_GRID).contains(&side) {
+            side as i32
+        } else {
+            let message = format!("a grid of {side} cells a side");
+            self.error(side_at, message, "a side from 1 to 1000");
+            DEFAULT_GRID as i32
+        };
+        for (i, &(x, y)) in obstacles.iter().enumerate() {
+            let at = [obstacles_at, &[Step::Index(i)]].concat();
+            if let Some(cell) = self.cell(&at, x, y) {
+                self.grid.obstacles.insert(cell);
+            }
+        }
+    }
+
     fn error(&mut self, path: &[Step], message: impl Into<String>, expected: &str) {
         let span = self.locate.at(path);
         self.errors
@@ -227,19 +261,12 @@ impl Checker {
     }
 
     fn scenario(&mut self, file: &File, source: &Source) -> RoverScenario {
-        self.grid.size = if (1..=MAX_GRID).contains(&file.grid) {
-            file.grid as i32
-        } else {
-            let message = format!("a grid of {} cells a side", file.grid);
-            self.error(&[Step::Field("grid")], message, "a side from 1 to 1000");
-            DEFAULT_GRID as i32
-        };
-        for (i, &(x, y)) in file.obstacles.iter().enumerate() {
-            let at = [Step::Field("obstacles"), Step::Index(i)];
-            if let Some(cell) = self.cell(&at, x, y) {
-                self.grid.obstacles.insert(cell);
-            }
-        }
+        self.grid(
+            &[Step::Field("grid")],
+            file.grid,
+            &[Step::Field("obstacles")],
+            &file.obstacles,
+        );
         let rover = self.pose(&[Step::Field("rover")], file.rover);
         let ends_at = file
             .ends_at
@@ -281,7 +308,7 @@ impl Checker {
     }
 
     /// A pose the rover can stand at.
-    fn pose(&mut self, at: &[Step], pose: PoseFile) -> Pose {
+    pub(crate) fn pose(&mut self, at: &[Step], pose: PoseFile) -> Pose {
         let (x, y) = self.cell(at, pose.x, pose.y).unwrap_or((0, 0));
         if self.grid.obstacles.contains(&(x, y)) {
             let message = format!("({x}, {y}) holds an obstacle");

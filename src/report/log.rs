@@ -321,6 +321,30 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             "GOAL FAILED",
             format!("{goal}: {reason}; ŝ has {mode} (p {probability:.2})"),
         ),
+        E::ConstraintSent {
+            goal,
+            sv,
+            constraint,
+        } => (
+            "delegated",
+            format!("{goal}: constraint {constraint} sent to the controller of {sv}"),
+        ),
+        E::ControllerCommand { sv, command, goal } => {
+            ("controller", format!("{sv}: {command}  (for goal {goal})"))
+        }
+        E::ConstraintEnded {
+            goal,
+            sv,
+            outcome,
+            value,
+        } => (
+            if outcome == "success" {
+                "endcstr"
+            } else {
+                "ENDCSTR"
+            },
+            format!("{goal}: the controller of {sv} ended it {outcome}; {sv} = {value}"),
+        ),
         E::SubmissionRefused { by, goals, reason } => (
             "REFUSED",
             format!("{} submitted by `{by}`: {reason}", goals.join(", ")),

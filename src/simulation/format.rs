@@ -310,6 +310,12 @@ pub enum EventName {
     XGoalDispatched,
     /// A goal of the mission's network failed.
     MissionGoalFailed,
+    /// A delegated goal's constraint was sent to its controller.
+    ConstraintSent,
+    /// A controller of a delegated goal issued a command.
+    ControllerCommand,
+    /// A controller ended a delegated goal's constraint.
+    ConstraintEnded,
     /// Firing a time point contradicted the temporal constraints.
     TemporalInconsistency,
     /// A scenario rule's submission was refused.
@@ -356,6 +362,9 @@ impl EventName {
             E::TimePointForced { .. } => EventName::TimePointForced,
             E::XGoalDispatched { .. } => EventName::XGoalDispatched,
             E::MissionGoalFailed { .. } => EventName::MissionGoalFailed,
+            E::ConstraintSent { .. } => EventName::ConstraintSent,
+            E::ControllerCommand { .. } => EventName::ControllerCommand,
+            E::ConstraintEnded { .. } => EventName::ConstraintEnded,
             E::TemporalInconsistency { .. } => EventName::TemporalInconsistency,
             E::SubmissionRefused { .. } => EventName::SubmissionRefused,
             E::TacticChosen { .. } => EventName::TacticChosen,

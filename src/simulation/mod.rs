@@ -224,7 +224,8 @@
 //! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`, and for
 //! missions `TimePointFired`, `TimePointForced`, `XGoalDispatched`, `MissionGoalFailed`,
 //! `TemporalInconsistency`, `SubmissionRefused`, `TacticChosen`, `TacticRejected`,
-//! `ResponseTaken`, `Promoted`, `PromotionFailed`, `Safing`.
+//! `ResponseTaken`, `Promoted`, `PromotionFailed`, `Safing`, and for a goal delegated to a
+//! controller `ConstraintSent`, `ControllerCommand`, `ConstraintEnded`.
 //!
 //! ## Missions
 //!

@@ -24,6 +24,9 @@ pub(crate) fn resolve_submission(
         source,
         locate: Locator::new(&source.text),
         errors: Vec::new(),
+        // Goals on controlled state variables are not submitted (the controllers are the
+        // mission's, and a submitted goal names a component).
+        controllers: Vec::new(),
     };
     // The submission is read into a copy of the mission's network, so that its names resolve
     // and clash as they will in the running network; what it added is read back out.

@@ -321,6 +321,11 @@ impl Builder<'_, '_> {
             | EventKind::ResponseTaken { .. }
             | EventKind::Promoted { .. }
             | EventKind::PromotionFailed { .. } => self.omit("goal-network responses"),
+            // The protocol's messages of a delegated goal are in the mission log; its failure
+            // is a `MissionGoalFailed`, drawn above.
+            EventKind::ConstraintSent { .. }
+            | EventKind::ControllerCommand { .. }
+            | EventKind::ConstraintEnded { .. } => self.omit("delegated-goal messages"),
         }
     }
 
