@@ -142,13 +142,14 @@ impl Others {
             .fold(f64::NEG_INFINITY, f64::max);
         let mut used: Vec<Vec<bool>> = choices.iter().map(|next| vec![false; next.len()]).collect();
         let mut cheapest = f64::INFINITY;
+        let mut near = Vec::new();
         for (index, (positions, cost)) in known.positions.iter().zip(&costs).enumerate() {
             let cost = cost.unwrap_or(f64::INFINITY);
             if served.binary_search(&index).is_ok() {
                 continue;
             }
             if cost <= dearest + TIE_GAP {
-                served.push(index);
+                near.push(index);
                 continue;
             }
             for (flags, &at) in used.iter_mut().zip(positions) {
@@ -158,6 +159,8 @@ impl Others {
             }
             cheapest = cheapest.min(cost);
         }
+        // Added after the pass: `served` stays sorted (and so a set) while it is searched.
+        served.extend(near);
         served.sort_unstable();
         Others { cheapest, used }
     }
