@@ -334,7 +334,7 @@ impl Expander {
                 .prepare(&self.solutions, sources, observation)
                 .is_ok()
         {
-            let mut serve = recorded.serve(&self.solutions, sources, observation);
+            let mut serve = recorded.serve(&self.solutions, sources);
             let replayed = merge(
                 &mut self.observe,
                 &mut self.unseen,
@@ -443,11 +443,13 @@ pub(crate) trait Serve {
     /// See [`Streams::possible_mass`].
     fn possible_mass(&mut self, k: usize, theory: &mut Theory) -> Result<f64, Self::Error>;
 
-    /// P_O(o | modes) for the expansion's observation.
+    /// P_O(o | modes) for the expansion's observation, `modes` being solution `i` of source
+    /// `k`.
     fn factor(
         &mut self,
         observe: &mut ObservationModel,
         theory: &mut Theory,
+        candidate: (usize, usize),
         modes: &[ValueId],
     ) -> Result<f64, Self::Error>;
 }
@@ -486,6 +488,7 @@ impl Serve for Live<'_, '_, '_> {
         &mut self,
         observe: &mut ObservationModel,
         theory: &mut Theory,
+        _: (usize, usize),
         modes: &[ValueId],
     ) -> Result<f64, Self::Error> {
         Ok(observe.factor(self.plant, theory, modes, self.observation)?)
@@ -530,7 +533,7 @@ fn merge<S: Serve>(
             Some(next) => frontier.push(Reverse((order(source_cost[k] + next), k, i + 1))),
             None => unseen.exhausted(k),
         }
-        let factor = serve.factor(observe, theory, &modes)?;
+        let factor = serve.factor(observe, theory, (k, i), &modes)?;
         let weight = (best - cost).exp() * factor;
         if weight > 0.0 {
             merged.add(successor(k, modes), weight);

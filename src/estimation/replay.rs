@@ -103,6 +103,9 @@ struct Shape {
     served: Vec<usize>,
     /// G and the modes of the solutions outside R, once computed.
     others: Option<Others>,
+    /// Per known solution, its observation factor under the recorded observation once looked
+    /// up (NaN until then): a factor is a pure function of the modes and the observation.
+    factors: Vec<f64>,
 }
 
 /// One source of this step, prepared.
@@ -230,6 +233,7 @@ impl Replay {
                     choices: Rc::clone(&source.choices),
                     served,
                     others: None,
+                    factors: vec![f64::NAN; known.solutions.len()],
                 }),
             }
         }
@@ -266,16 +270,14 @@ impl Replay {
 
     /// The merge's view of this step (after [`Replay::prepare`]).
     pub(crate) fn serve<'a>(
-        &'a self,
+        &'a mut self,
         cache: &'a SolutionCache,
         sources: &'a [SourceChoices],
-        observation: &'a Observation,
     ) -> Replaying<'a> {
         Replaying {
             replay: self,
             cache,
             sources,
-            observation,
         }
     }
 }
@@ -334,10 +336,9 @@ impl Prepared {
 
 /// A prepared replay answering the merge (see [`Serve`]).
 pub(crate) struct Replaying<'a> {
-    replay: &'a Replay,
+    replay: &'a mut Replay,
     cache: &'a SolutionCache,
     sources: &'a [SourceChoices],
-    observation: &'a Observation,
 }
 
 impl Replaying<'_> {
@@ -393,8 +394,19 @@ impl Serve for Replaying<'_> {
         &mut self,
         observe: &mut ObservationModel,
         _: &mut Theory,
+        (k, i): (usize, usize),
         modes: &[ValueId],
     ) -> Result<f64, Uncertified> {
-        observe.cached(modes, self.observation).ok_or(Uncertified)
+        let source = &self.replay.sources[k];
+        let at = source.order.len().checked_sub(i + 1).ok_or(Uncertified)?;
+        let index = source.order[at].0;
+        let shape = &mut self.replay.shapes[source.shape];
+        let known = shape.factors.get_mut(index).ok_or(Uncertified)?;
+        if known.is_nan() {
+            *known = observe
+                .cached(modes, &self.replay.observation)
+                .ok_or(Uncertified)?;
+        }
+        Ok(*known)
     }
 }

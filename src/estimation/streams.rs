@@ -151,6 +151,8 @@ struct Stream {
     /// The live enumeration's last cost, when one ran.
     live_bound: Option<f64>,
     done: bool,
+    /// How many solutions the merge asked for (the rest of `served` was fetched ahead).
+    asked: usize,
 }
 
 /// The streams of one expansion; the cache's knowledge is taken out for it and put back after.
@@ -341,6 +343,7 @@ impl<'o> Streams<'o> {
                 choices: Rc::clone(&source.choices),
                 served: Vec::new(),
                 live_bound: None,
+                asked: 0,
             });
         }
         streams.possible = std::mem::take(&mut cache.possible);
@@ -392,12 +395,13 @@ impl<'o> Streams<'o> {
         possible_mass_under(&stream.choices, mask)
     }
 
-    /// Per source, in order, its shape's slot in the cache and the solutions its stream served
-    /// (or fetched ahead), by index into the shape's known solutions, ascending: what a replay
-    /// of this expansion needs ([`super::replay`]).
+    /// Per source, in order, its shape's slot in the cache and the solutions the merge asked
+    /// its stream for, by index into the shape's known solutions, ascending: what a replay of
+    /// this expansion needs ([`super::replay`]).
     pub(crate) fn served(&self) -> impl Iterator<Item = (usize, Vec<usize>)> + '_ {
         self.streams.iter().map(|stream| {
-            let mut served: Vec<usize> = stream.served.iter().map(|&(index, _)| index).collect();
+            let asked = stream.served.iter().take(stream.asked);
+            let mut served: Vec<usize> = asked.map(|&(index, _)| index).collect();
             served.sort_unstable();
             (self.slots[stream.shape], served)
         })
@@ -424,6 +428,7 @@ impl<'o> Streams<'o> {
         observation: &Observation,
         theory: &mut Theory,
     ) -> Option<f64> {
+        self.streams[k].asked = self.streams[k].asked.max(i + 1);
         loop {
             let stream = &mut self.streams[k];
             if let Some((_, cost)) = stream.served.get(i) {
