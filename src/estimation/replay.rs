@@ -258,10 +258,16 @@ impl Replay {
         }
         self.sources.resize_with(sources.len(), Prepared::default);
         for (k, (prepared, source)) in self.sources.iter_mut().zip(sources).enumerate() {
-            // The shapes mostly come in the sources' order; the belief's order may change.
-            let shape = (k..self.shapes.len())
+            // The shape of this source in the last step first (the belief's order seldom
+            // changes), then the others from the source's own index on.
+            let shape = std::iter::once(prepared.shape)
+                .chain(k..self.shapes.len())
                 .chain(0..k.min(self.shapes.len()))
-                .find(|&j| same_shape(&self.shapes[j].choices, &source.choices))
+                .find(|&j| {
+                    self.shapes
+                        .get(j)
+                        .is_some_and(|shape| same_shape(&shape.choices, &source.choices))
+                })
                 .ok_or(Uncertified)?;
             prepared.prepare(cache, &mut self.shapes[shape], shape, &source.choices)?;
         }

@@ -198,13 +198,15 @@ fn positions_of(choices: &Choices, modes: &[ValueId]) -> Vec<u32> {
 }
 
 /// The cost under `choices` of the solution at `positions` (see [`positions_of`]); `None` if a
-/// position is absent. Summed component by component, in order.
+/// position is absent. Summed component by component, in order, from −0.0 as `Iterator::sum`
+/// does: the very number every step computes for this solution under these costs (a replayed
+/// step relies on it, `replay.rs`).
 pub(super) fn cost_at(choices: &Choices, positions: &[u32]) -> Option<f64> {
-    choices
-        .iter()
-        .zip(positions)
-        .map(|(next, &i)| next.get(i as usize).map(|n| n.cost))
-        .sum()
+    let mut sum = -0.0;
+    for (next, &i) in choices.iter().zip(positions) {
+        sum += next.get(i as usize)?.cost;
+    }
+    Some(sum)
 }
 
 /// Σ p over the next modes in `choices` that `mask` (see [`Known::possible`]) allows, multiplied
