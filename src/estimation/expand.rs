@@ -137,8 +137,8 @@ pub(crate) struct Expander {
     solutions: SolutionCache,
     pub(crate) observe: ObservationModel,
     scratch: Vec<u32>,
-    /// The unseen-mass bounds, reused from one expansion to the next.
-    unseen: Unseen,
+    /// The merge's working storage, reused from one expansion to the next.
+    buffers: Buffers,
     /// The last step, recorded for the next one to replay ([`Expander::step`]).
     replay: Option<Replay>,
 }
@@ -337,7 +337,7 @@ impl Expander {
             let mut serve = recorded.serve(&self.solutions, sources);
             let replayed = merge(
                 &mut self.observe,
-                &mut self.unseen,
+                &mut self.buffers,
                 theory,
                 sources,
                 limits,
@@ -345,9 +345,9 @@ impl Expander {
                 &successor,
             );
             // Uncertified: the full expansion below gives the answer.
-            if let Ok((merged, candidates)) = replayed {
+            if let Ok(candidates) = replayed {
                 return Ok(Expansion {
-                    states: merged.heaviest(limits.kappa),
+                    states: self.buffers.merged.heaviest(limits.kappa),
                     candidates,
                     cut: None,
                     replayed: true,
@@ -396,9 +396,9 @@ impl Expander {
             sources,
             observation,
         };
-        let (merged, candidates) = merge(
+        let candidates = merge(
             &mut self.observe,
-            &mut self.unseen,
+            &mut self.buffers,
             theory,
             sources,
             limits,
@@ -416,7 +416,7 @@ impl Expander {
             self.replay = Replay::record(&self.solutions, sources, observation, served);
         }
         Ok(Expansion {
-            states: merged.heaviest(limits.kappa),
+            states: self.buffers.merged.heaviest(limits.kappa),
             candidates,
             cut,
             replayed: false,
@@ -495,20 +495,41 @@ impl Serve for Live<'_, '_, '_> {
     }
 }
 
+/// The merge's working storage (kept by the [`Expander`] so that a step allocates none of it
+/// afresh).
+#[derive(Default)]
+struct Buffers {
+    unseen: Unseen,
+    /// The successors merged so far (emptied by [`Merged::heaviest`]).
+    merged: Merged,
+    frontier: BinaryHeap<Reverse<(u64, usize, usize)>>,
+    /// Per source, −ln of its probability.
+    source_cost: Vec<f64>,
+}
+
 /// The merge of the sources' solutions best first (see the module documentation): the
-/// candidates' successors with their weights, and how many candidates were examined.
+/// candidates' successors with their weights, into `buffers.merged`; returns how many
+/// candidates were examined.
 fn merge<S: Serve>(
     observe: &mut ObservationModel,
-    unseen: &mut Unseen,
+    buffers: &mut Buffers,
     theory: &mut Theory,
     sources: &[SourceChoices],
     limits: Limits,
     serve: &mut S,
     successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
-) -> Result<(Merged, u64), S::Error> {
-    let source_cost: Vec<f64> = sources.iter().map(|s| -s.probability.ln()).collect();
+) -> Result<u64, S::Error> {
+    let Buffers {
+        unseen,
+        merged,
+        frontier,
+        source_cost,
+    } = buffers;
+    source_cost.clear();
+    source_cost.extend(sources.iter().map(|s| -s.probability.ln()));
     unseen.reset(sources.len());
-    let mut frontier = BinaryHeap::new();
+    frontier.clear();
+    merged.clear();
     for (k, source) in sources.iter().enumerate() {
         let first = if source.probability > 0.0 {
             serve.cost(k, 0, theory)?
@@ -520,7 +541,6 @@ fn merge<S: Serve>(
             None => unseen.exhausted(k),
         }
     }
-    let mut merged = Merged::default();
     let mut best = None;
     let mut candidates = 0u64;
     while let Some(Reverse((cost_bits, k, i))) = frontier.pop() {
@@ -559,7 +579,7 @@ fn merge<S: Serve>(
             }
         }
     }
-    Ok((merged, candidates))
+    Ok(candidates)
 }
 
 /// A non-negative cost as an integer with the same order (IEEE-754 bit patterns of non-negative
@@ -703,11 +723,18 @@ impl Merged {
         self.scratch[k - 1]
     }
 
-    /// The `k` heaviest states, heaviest first (ties in order of appearance).
-    fn heaviest(mut self, k: usize) -> Vec<WeightedState> {
+    /// Empties it for a new merge (keeping the index's capacity).
+    fn clear(&mut self) {
+        self.index.clear();
+        self.states.clear();
+        self.total = 0.0;
+    }
+
+    /// The `k` heaviest states, heaviest first (ties in order of appearance); leaves none.
+    fn heaviest(&mut self, k: usize) -> Vec<WeightedState> {
         self.states
             .sort_by(|a, b| b.probability.total_cmp(&a.probability));
         self.states.truncate(k);
-        self.states
+        std::mem::take(&mut self.states)
     }
 }
