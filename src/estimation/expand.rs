@@ -27,6 +27,9 @@
 //! cached per (modes, μ), observation factors per (modes, observation), and each OCSP shape's
 //! feasible solutions with a certificate that stays valid as probabilities drift (`streams.rs`),
 //! so a quiet step — even with a jittery cycle length or a clock running — makes no SAT call.
+//! Such a step whose sources' shapes and observation are the last step's is *replayed*: merged
+//! from the last step's solutions re-costed, where that is certified to be exactly the full
+//! expansion ([`Expander::step`], `replay.rs`).
 //! Within a step, the κ sources mostly differ in one component's mode, so each component's
 //! next-mode distribution is computed once per distinct input and shared ([`StepMemo`]).
 

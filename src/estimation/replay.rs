@@ -48,8 +48,10 @@
 //!    live run;
 //! 5. a stream asked past R_k answers "none" only if the shape is complete and R_k is all of
 //!    its known solutions (exactly when the full stream ends there); otherwise the replay stops;
-//! 6. a factor is served only from the observation model's cache, a possible mass only from the
-//!    shape's cached mask, with the function the full step uses.
+//! 6. a factor is served only from the observation model's cache (remembered per known solution
+//!    for the record's life: that cache only grows or starts afresh in a full step, which
+//!    replaces the record), a possible mass only from the shape's cached mask, with the function
+//!    the full step uses.
 //!
 //! Under 1–6 the merge — the same function in both cases (`expand::merge`) — sees the same
 //! costs, modes, factors and masses in the same order as in the full step, so it examines the
