@@ -19,16 +19,22 @@
 //! # The record, and what the replay assumes
 //!
 //! After a full expansion of [`Expander::step`](super::expand::Expander::step) that ran no live
-//! enumeration into a budget cut, [`Replay::record`] keeps the observation and, per source, its
-//! shape's slot in the cache, its choices c_ref and R_k, the known solutions its stream served
-//! (or fetched ahead). Any other expansion forgets the record, so while a record lives the cache
-//! has not changed: no live enumeration has run since (a replay runs none), the shapes map, the
-//! known solutions, their certificates and completeness are as the recorded expansion left them.
+//! enumeration into a budget cut, [`Replay::record`] keeps the observation and, per shape met
+//! (one per slot of the cache), its slot, the choices c_ref of a source of that shape and R, the
+//! known solutions the merge asked its sources' streams for (not what they fetched ahead),
+//! widened at the first replay by every known solution within [`TIE_GAP`] of R's dearest under
+//! c_ref (R may be any set of known solutions: the argument below holds for each; widening keeps
+//! a plateau of equally likely solutions from being split between R and the others, where no
+//! margin could tell them apart). Any other expansion forgets the record, so while a record
+//! lives the cache has not changed: no live enumeration has run since (a replay runs none), the
+//! shapes map, the known solutions, their certificates and completeness are as the recorded
+//! expansion left them.
 //!
 //! The next step is replayed only if (checked by [`Replay::prepare`], all of it or nothing):
-//! 1. the observation is the same and there are as many sources, each with the *same shape* as
-//!    recorded (same next modes per component, in the same order): the full step would look up
-//!    the very slots recorded (the cache is not about to start afresh either);
+//! 1. the observation is the same and each source has the *same shape* as a recorded one (same
+//!    next modes per component, in the same order; the belief's order may have changed): the
+//!    full step would look up the very slot recorded (the cache is not about to start afresh
+//!    either); below, R_k is that shape's R and c_ref its recorded choices;
 //! 2. every L_k can be computed from modes already decided possible or not (the full step would
 //!    make no SAT call in `take`); the replay computes it with the same function and inputs, so
 //!    the same number;
