@@ -201,6 +201,7 @@ fn main() {
         .expect("initial")
         .belief;
     let (mut count, mut sat_calls, mut propagated, mut events) = (0u64, 0u64, 0u64, 0usize);
+    let mut replayed = 0u64;
     let mut times: Vec<Duration> = Vec::new();
     for (pair, &measure) in case.records.windows(2).zip(&case.measured) {
         let (before, now) = (&pair[0], &pair[1]);
@@ -211,6 +212,7 @@ fn main() {
             times.push(started.elapsed());
             count += 1;
             sat_calls += update.stats.sat_calls;
+            replayed += u64::from(update.stats.replayed);
             propagated += theory.stats().propagated - propagated_before;
             update
         } else {
@@ -226,7 +228,7 @@ fn main() {
     times.sort_unstable();
     let median = times.get(times.len() / 2).copied().unwrap_or_default();
     println!(
-        "case {} kappa {}: {count} measured steps of {}; total {:.3} s, mean {:.1} us, median {:.1} us, max {:.1} us; {:.1} SAT calls per step ({:.1} of them answered by unit propagation); {events} estimation events",
+        "case {} kappa {}: {count} measured steps of {}; total {:.3} s, mean {:.1} us, median {:.1} us, max {:.1} us; {:.1} SAT calls per step ({:.1} of them answered by unit propagation); {replayed} replayed; {events} estimation events",
         args.case,
         args.kappa,
         case.records.len() - 1,

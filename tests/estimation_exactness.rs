@@ -1,5 +1,6 @@
 //! No loss of exactness from the theory's unit-propagation fast path (issue 15, direction 4;
-//! DESIGN.md §7: the theory answers "consistent?" and "entailed?" completely).
+//! DESIGN.md §7: the theory answers "consistent?" and "entailed?" completely), nor from
+//! replaying quiet steps (issue 15, direction 1; DESIGN.md §8, `src/estimation/replay.rs`).
 //!
 //! Propagation answers the questions it decides and leaves the rest to the SAT solver, which
 //! still gives every conflict its core; skipping solver calls must change no answer and no
@@ -7,6 +8,11 @@
 //! (`Theory::set_propagation`) must keep the same system states with bit-for-bit the same
 //! probabilities, cycle after cycle: on the circuit-breaker tree (issue 15 item 6), on the
 //! Mars lander's EDL events (§7.2.2) and on random plants.
+//!
+//! A replayed step serves the last step's solutions re-costed only where it certifies that the
+//! full expansion would give the same answer; so TimedME with replay on and off
+//! (`TimedMeOptions::replay`) must give bit-for-bit the same beliefs too, and quiet cycles must
+//! actually be replayed (`UpdateStats::replayed`).
 //!
 //! `KAIROS_CASES=N` changes the number of random plants; `KAIROS_PROPTEST_SEED=random` explores.
 
@@ -23,7 +29,7 @@ use kairos::estimation::log::{LogRecord, parse_log, replay};
 use kairos::estimation::{Belief, ModeEstimator, TimedMe, TimedMeOptions};
 use kairos::plant::Plant;
 use proptest::prelude::*;
-use support::lander_edl::{Faults, nominal_edl};
+use support::lander_edl::{CYCLE, Faults, nominal_edl};
 use support::plants::model;
 use support::random_plant::{random_plant, random_run};
 
@@ -46,23 +52,50 @@ fn exactly(belief: &Belief) -> Vec<(u64, Vec<u32>, Vec<Option<u64>>)> {
         .collect()
 }
 
-/// Every belief of a TimedME replay of `records` (the initial one first).
-fn beliefs(plant: &Plant, records: &[LogRecord], propagation: bool) -> Vec<Belief> {
-    let mut theory = plant.theory().expect("theory");
-    theory.set_propagation(propagation);
-    let mut estimator = TimedMe::new(TimedMeOptions::kappa(10));
-    let updates = replay(plant, &mut theory, &mut estimator, records).expect("replays");
-    assert!(
-        propagation || theory.stats().propagated == 0,
-        "off means every question goes to the solver"
-    );
-    updates.into_iter().map(|u| u.belief).collect()
+/// How TimedME is run: the theory's propagation fast path, and replaying quiet steps.
+#[derive(Clone, Copy)]
+struct Setting {
+    propagation: bool,
+    replay: bool,
 }
 
-/// The step at which the two replays first differ, if any.
-fn first_difference(plant: &Plant, records: &[LogRecord]) -> Option<usize> {
-    let with = beliefs(plant, records, true);
-    let without = beliefs(plant, records, false);
+const REFERENCE: Setting = Setting {
+    propagation: true,
+    replay: true,
+};
+const NO_PROPAGATION: Setting = Setting {
+    propagation: false,
+    replay: true,
+};
+const NO_REPLAY: Setting = Setting {
+    propagation: true,
+    replay: false,
+};
+
+/// Every belief of a TimedME replay of `records` (the initial one first), and how many steps
+/// were replayed.
+fn beliefs(plant: &Plant, records: &[LogRecord], setting: Setting) -> (Vec<Belief>, usize) {
+    let mut theory = plant.theory().expect("theory");
+    theory.set_propagation(setting.propagation);
+    let options = TimedMeOptions {
+        replay: setting.replay,
+        ..TimedMeOptions::kappa(10)
+    };
+    let mut estimator = TimedMe::new(options);
+    let updates = replay(plant, &mut theory, &mut estimator, records).expect("replays");
+    assert!(
+        setting.propagation || theory.stats().propagated == 0,
+        "off means every question goes to the solver"
+    );
+    let replayed = updates.iter().filter(|u| u.stats.replayed).count();
+    assert!(setting.replay || replayed == 0, "off means never replayed");
+    (updates.into_iter().map(|u| u.belief).collect(), replayed)
+}
+
+/// The step at which the replays in the reference setting and in `other` first differ, if any.
+fn first_difference(plant: &Plant, records: &[LogRecord], other: Setting) -> Option<usize> {
+    let (with, _) = beliefs(plant, records, REFERENCE);
+    let (without, _) = beliefs(plant, records, other);
     assert_eq!(with.len(), without.len());
     with.iter()
         .zip(&without)
@@ -70,7 +103,7 @@ fn first_difference(plant: &Plant, records: &[LogRecord]) -> Option<usize> {
 }
 
 #[test]
-fn the_breaker_tree_is_estimated_identically_with_and_without_propagation() {
+fn the_breaker_tree_is_estimated_identically_with_and_without_propagation_and_replay() {
     let plant = Plant::load(&Source::new(
         "breakers_15.ron",
         breakers::breaker_tree_ron(15),
@@ -78,11 +111,12 @@ fn the_breaker_tree_is_estimated_identically_with_and_without_propagation() {
     .expect("loads");
     let log = Source::new("breakers_15.jsonl", breakers::breaker_log(15, 7));
     let records = parse_log(&log, &plant).expect("parses");
-    assert_eq!(first_difference(&plant, &records), None);
+    assert_eq!(first_difference(&plant, &records, NO_PROPAGATION), None);
+    assert_eq!(first_difference(&plant, &records, NO_REPLAY), None);
 }
 
 #[test]
-fn the_mars_edl_events_are_estimated_identically_with_and_without_propagation() {
+fn the_mars_edl_events_are_estimated_identically_with_and_without_propagation_and_replay() {
     // The nominal EDL on a 600 s grid, with every command and observation change (the
     // `events` case of `examples/me_profile.rs`, where the busy cycles are), up to the entry.
     let plant = model("mars_lander");
@@ -90,7 +124,47 @@ fn the_mars_edl_events_are_estimated_identically_with_and_without_propagation() 
     let times = timeline.times(support::lander_edl::edl::ENTRY + 60.0, 600.0);
     let records = timeline.records(&plant, &times);
     assert!(records.len() > 30, "{} records", records.len());
-    assert_eq!(first_difference(&plant, &records), None);
+    assert_eq!(first_difference(&plant, &records, NO_PROPAGATION), None);
+    assert_eq!(first_difference(&plant, &records, NO_REPLAY), None);
+}
+
+/// The EDL replayed on a 600 s grid up to `from` s, then `steps` cycles of 0.1 s.
+fn quiet_window(plant: &Plant, from: f64, steps: u64) -> Vec<LogRecord> {
+    let timeline = nominal_edl(Faults::default());
+    let start = support::lander_edl::ms(from);
+    let mut times: Vec<u64> = timeline
+        .times(support::lander_edl::edl::END, 600.0)
+        .into_iter()
+        .filter(|&t| t < start)
+        .chain((0..steps).map(|k| start + k * support::lander_edl::ms(CYCLE)))
+        .collect();
+    times.sort_unstable();
+    times.dedup();
+    timeline.records(plant, &times)
+}
+
+#[test]
+fn quiet_mars_edl_cycles_are_replayed_with_the_full_steps_beliefs() {
+    // The cruise (the entry clock running), the engine's heating window with its end (engine
+    // heating → standby at 43.2 s: a new observation) and the entry window (the per-step
+    // probability moving every cycle): §7.2.2's EDL at the executive's 0.1 s cycle.
+    let plant = model("mars_lander");
+    for (from, steps) in [(1000.0, 300), (25.0, 300), (15700.0, 300)] {
+        let records = quiet_window(&plant, from, steps);
+        let (replayed, count) = beliefs(&plant, &records, REFERENCE);
+        let (full, _) = beliefs(&plant, &records, NO_REPLAY);
+        let first = replayed
+            .iter()
+            .zip(&full)
+            .position(|(a, b)| exactly(a) != exactly(b));
+        assert_eq!(first, None, "window from {from} s");
+        // Every cycle of the window but the first few (where the solution cache and the
+        // record are still being filled) and the few after the heating window's end.
+        assert!(
+            count + 20 >= steps as usize,
+            "window from {from} s: {count} of {steps} quiet cycles replayed"
+        );
+    }
 }
 
 proptest! {
@@ -98,7 +172,7 @@ proptest! {
 
     /// Random plants and runs (`tests/support/random_plant.rs`): the same beliefs, bit for bit.
     #[test]
-    fn random_plants_are_estimated_identically_with_and_without_propagation(
+    fn random_plants_are_estimated_identically_with_and_without_propagation_and_replay(
         spec in random_plant(4),
         run in random_run(4, 12),
     ) {
@@ -109,10 +183,14 @@ proptest! {
         reference.set_propagation(false);
         let (first, cycles) = run.simulate(&plant, &mut reference);
         let mut beliefs: Vec<Vec<Belief>> = Vec::new();
-        for propagation in [true, false] {
+        for setting in [REFERENCE, NO_PROPAGATION, NO_REPLAY] {
             let mut theory = plant.theory().expect("theory");
-            theory.set_propagation(propagation);
-            let mut estimator = TimedMe::new(TimedMeOptions::kappa(4));
+            theory.set_propagation(setting.propagation);
+            let options = TimedMeOptions {
+                replay: setting.replay,
+                ..TimedMeOptions::kappa(4)
+            };
+            let mut estimator = TimedMe::new(options);
             let mut update = estimator
                 .initial(&plant, &mut theory, 0.0, &first)
                 .expect("initial");
@@ -123,8 +201,10 @@ proptest! {
             }
             beliefs.push(these);
         }
-        for (step, (a, b)) in beliefs[0].iter().zip(&beliefs[1]).enumerate() {
-            prop_assert_eq!(exactly(a), exactly(b), "step {}\nmodel: {}", step, spec.ron());
+        for other in &beliefs[1..] {
+            for (step, (a, b)) in beliefs[0].iter().zip(other).enumerate() {
+                prop_assert_eq!(exactly(a), exactly(b), "step {}\nmodel: {}", step, spec.ron());
+            }
         }
     }
 }

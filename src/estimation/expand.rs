@@ -27,6 +27,9 @@
 //! cached per (modes, μ), observation factors per (modes, observation), and each OCSP shape's
 //! feasible solutions with a certificate that stays valid as probabilities drift (`streams.rs`),
 //! so a quiet step — even with a jittery cycle length or a clock running — makes no SAT call.
+//! Such a step whose sources' shapes and observation are the last step's is *replayed*: merged
+//! from the last step's solutions re-costed, where that is certified to be exactly the full
+//! expansion ([`Expander::step`], `replay.rs`).
 //! Within a step, the κ sources mostly differ in one component's mode, so each component's
 //! next-mode distribution is computed once per distinct input and shared ([`StepMemo`]).
 
@@ -39,6 +42,7 @@ use std::rc::Rc;
 use rustc_hash::{FxHashMap, FxHasher};
 
 use super::observe::ObservationModel;
+use super::replay::Replay;
 use super::streams::{SolutionCache, Streams};
 use super::{EstimationError, WeightedState};
 use crate::logic::ValueId;
@@ -113,6 +117,8 @@ pub(crate) struct Expansion {
     pub(crate) candidates: u64,
     /// Set when an OPSAT budget ran out.
     pub(crate) cut: Option<Cut>,
+    /// Replayed from the last step ([`Expander::step`]) rather than expanded in full.
+    pub(crate) replayed: bool,
 }
 
 /// How many candidates and which OPSAT options an expansion may use.
@@ -134,8 +140,10 @@ pub(crate) struct Expander {
     solutions: SolutionCache,
     pub(crate) observe: ObservationModel,
     scratch: Vec<u32>,
-    /// The unseen-mass bounds, reused from one expansion to the next.
-    unseen: Unseen,
+    /// The merge's working storage, reused from one expansion to the next.
+    buffers: Buffers,
+    /// The last step, recorded for the next one to replay ([`Expander::step`]).
+    replay: Option<Replay>,
 }
 
 /// Next-mode distributions already computed. Certified: a component's distribution is
@@ -299,6 +307,82 @@ impl Expander {
         limits: Limits,
         successor: impl Fn(usize, Vec<ValueId>) -> SystemState,
     ) -> Result<Expansion, EstimationError> {
+        self.expand_in_full(
+            plant,
+            theory,
+            sources,
+            observation,
+            limits,
+            successor,
+            false,
+        )
+    }
+
+    /// [`Expander::expand`], replaying the last step instead when that is certified to give the
+    /// same answer ([`Replay`]) and `replay` allows it; a step expanded in full is recorded for
+    /// the next one to replay.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn step(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        sources: &[SourceChoices],
+        observation: &Observation,
+        limits: Limits,
+        successor: impl Fn(usize, Vec<ValueId>) -> SystemState,
+        replay: bool,
+    ) -> Result<Expansion, EstimationError> {
+        if let Some(recorded) = self.replay.as_mut().filter(|_| replay)
+            && recorded
+                .prepare(&self.solutions, sources, observation)
+                .is_ok()
+        {
+            let mut serve = recorded.serve(&self.solutions, sources);
+            let replayed = merge(
+                &mut self.observe,
+                &mut self.buffers,
+                theory,
+                sources,
+                limits,
+                &mut serve,
+                &successor,
+            );
+            // Uncertified: the full expansion below gives the answer.
+            if let Ok(candidates) = replayed {
+                return Ok(Expansion {
+                    states: self.buffers.merged.heaviest(limits.kappa),
+                    candidates,
+                    cut: None,
+                    replayed: true,
+                });
+            }
+        }
+        self.expand_in_full(
+            plant,
+            theory,
+            sources,
+            observation,
+            limits,
+            successor,
+            replay,
+        )
+    }
+
+    /// The expansion by the sources' streams; with `record`, kept for [`Expander::step`] to
+    /// replay (any other expansion may change the solution cache a replay reads, so it forgets
+    /// the recorded one).
+    #[allow(clippy::too_many_arguments)]
+    fn expand_in_full(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        sources: &[SourceChoices],
+        observation: &Observation,
+        limits: Limits,
+        successor: impl Fn(usize, Vec<ValueId>) -> SystemState,
+        record: bool,
+    ) -> Result<Expansion, EstimationError> {
+        self.replay = None;
         let ocsps: Vec<OnceCell<Ocsp>> = sources.iter().map(|_| OnceCell::new()).collect();
         let mut streams = Streams::take(
             &mut self.solutions,
@@ -309,71 +393,196 @@ impl Expander {
             limits.search,
             &ocsps,
         );
-        let fetch = |streams: &mut Streams, k: usize, i: usize, theory: &mut Theory| {
-            streams.cost(k, i, plant, sources, observation, theory)
+        let mut live = Live {
+            streams: &mut streams,
+            plant,
+            sources,
+            observation,
         };
-        let source_cost: Vec<f64> = sources.iter().map(|s| -s.probability.ln()).collect();
-        let mut unseen = std::mem::take(&mut self.unseen);
-        unseen.reset(sources.len());
-        let mut frontier = BinaryHeap::new();
-        for (k, source) in sources.iter().enumerate() {
-            let first = (source.probability > 0.0)
-                .then(|| fetch(&mut streams, k, 0, theory))
-                .flatten();
-            match first {
-                Some(cost) => frontier.push(Reverse((order(source_cost[k] + cost), k, 0usize))),
-                None => unseen.exhausted(k),
-            }
-        }
-        let mut merged = Merged::default();
-        let mut best = None;
-        let mut candidates = 0u64;
-        while let Some(Reverse((cost_bits, k, i))) = frontier.pop() {
-            let cost = f64::from_bits(cost_bits);
-            let best = *best.get_or_insert(cost);
-            candidates += 1;
-            unseen.served(k, cost);
-            let modes = streams.modes(k, i);
-            match fetch(&mut streams, k, i + 1, theory) {
-                Some(next) => frontier.push(Reverse((order(source_cost[k] + next), k, i + 1))),
-                None => unseen.exhausted(k),
-            }
-            let factor = self.observe.factor(plant, theory, &modes, observation)?;
-            let weight = (best - cost).exp() * factor;
-            if weight > 0.0 {
-                merged.add(successor(k, modes), weight);
-            }
-            if candidates as usize >= limits.max_candidates {
-                break;
-            }
-            let next_weight = frontier.peek().map_or(0.0, |Reverse((bits, _, _))| {
-                (best - f64::from_bits(*bits)).exp()
-            });
-            // Past κ states, with no single candidate able to displace the κ-th, only the
-            // unseen mass keeps the expansion going: tighten the bounds of the sources holding
-            // most of it, one at a time, only as far as it lets the expansion stop.
-            if merged.states.len() > limits.kappa && merged.kth_weight(limits.kappa) >= next_weight
-            {
-                let limit = MASS_TOLERANCE * merged.total * (-best).exp();
-                unseen.bound(sources);
-                while unseen.mass() > limit
-                    && unseen.tighten_heaviest(sources, |k| streams.possible_mass(k, plant, theory))
-                {
-                }
-                if unseen.mass() <= limit {
-                    break;
-                }
-            }
-        }
-        self.unseen = unseen;
+        let candidates = merge(
+            &mut self.observe,
+            &mut self.buffers,
+            theory,
+            sources,
+            limits,
+            &mut live,
+            &successor,
+        )?;
         let cut = streams.cut;
+        let served: Vec<(usize, Vec<usize>)> = if record && cut.is_none() {
+            streams.served().collect()
+        } else {
+            Vec::new()
+        };
         streams.put_back(&mut self.solutions);
+        if record && cut.is_none() {
+            self.replay = Replay::record(&self.solutions, sources, observation, served);
+        }
         Ok(Expansion {
-            states: merged.heaviest(limits.kappa),
+            states: self.buffers.merged.heaviest(limits.kappa),
             candidates,
             cut,
+            replayed: false,
         })
     }
+}
+
+/// Where the merge gets each source's solutions, cheapest first, and their observation factors:
+/// the streams of a full expansion ([`Live`]), or the replay of the last one
+/// ([`super::replay::Replaying`]), which answers only what it can certify.
+pub(crate) trait Serve {
+    /// What stops a merge: [`EstimationError`] for the streams,
+    /// [`super::replay::Uncertified`] for a replay.
+    type Error;
+
+    /// The cost of solution `i` of source `k` (fetched in order: `i` is at most one past the
+    /// last one asked for); `None` when there is none.
+    fn cost(&mut self, k: usize, i: usize, theory: &mut Theory)
+    -> Result<Option<f64>, Self::Error>;
+
+    /// The next modes of solution `i` of source `k`, whose cost was asked for.
+    fn modes(&self, k: usize, i: usize) -> Vec<ValueId>;
+
+    /// See [`Streams::possible_mass`].
+    fn possible_mass(&mut self, k: usize, theory: &mut Theory) -> Result<f64, Self::Error>;
+
+    /// P_O(o | modes) for the expansion's observation, `modes` being solution `i` of source
+    /// `k`.
+    fn factor(
+        &mut self,
+        observe: &mut ObservationModel,
+        theory: &mut Theory,
+        candidate: (usize, usize),
+        modes: &[ValueId],
+    ) -> Result<f64, Self::Error>;
+}
+
+/// The streams of a full expansion, with what they are asked about.
+struct Live<'s, 'o, 'a> {
+    streams: &'s mut Streams<'o>,
+    plant: &'a Plant,
+    sources: &'a [SourceChoices],
+    observation: &'a Observation,
+}
+
+impl Serve for Live<'_, '_, '_> {
+    type Error = EstimationError;
+
+    fn cost(
+        &mut self,
+        k: usize,
+        i: usize,
+        theory: &mut Theory,
+    ) -> Result<Option<f64>, Self::Error> {
+        Ok(self
+            .streams
+            .cost(k, i, self.plant, self.sources, self.observation, theory))
+    }
+
+    fn modes(&self, k: usize, i: usize) -> Vec<ValueId> {
+        self.streams.modes(k, i)
+    }
+
+    fn possible_mass(&mut self, k: usize, theory: &mut Theory) -> Result<f64, Self::Error> {
+        Ok(self.streams.possible_mass(k, self.plant, theory))
+    }
+
+    fn factor(
+        &mut self,
+        observe: &mut ObservationModel,
+        theory: &mut Theory,
+        _: (usize, usize),
+        modes: &[ValueId],
+    ) -> Result<f64, Self::Error> {
+        Ok(observe.factor(self.plant, theory, modes, self.observation)?)
+    }
+}
+
+/// The merge's working storage (kept by the [`Expander`] so that a step allocates none of it
+/// afresh).
+#[derive(Default)]
+struct Buffers {
+    unseen: Unseen,
+    /// The successors merged so far (emptied by [`Merged::heaviest`]).
+    merged: Merged,
+    frontier: BinaryHeap<Reverse<(u64, usize, usize)>>,
+    /// Per source, −ln of its probability.
+    source_cost: Vec<f64>,
+}
+
+/// The merge of the sources' solutions best first (see the module documentation): the
+/// candidates' successors with their weights, into `buffers.merged`; returns how many
+/// candidates were examined.
+fn merge<S: Serve>(
+    observe: &mut ObservationModel,
+    buffers: &mut Buffers,
+    theory: &mut Theory,
+    sources: &[SourceChoices],
+    limits: Limits,
+    serve: &mut S,
+    successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+) -> Result<u64, S::Error> {
+    let Buffers {
+        unseen,
+        merged,
+        frontier,
+        source_cost,
+    } = buffers;
+    source_cost.clear();
+    source_cost.extend(sources.iter().map(|s| -s.probability.ln()));
+    unseen.reset(sources.len());
+    frontier.clear();
+    merged.clear();
+    for (k, source) in sources.iter().enumerate() {
+        let first = if source.probability > 0.0 {
+            serve.cost(k, 0, theory)?
+        } else {
+            None
+        };
+        match first {
+            Some(cost) => frontier.push(Reverse((order(source_cost[k] + cost), k, 0usize))),
+            None => unseen.exhausted(k),
+        }
+    }
+    let mut best = None;
+    let mut candidates = 0u64;
+    while let Some(Reverse((cost_bits, k, i))) = frontier.pop() {
+        let cost = f64::from_bits(cost_bits);
+        let best = *best.get_or_insert(cost);
+        candidates += 1;
+        unseen.served(k, cost);
+        let modes = serve.modes(k, i);
+        match serve.cost(k, i + 1, theory)? {
+            Some(next) => frontier.push(Reverse((order(source_cost[k] + next), k, i + 1))),
+            None => unseen.exhausted(k),
+        }
+        let factor = serve.factor(observe, theory, (k, i), &modes)?;
+        let weight = (best - cost).exp() * factor;
+        if weight > 0.0 {
+            merged.add(successor(k, modes), weight);
+        }
+        if candidates as usize >= limits.max_candidates {
+            break;
+        }
+        let next_weight = frontier.peek().map_or(0.0, |Reverse((bits, _, _))| {
+            (best - f64::from_bits(*bits)).exp()
+        });
+        // Past κ states, with no single candidate able to displace the κ-th, only the
+        // unseen mass keeps the expansion going: tighten the bounds of the sources holding
+        // most of it, one at a time, only as far as it lets the expansion stop.
+        if merged.states.len() > limits.kappa && merged.kth_weight(limits.kappa) >= next_weight {
+            let limit = MASS_TOLERANCE * merged.total * (-best).exp();
+            unseen.bound(sources);
+            while unseen.mass() > limit
+                && unseen.tighten_heaviest(sources, |k| serve.possible_mass(k, theory))?
+            {
+            }
+            if unseen.mass() <= limit {
+                break;
+            }
+        }
+    }
+    Ok(candidates)
 }
 
 /// A non-negative cost as an integer with the same order (IEEE-754 bit patterns of non-negative
@@ -430,22 +639,22 @@ impl Unseen {
     /// Replaces the bound of the source with the most unseen mass not yet tightened by
     /// `p(source) · possible(source)` (see [`Streams::possible_mass`]); false when no source
     /// is left to tighten.
-    fn tighten_heaviest(
+    fn tighten_heaviest<E>(
         &mut self,
         sources: &[SourceChoices],
-        possible: impl FnOnce(usize) -> f64,
-    ) -> bool {
+        possible: impl FnOnce(usize) -> Result<f64, E>,
+    ) -> Result<bool, E> {
         let heaviest = (0..self.bounds.len())
             .filter(|&k| !self.bounds[k].tightened && self.left(k) > 0.0)
             .max_by(|&a, &b| self.left(a).total_cmp(&self.left(b)));
         let Some(k) = heaviest else {
-            return false;
+            return Ok(false);
         };
+        let tightened = sources[k].probability * possible(k)?;
         let bound = &mut self.bounds[k];
         bound.tightened = true;
-        let tightened = sources[k].probability * possible(k);
         bound.mass = Some(bound.mass.map_or(tightened, |mass| mass.min(tightened)));
-        true
+        Ok(true)
     }
 
     /// What source `k` may still hand out (rounding can leave it slightly below 0; a bound not
@@ -517,11 +726,18 @@ impl Merged {
         self.scratch[k - 1]
     }
 
-    /// The `k` heaviest states, heaviest first (ties in order of appearance).
-    fn heaviest(mut self, k: usize) -> Vec<WeightedState> {
+    /// Empties it for a new merge (keeping the index's capacity).
+    fn clear(&mut self) {
+        self.index.clear();
+        self.states.clear();
+        self.total = 0.0;
+    }
+
+    /// The `k` heaviest states, heaviest first (ties in order of appearance); leaves none.
+    fn heaviest(&mut self, k: usize) -> Vec<WeightedState> {
         self.states
             .sort_by(|a, b| b.probability.total_cmp(&a.probability));
         self.states.truncate(k);
-        self.states
+        std::mem::take(&mut self.states)
     }
 }

@@ -20,6 +20,7 @@ mod exact;
 mod expand;
 pub mod log;
 mod observe;
+mod replay;
 mod streams;
 mod timed_me;
 
@@ -215,6 +216,10 @@ pub struct UpdateStats {
     pub sat_calls: u64,
     /// System states in the new belief.
     pub states: u64,
+    /// The belief was found by replaying the previous step's streams with the new
+    /// probabilities (a quiet step, certified to give the full expansion's answer; see
+    /// [`TimedMeOptions::replay`]).
+    pub replayed: bool,
 }
 
 /// The result of one estimation step.

@@ -36,12 +36,7 @@ impl ObservationModel {
         modes: &[ValueId],
         observation: &Observation,
     ) -> Result<f64, TheoryError> {
-        self.key.clear();
-        self.key.extend(modes.iter().map(|m| m.0));
-        for &(x, v) in observation.values() {
-            self.key.extend([x.0, v.0]);
-        }
-        if let Some(&factor) = self.cache.get(self.key.as_slice()) {
+        if let Some(factor) = self.cached(modes, observation) {
             return Ok(factor);
         }
         let factor = compute(plant, theory, modes, observation)?;
@@ -50,6 +45,17 @@ impl ObservationModel {
         }
         self.cache.insert(self.key.clone(), factor);
         Ok(factor)
+    }
+
+    /// P_O(o | modes) if it is cached (then [`ObservationModel::factor`] would answer it without
+    /// asking the theory); leaves the key of `modes` and `observation` in `self.key`.
+    pub(crate) fn cached(&mut self, modes: &[ValueId], observation: &Observation) -> Option<f64> {
+        self.key.clear();
+        self.key.extend(modes.iter().map(|m| m.0));
+        for &(x, v) in observation.values() {
+            self.key.extend([x.0, v.0]);
+        }
+        self.cache.get(self.key.as_slice()).copied()
     }
 }
 

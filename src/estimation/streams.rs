@@ -53,21 +53,21 @@ const KNOWN_LIMIT: usize = 256;
 
 /// What is known about the feasible solutions of one OCSP shape.
 #[derive(Default)]
-struct Known {
+pub(super) struct Known {
     /// Feasible next plant states, distinct.
-    solutions: Vec<Vec<ValueId>>,
+    pub(super) solutions: Vec<Vec<ValueId>>,
     /// Per solution, each component's position among its next modes, which the shape fixes
     /// (`u32::MAX` if absent, which a solution of the shape's OCSP never is): the solution's
     /// cost under any costs of the shape is then a sum of lookups ([`cost_at`]).
-    positions: Vec<Vec<u32>>,
+    pub(super) positions: Vec<Vec<u32>>,
     /// Every feasible solution not in `solutions` costs at least `bound` under these choices'
     /// costs.
-    certificate: Option<(Rc<Choices>, f64)>,
+    pub(super) certificate: Option<(Rc<Choices>, f64)>,
     /// `solutions` holds every feasible solution.
-    complete: bool,
+    pub(super) complete: bool,
     /// Per next mode of the shape (components in order, each one's next modes in order), whether
     /// the observation leaves it possible on its own (see [`Possible`]); decided once per shape.
-    possible: Option<Vec<bool>>,
+    pub(super) possible: Option<Vec<bool>>,
 }
 
 /// Cached knowledge, per OCSP shape, across calls.
@@ -91,6 +91,25 @@ struct Possible {
     /// (component, mode) → consistent.
     decided: FxHashMap<(usize, ValueId), bool>,
     assumptions: Vec<Literal>,
+}
+
+impl SolutionCache {
+    /// What is known about the shape in `slot` (a slot [`Streams::served`] named, while no
+    /// expansion has run since).
+    pub(super) fn known(&self, slot: usize) -> Option<&Known> {
+        self.known.get(slot)
+    }
+
+    /// Whether the next expansion will start the cache afresh (it holds [`CACHE_LIMIT`] shapes).
+    pub(super) fn is_full(&self) -> bool {
+        self.shapes.len() >= CACHE_LIMIT
+    }
+
+    /// Whether component `c` may be in `mode` under the last expansion's observation, if that is
+    /// decided already (`None`: deciding it takes a SAT call).
+    pub(super) fn decided(&self, c: usize, mode: ValueId) -> Option<bool> {
+        self.possible.decided.get(&(c, mode)).copied()
+    }
 }
 
 impl Possible {
@@ -132,6 +151,8 @@ struct Stream {
     /// The live enumeration's last cost, when one ran.
     live_bound: Option<f64>,
     done: bool,
+    /// How many solutions the merge asked for (the rest of `served` was fetched ahead).
+    asked: usize,
 }
 
 /// The streams of one expansion; the cache's knowledge is taken out for it and put back after.
@@ -177,13 +198,30 @@ fn positions_of(choices: &Choices, modes: &[ValueId]) -> Vec<u32> {
 }
 
 /// The cost under `choices` of the solution at `positions` (see [`positions_of`]); `None` if a
-/// position is absent. Summed component by component, in order.
-fn cost_at(choices: &Choices, positions: &[u32]) -> Option<f64> {
+/// position is absent. Summed component by component, in order, from −0.0 as `Iterator::sum`
+/// does: the very number every step computes for this solution under these costs (a replayed
+/// step relies on it, `replay.rs`).
+pub(super) fn cost_at(choices: &Choices, positions: &[u32]) -> Option<f64> {
+    let mut sum = -0.0;
+    for (next, &i) in choices.iter().zip(positions) {
+        sum += next.get(i as usize)?.cost;
+    }
+    Some(sum)
+}
+
+/// Σ p over the next modes in `choices` that `mask` (see [`Known::possible`]) allows, multiplied
+/// over the components (see [`Streams::possible_mass`]).
+pub(super) fn possible_mass_under(choices: &Choices, mask: &[bool]) -> f64 {
+    let mut allowed = mask.iter();
     choices
         .iter()
-        .zip(positions)
-        .map(|(next, &i)| next.get(i as usize).map(|n| n.cost))
-        .sum()
+        .map(|next| {
+            next.iter()
+                .filter(|_| allowed.next().copied().unwrap_or(true))
+                .map(|n| n.probability)
+                .sum::<f64>()
+        })
+        .product()
 }
 
 /// Per component, (mode, cost) pairs for OPSAT.
@@ -195,12 +233,22 @@ fn costs(choices: &Choices) -> impl Iterator<Item = impl Iterator<Item = (ValueI
 
 /// Σ over components of the largest change of the cost of a mode that `possible(component,
 /// mode)` allows (same shape, so same order): how much cheaper any feasible solution can have
-/// become. `possible` is asked only about modes whose change would raise the maximum.
-fn drift(old: &Choices, new: &Choices, mut possible: impl FnMut(usize, ValueId) -> bool) -> f64 {
+/// become. `possible` is asked only about modes whose change would raise the maximum (never
+/// about a component whose next modes are shared, unchanged, by both).
+pub(super) fn drift(
+    old: &Choices,
+    new: &Choices,
+    mut possible: impl FnMut(usize, ValueId) -> bool,
+) -> f64 {
     old.iter()
         .zip(new)
         .enumerate()
         .map(|(c, (a, b))| {
+            if Rc::ptr_eq(a, b) {
+                // The same allocation: every change is 0 (or NaN for an infinite cost), which
+                // the fold below would never take either.
+                return 0.0;
+            }
             a.iter().zip(b.iter()).fold(0.0, |largest: f64, (x, y)| {
                 let change = (x.cost - y.cost).abs();
                 if change > largest && possible(c, x.mode) {
@@ -297,6 +345,7 @@ impl<'o> Streams<'o> {
                 choices: Rc::clone(&source.choices),
                 served: Vec::new(),
                 live_bound: None,
+                asked: 0,
             });
         }
         streams.possible = std::mem::take(&mut cache.possible);
@@ -345,17 +394,19 @@ impl<'o> Streams<'o> {
                 .map(|(c, mode)| possible.allows(plant, theory, c, mode))
                 .collect()
         });
-        let mut allowed = mask.iter();
-        stream
-            .choices
-            .iter()
-            .map(|next| {
-                next.iter()
-                    .filter(|_| allowed.next().copied().unwrap_or(true))
-                    .map(|n| n.probability)
-                    .sum::<f64>()
-            })
-            .product()
+        possible_mass_under(&stream.choices, mask)
+    }
+
+    /// Per source, in order, its shape's slot in the cache and the solutions the merge asked
+    /// its stream for, by index into the shape's known solutions, ascending: what a replay of
+    /// this expansion needs ([`super::replay`]).
+    pub(crate) fn served(&self) -> impl Iterator<Item = (usize, Vec<usize>)> + '_ {
+        self.streams.iter().map(|stream| {
+            let asked = stream.served.iter().take(stream.asked);
+            let mut served: Vec<usize> = asked.map(|&(index, _)| index).collect();
+            served.sort_unstable();
+            (self.slots[stream.shape], served)
+        })
     }
 
     /// The next modes of solution `i` of source `k` (which [`Streams::cost`] has fetched).
@@ -379,6 +430,7 @@ impl<'o> Streams<'o> {
         observation: &Observation,
         theory: &mut Theory,
     ) -> Option<f64> {
+        self.streams[k].asked = self.streams[k].asked.max(i + 1);
         loop {
             let stream = &mut self.streams[k];
             if let Some((_, cost)) = stream.served.get(i) {

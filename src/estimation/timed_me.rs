@@ -44,6 +44,12 @@ pub struct TimedMeOptions {
     /// OPSAT's budget per source state's enumeration; on exhaustion the belief holds the best
     /// found so far and the update reports [`EstimationEvent::SearchCut`].
     pub budget: Budget,
+    /// Replay a quiet step: when the sources' OCSPs have the same shapes and the observation is
+    /// the same as in the last update, serve the last update's solutions re-costed instead of
+    /// rebuilding the streams from the solution cache — only where that is certified to give
+    /// the same belief bit for bit, else the step is expanded in full (`replay.rs`). On by
+    /// default; off, every step is expanded in full (the tests compare the two).
+    pub replay: bool,
 }
 
 impl TimedMeOptions {
@@ -54,6 +60,7 @@ impl TimedMeOptions {
             kappa: kappa.max(1),
             candidates_per_state: 4,
             budget: Budget::default(),
+            replay: true,
         }
     }
 
@@ -150,9 +157,15 @@ impl ModeEstimator for TimedMe {
         let next = |k: usize, modes: Vec<ValueId>| {
             successor(&belief.states()[k].state, modes, time).forget_idle_clocks(plant)
         };
-        let expansion = self
-            .expander
-            .expand(plant, theory, &sources, observation, limits, next)?;
+        let expansion = self.expander.step(
+            plant,
+            theory,
+            &sources,
+            observation,
+            limits,
+            next,
+            self.options.replay,
+        )?;
         let mut outcome = Outcome::new(expansion);
         if outcome.is_empty() {
             with_fault_jumps(plant, &mut sources);
@@ -240,6 +253,7 @@ pub(crate) struct Outcome {
     states: Vec<WeightedState>,
     events: Vec<EstimationEvent>,
     candidates: u64,
+    replayed: bool,
 }
 
 impl Outcome {
@@ -255,11 +269,13 @@ impl Outcome {
             states,
             events: Vec::new(),
             candidates,
+            replayed: false,
         }
     }
 
     fn absorb(&mut self, expansion: Expansion) {
         self.candidates += expansion.candidates;
+        self.replayed = expansion.replayed;
         if let Some(cut) = expansion.cut {
             self.events.push(EstimationEvent::SearchCut(cut));
         }
@@ -297,6 +313,7 @@ impl Outcome {
                 candidates: self.candidates,
                 sat_calls,
                 states,
+                replayed: self.replayed,
             },
         }
     }

@@ -1,0 +1,426 @@
+//! Replaying a quiet step (issue 15, direction 1): the last step's streams, re-costed, instead
+//! of streams rebuilt from the solution cache — only when that is certified to give exactly the
+//! full expansion's answer.
+//!
+//! # What a full expansion does with the solution cache
+//!
+//! For each source k, `Streams::take` looks up the OCSP *shape* of k's choices (allowed next
+//! modes and the observation) and lists the shape's known solutions that the certificate
+//! covers: C_k = { known s : cost(s) ≤ L_k }, where L_k = ∞ for a complete shape and otherwise
+//! `bound − drift(certificate's choices, k's choices)`, the drift running over the modes the
+//! observation allows (deciding one not decided yet is a SAT call). C_k is sorted dearest first,
+//! stably over the known solutions' order, and served from the back; only when it runs out does
+//! a live OPSAT enumeration start (and then the stream's later costs are OPSAT's sums, its tie
+//! order OPSAT's, and the cache learns solutions and a new certificate). The merge asks the
+//! streams for costs in order, for next modes, for observation factors (cached per (modes,
+//! observation); computing one asks the theory) and, past κ states, for each source's possible
+//! mass (from the shape's cached mask of possible modes; computing it asks the theory).
+//!
+//! # The record, and what the replay assumes
+//!
+//! After a full expansion of [`Expander::step`](super::expand::Expander::step) that ran no live
+//! enumeration into a budget cut, [`Replay::record`] keeps the observation and, per shape met
+//! (one per slot of the cache), its slot, the choices c_ref of a source of that shape and R, the
+//! known solutions the merge asked its sources' streams for (not what they fetched ahead),
+//! widened at the first replay by every known solution within [`TIE_GAP`] of R's dearest under
+//! c_ref (R may be any set of known solutions: the argument below holds for each; widening keeps
+//! a plateau of equally likely solutions from being split between R and the others, where no
+//! margin could tell them apart). Any other expansion forgets the record, so while a record
+//! lives the cache has not changed: no live enumeration has run since (a replay runs none), the
+//! shapes map, the known solutions, their certificates and completeness are as the recorded
+//! expansion left them.
+//!
+//! The next step is replayed only if (checked by [`Replay::prepare`], all of it or nothing):
+//! 1. the observation is the same and each source has the *same shape* as a recorded one (same
+//!    next modes per component, in the same order; the belief's order may have changed): the
+//!    full step would look up the very slot recorded (the cache is not about to start afresh
+//!    either); below, R_k is that shape's R and c_ref its recorded choices;
+//! 2. every L_k can be computed from modes already decided possible or not (the full step would
+//!    make no SAT call in `take`); the replay computes it with the same function and inputs, so
+//!    the same number;
+//! 3. the costs of R_k under the new choices are computed by the function the certified list
+//!    uses (`cost_at`, the same sums in the same order), so they are the very numbers the full
+//!    step serves, and sorted with the same comparator over the same (index) order, so ties fall
+//!    the same way;
+//! 4. every solution the merge asks of source k — the i-th cheapest of R_k, r_i — satisfies
+//!    r_i ≤ L_k (it is in C_k) and r_i < O_k, where O_k bounds from below the new cost of every
+//!    known solution outside R_k: at recording their cheapest cost under c_ref was G_k, and a
+//!    solution's cost moves by at most D_k = Σ_components max |c_new − c_ref| over the next
+//!    modes those solutions take, so O_k = G_k − D_k less a rounding margin of
+//!    [`ROUNDING`]·(1 + G_k + D_k) (a cost is a sum of a few dozen non-negative terms: its
+//!    rounding error is under 1e-14 relative; the margin is far wider). Then the first i + 1
+//!    solutions of C_k in serving order are exactly the first i + 1 of R_k (every other member
+//!    of C_k is strictly dearer than r_i, so no tie order can interleave it), served without a
+//!    live run;
+//! 5. a stream asked past R_k answers "none" only if the shape is complete and R_k is all of
+//!    its known solutions (exactly when the full stream ends there); otherwise the replay stops;
+//! 6. a factor is served only from the observation model's cache (remembered per known solution
+//!    for the record's life: that cache only grows or starts afresh in a full step, which
+//!    replaces the record), a possible mass only from the shape's cached mask, with the function
+//!    the full step uses.
+//!
+//! Under 1–6 the merge — the same function in both cases (`expand::merge`) — sees the same
+//! costs, modes, factors and masses in the same order as in the full step, so it examines the
+//! same candidates, builds the same successors, sums the same weights in the same order and
+//! stops at the same point: the answer is bit for bit the full step's. And the full step would
+//! have left the cache as it was (no live run renews a certificate or adds a solution; the only
+//! writes would be to pure caches, which hold the same answers either way), so later steps are
+//! unaffected. When a condition fails the replay stops, having changed nothing but its own
+//! scratch, and the step is expanded in full (and recorded afresh).
+//!
+//! The record's bound on the other solutions is computed once per record (it costs a pass over
+//! the shape's known solutions, what `take` does every step), at the first replay.
+
+use std::rc::Rc;
+
+use super::expand::{Choices, Serve, SourceChoices};
+use super::observe::ObservationModel;
+use super::streams::{Known, SolutionCache, cost_at, drift, possible_mass_under};
+use crate::logic::ValueId;
+use crate::opsat::Theory;
+use crate::plant::Observation;
+
+/// The rounding margin of condition 4 (module documentation), relative to the costs compared.
+const ROUNDING: f64 = 1e-9;
+
+/// Known solutions this close (in nats, at recording) to the dearest one served join R, so that
+/// R and the others are apart by more than the costs drift in a few steps.
+const TIE_GAP: f64 = 1.0;
+
+/// The replay could not certify that its answer is the full expansion's.
+#[derive(Debug)]
+pub(crate) struct Uncertified;
+
+/// The last fully expanded step, as the next one may replay it.
+pub(crate) struct Replay {
+    observation: Observation,
+    /// The recorded shapes, one per slot.
+    shapes: Vec<Shape>,
+    /// This step, per source: what it is served from.
+    sources: Vec<Prepared>,
+}
+
+/// One OCSP shape of the recorded step.
+struct Shape {
+    /// Its slot in the solution cache.
+    slot: usize,
+    /// The choices of a source of this shape at recording (c_ref).
+    choices: Rc<Choices>,
+    /// R: the known solutions its sources' streams served or fetched ahead, by index,
+    /// ascending (widened once by [`Others::of`]).
+    served: Vec<usize>,
+    /// G and the modes of the solutions outside R, once computed.
+    others: Option<Others>,
+    /// Per known solution, its observation factor under the recorded observation once looked
+    /// up (NaN until then): a factor is a pure function of the modes and the observation.
+    factors: Vec<f64>,
+}
+
+/// One source of this step, prepared.
+struct Prepared {
+    /// Index of its shape in [`Replay::shapes`].
+    shape: usize,
+    /// R's solutions with their costs under this step's choices, dearest first (served from
+    /// the back).
+    order: Vec<(usize, f64)>,
+    /// L, the certified list's limit.
+    certified: f64,
+    /// O, below which no known solution outside R costs.
+    others_bound: f64,
+}
+
+/// The known solutions of a shape outside R.
+struct Others {
+    /// G: the cheapest of them under c_ref (∞ if none).
+    cheapest: f64,
+    /// Per component, per position among its next modes: whether one of them takes it.
+    used: Vec<Vec<bool>>,
+}
+
+impl Others {
+    /// Widens `served` by every known solution within [`TIE_GAP`] of its dearest under
+    /// `choices` (so that a plateau of equally likely solutions is not split between R and
+    /// the others, where no rounding margin could separate them), then bounds the rest.
+    fn of(known: &Known, served: &mut Vec<usize>, choices: &Choices) -> Others {
+        let costs: Vec<Option<f64>> = known
+            .positions
+            .iter()
+            .map(|positions| cost_at(choices, positions))
+            .collect();
+        let dearest = served
+            .iter()
+            .filter_map(|&i| costs[i])
+            .fold(f64::NEG_INFINITY, f64::max);
+        let mut used: Vec<Vec<bool>> = choices.iter().map(|next| vec![false; next.len()]).collect();
+        let mut cheapest = f64::INFINITY;
+        let mut near = Vec::new();
+        for (index, (positions, cost)) in known.positions.iter().zip(&costs).enumerate() {
+            let cost = cost.unwrap_or(f64::INFINITY);
+            if served.binary_search(&index).is_ok() {
+                continue;
+            }
+            if cost <= dearest + TIE_GAP {
+                near.push(index);
+                continue;
+            }
+            for (flags, &at) in used.iter_mut().zip(positions) {
+                if let Some(flag) = flags.get_mut(at as usize) {
+                    *flag = true;
+                }
+            }
+            cheapest = cheapest.min(cost);
+        }
+        // Added after the pass: `served` stays sorted (and so a set) while it is searched.
+        served.extend(near);
+        served.sort_unstable();
+        Others { cheapest, used }
+    }
+
+    /// O: G less how far the costs of the modes they take moved from `old` to `new`, less the
+    /// rounding margin.
+    fn bound(&self, old: &Choices, new: &Choices) -> f64 {
+        if self.cheapest == f64::INFINITY {
+            return f64::INFINITY;
+        }
+        let moved: f64 = old
+            .iter()
+            .zip(new)
+            .zip(&self.used)
+            .map(|((a, b), used)| {
+                if Rc::ptr_eq(a, b) {
+                    return 0.0;
+                }
+                a.iter()
+                    .zip(b.iter())
+                    .zip(used)
+                    .filter(|(_, used)| **used)
+                    .map(|((x, y), _)| (x.cost - y.cost).abs())
+                    .fold(0.0, f64::max)
+            })
+            .sum();
+        let margin = ROUNDING * (1.0 + self.cheapest.abs() + moved);
+        // A NaN (an infinite cost moved) compares false below: nothing is certified.
+        self.cheapest - moved - margin
+    }
+}
+
+/// Whether two choices have the same shape: the same next modes per component, in order.
+fn same_shape(a: &Choices, b: &Choices) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            Rc::ptr_eq(x, y)
+                || (x.len() == y.len() && x.iter().zip(y.iter()).all(|(m, n)| m.mode == n.mode))
+        })
+}
+
+impl Replay {
+    /// The record of a full expansion of `sources` under `observation`, from what its streams
+    /// `served` ((slot, indices) per source, as `Streams::served` gives them), read after the
+    /// knowledge was put back into `cache`; `None` if a shape's knowledge was started afresh
+    /// on the way back (the indices would name nothing).
+    pub(crate) fn record(
+        cache: &SolutionCache,
+        sources: &[SourceChoices],
+        observation: &Observation,
+        served: Vec<(usize, Vec<usize>)>,
+    ) -> Option<Replay> {
+        let mut shapes: Vec<Shape> = Vec::new();
+        for (source, (slot, served)) in sources.iter().zip(served) {
+            let known = cache.known(slot)?;
+            if served.iter().any(|&i| i >= known.solutions.len()) {
+                return None;
+            }
+            match shapes.iter_mut().find(|shape| shape.slot == slot) {
+                Some(shape) => {
+                    shape.served.extend(served);
+                    shape.served.sort_unstable();
+                    shape.served.dedup();
+                }
+                None => shapes.push(Shape {
+                    slot,
+                    choices: Rc::clone(&source.choices),
+                    served,
+                    others: None,
+                    factors: vec![f64::NAN; known.solutions.len()],
+                }),
+            }
+        }
+        Some(Replay {
+            observation: observation.clone(),
+            shapes,
+            sources: Vec::new(),
+        })
+    }
+
+    /// Checks conditions 1 and 2 of the module documentation for a step of `sources` under
+    /// `observation`, and costs and orders each source's R under its new choices (condition
+    /// 3) with the limits of condition 4.
+    pub(crate) fn prepare(
+        &mut self,
+        cache: &SolutionCache,
+        sources: &[SourceChoices],
+        observation: &Observation,
+    ) -> Result<(), Uncertified> {
+        if self.observation != *observation || cache.is_full() {
+            return Err(Uncertified);
+        }
+        self.sources.resize_with(sources.len(), Prepared::default);
+        for (k, (prepared, source)) in self.sources.iter_mut().zip(sources).enumerate() {
+            // The shape of this source in the last step first (the belief's order seldom
+            // changes), then the others from the source's own index on.
+            let shape = std::iter::once(prepared.shape)
+                .chain(k..self.shapes.len())
+                .chain(0..k.min(self.shapes.len()))
+                .find(|&j| {
+                    self.shapes
+                        .get(j)
+                        .is_some_and(|shape| same_shape(&shape.choices, &source.choices))
+                })
+                .ok_or(Uncertified)?;
+            prepared.prepare(cache, &mut self.shapes[shape], shape, &source.choices)?;
+        }
+        Ok(())
+    }
+
+    /// The merge's view of this step (after [`Replay::prepare`]).
+    pub(crate) fn serve<'a>(
+        &'a mut self,
+        cache: &'a SolutionCache,
+        sources: &'a [SourceChoices],
+    ) -> Replaying<'a> {
+        Replaying {
+            replay: self,
+            cache,
+            sources,
+        }
+    }
+}
+
+impl Default for Prepared {
+    fn default() -> Prepared {
+        Prepared {
+            shape: 0,
+            order: Vec::new(),
+            certified: f64::NEG_INFINITY,
+            others_bound: f64::NEG_INFINITY,
+        }
+    }
+}
+
+impl Prepared {
+    fn prepare(
+        &mut self,
+        cache: &SolutionCache,
+        shape: &mut Shape,
+        index: usize,
+        choices: &Choices,
+    ) -> Result<(), Uncertified> {
+        self.shape = index;
+        let known = cache.known(shape.slot).ok_or(Uncertified)?;
+        self.certified = if known.complete {
+            f64::INFINITY
+        } else {
+            let (old, bound) = known.certificate.as_ref().ok_or(Uncertified)?;
+            let mut undecided = false;
+            let moved = drift(old, choices, |c, mode| {
+                cache.decided(c, mode).unwrap_or_else(|| {
+                    undecided = true;
+                    true
+                })
+            });
+            if undecided {
+                return Err(Uncertified);
+            }
+            bound - moved
+        };
+        let others = shape
+            .others
+            .get_or_insert_with(|| Others::of(known, &mut shape.served, &shape.choices));
+        self.others_bound = others.bound(&shape.choices, choices);
+        self.order.clear();
+        for &index in &shape.served {
+            let cost = cost_at(choices, &known.positions[index]).ok_or(Uncertified)?;
+            self.order.push((index, cost));
+        }
+        // The certified list's order (`Known::certified`): dearest first, stably.
+        self.order.sort_by(|a, b| b.1.total_cmp(&a.1));
+        Ok(())
+    }
+}
+
+/// A prepared replay answering the merge (see [`Serve`]).
+pub(crate) struct Replaying<'a> {
+    replay: &'a mut Replay,
+    cache: &'a SolutionCache,
+    sources: &'a [SourceChoices],
+}
+
+impl Replaying<'_> {
+    fn known(&self, k: usize) -> Result<&Known, Uncertified> {
+        let shape = &self.replay.shapes[self.replay.sources[k].shape];
+        self.cache.known(shape.slot).ok_or(Uncertified)
+    }
+}
+
+impl Serve for Replaying<'_> {
+    type Error = Uncertified;
+
+    fn cost(&mut self, k: usize, i: usize, _: &mut Theory) -> Result<Option<f64>, Uncertified> {
+        let source = &self.replay.sources[k];
+        match source.order.len().checked_sub(i + 1) {
+            Some(at) => {
+                let cost = source.order[at].1;
+                if cost <= source.certified && cost < source.others_bound {
+                    Ok(Some(cost))
+                } else {
+                    Err(Uncertified)
+                }
+            }
+            None => {
+                let known = self.known(k)?;
+                if known.complete && known.solutions.len() == source.order.len() {
+                    Ok(None)
+                } else {
+                    Err(Uncertified)
+                }
+            }
+        }
+    }
+
+    fn modes(&self, k: usize, i: usize) -> Vec<ValueId> {
+        let source = &self.replay.sources[k];
+        let index = source
+            .order
+            .len()
+            .checked_sub(i + 1)
+            .map(|at| source.order[at].0);
+        index
+            .and_then(|index| Some(self.known(k).ok()?.solutions[index].clone()))
+            .unwrap_or_default()
+    }
+
+    fn possible_mass(&mut self, k: usize, _: &mut Theory) -> Result<f64, Uncertified> {
+        let mask = self.known(k)?.possible.as_ref().ok_or(Uncertified)?;
+        Ok(possible_mass_under(&self.sources[k].choices, mask))
+    }
+
+    fn factor(
+        &mut self,
+        observe: &mut ObservationModel,
+        _: &mut Theory,
+        (k, i): (usize, usize),
+        modes: &[ValueId],
+    ) -> Result<f64, Uncertified> {
+        let source = &self.replay.sources[k];
+        let at = source.order.len().checked_sub(i + 1).ok_or(Uncertified)?;
+        let index = source.order[at].0;
+        let shape = &mut self.replay.shapes[source.shape];
+        let known = shape.factors.get_mut(index).ok_or(Uncertified)?;
+        if known.is_nan() {
+            *known = observe
+                .cached(modes, &self.replay.observation)
+                .ok_or(Uncertified)?;
+        }
+        Ok(*known)
+    }
+}
