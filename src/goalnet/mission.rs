@@ -99,7 +99,7 @@ pub struct Mission {
     /// The goal types (elaborators, tactics, failure responses) and the initial goals' types.
     pub elaborators: Elaborators,
     /// The controllers of state variables that are not plant components, which goals on them
-    /// are delegated to (a [`Delegate`](super::goal::Delegate) indexes this list).
+    /// are delegated to (a [`Delegate`](super::Delegate) indexes this list).
     pub controllers: Vec<CoaDeclaration>,
 }
 

@@ -52,7 +52,7 @@ pub use controller::GoalController;
 pub use elaborate::{Elaboration, ElaborationState, Rejection};
 pub use events::{Explanation, MissionEvent, ResponseStep};
 pub use execution::{EstimateView, Execution, FailureReason, GoalEvent};
-pub use goal::{Goal, GoalId, GoalKind};
+pub use goal::{Delegate, Goal, GoalId, GoalKind};
 pub use mission::{Mission, MissionErrors};
 pub use network::{ExecutableNetwork, GoalNetwork, ORIGIN_NAME, Timeline};
 pub use projection::{Projection, project};
