@@ -61,6 +61,10 @@ pub enum MergeCommand {
         /// Write the merged runs.jsonl, summary.txt and campaign.svg here.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
+        /// The campaign's name in the summary and on the picture (the records do not carry
+        /// the scenario's).
+        #[arg(long, default_value = "campaign")]
+        title: String,
     },
 }
 
@@ -77,8 +81,8 @@ fn parse_shard(text: &str) -> Result<(u64, u64), String> {
 
 /// Runs the subcommand.
 pub fn run(args: &CampaignArgs) -> Result<(), Failure> {
-    if let Some(MergeCommand::Merge { dirs, out }) = &args.merge {
-        return merge(dirs, out.as_deref());
+    if let Some(MergeCommand::Merge { dirs, out, title }) = &args.merge {
+        return merge(dirs, title, out.as_deref());
     }
     let (Some(path), Some(runs)) = (&args.scenario, args.runs) else {
         return Err(Failure::bad_input(
@@ -177,7 +181,7 @@ fn write(path: &Path, text: &str) -> Result<(), Failure> {
 }
 
 /// `kairos campaign merge`: the shards' records, by run index; a run in two shards is an error.
-fn merge(dirs: &[PathBuf], out: Option<&Path>) -> Result<(), Failure> {
+fn merge(dirs: &[PathBuf], title: &str, out: Option<&Path>) -> Result<(), Failure> {
     let mut records = Vec::new();
     for dir in dirs {
         let path = dir.join("runs.jsonl");
@@ -212,6 +216,6 @@ fn merge(dirs: &[PathBuf], out: Option<&Path>) -> Result<(), Failure> {
             Failure::bad_input(format!("error: cannot create {}: {e}", dir.display()))
         })?;
     }
-    let header = format!("campaign merged from {} shards\n", dirs.len());
-    report(&records, "campaign", &header, out)
+    let header = format!("campaign `{title}` merged from {} shards\n", dirs.len());
+    report(&records, title, &header, out)
 }
