@@ -176,23 +176,28 @@ fn kairos_schedule_lists_the_delegated_goal() {
     );
 }
 
+/// The executive of a mission file (relative to the crate root) through the embedding API.
+fn executive_of(file: &str) -> kairos::executive::Executive {
+    use kairos::executive::{Executive, ScheduledMission};
+    use kairos::goalnet::mission;
+    use kairos::reconfiguration::Reconfiguration;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+    let loaded = mission::load(&path).expect("loads");
+    let reconfiguration = Reconfiguration::compile(&loaded.plant).expect("compiles");
+    let plant = loaded.plant.clone();
+    let scheduled = ScheduledMission::schedule(loaded, &reconfiguration).expect("schedules");
+    Executive::builder(plant, scheduled)
+        .build()
+        .expect("builds")
+}
+
 /// The end point of a delegated goal waits for its controller's `endcstr`; at its latest time
 /// it is forced, and the goal fails with the controller's silence as the reason (the embedding
 /// API, 1 s cycles). The controller carries on; its later `endcstr` fails nothing twice.
 #[test]
 fn a_delegated_goal_not_ended_by_its_end_points_latest_time_fails_when_it_is_forced() {
-    use kairos::executive::{EventKind, Executive, NamedValue, ScheduledMission};
-    use kairos::goalnet::mission;
-    use kairos::reconfiguration::Reconfiguration;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/missions/delegated_too_slow.ron");
-    let loaded = mission::load(&path).expect("loads");
-    let reconfiguration = Reconfiguration::compile(&loaded.plant).expect("compiles");
-    let plant = loaded.plant.clone();
-    let scheduled = ScheduledMission::schedule(loaded, &reconfiguration).expect("schedules");
-    let mut executive = Executive::builder(plant, scheduled)
-        .build()
-        .expect("builds");
+    use kairos::executive::{EventKind, NamedValue};
+    let mut executive = executive_of("tests/missions/delegated_too_slow.ron");
     let off = [NamedValue::new("motors.current", "zero")];
     let mut events = Vec::new();
     for t in 0..=10 {
@@ -313,18 +318,8 @@ proptest! {
 /// goal controller dispatches at TP_S beside the constraint sent to the controller of `pose`.
 #[test]
 fn a_delegated_goal_is_elaborated_by_its_types_tactic() {
-    use kairos::executive::{EventKind, Executive, NamedValue, ScheduledMission};
-    use kairos::goalnet::mission;
-    use kairos::reconfiguration::Reconfiguration;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/missions/delegated_elaborated.ron");
-    let loaded = mission::load(&path).expect("loads");
-    let reconfiguration = Reconfiguration::compile(&loaded.plant).expect("compiles");
-    let plant = loaded.plant.clone();
-    let scheduled = ScheduledMission::schedule(loaded, &reconfiguration).expect("schedules");
-    let mut executive = Executive::builder(plant, scheduled)
-        .build()
-        .expect("builds");
+    use kairos::executive::{EventKind, NamedValue};
+    let mut executive = executive_of("tests/missions/delegated_elaborated.ron");
     let mut events = Vec::new();
     for t in 0..=6 {
         let current = if t == 0 { "zero" } else { "nominal" };
