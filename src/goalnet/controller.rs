@@ -101,7 +101,7 @@ impl GoalController {
         proposal.roots = (0..goals as u32).map(|g| (GoalId(g), 0)).collect();
         let mut events = Vec::new();
         if let Err(rejection) =
-            controller.promote_proposal(proposal, now, estimate, reconfiguration, &mut events)
+            controller.try_promote(proposal, now, estimate, reconfiguration, &mut events)
         {
             let reason = rejection.reason;
             let cause = format!("the mission's network cannot be elaborated: {reason}");
@@ -218,20 +218,6 @@ impl GoalController {
         events
     }
 
-    /// [`GoalController::promote`], saying whether the proposal was promoted: `Err` carries
-    /// why not (with the scheduler's error, for a caller that reports it typed, as a refused
-    /// submission does). The events are pushed to `events` either way.
-    pub fn try_promote(
-        &mut self,
-        proposal: Proposal,
-        now: f64,
-        estimate: EstimateView,
-        reconfiguration: &Reconfiguration,
-        events: &mut Vec<MissionEvent>,
-    ) -> Result<(), Rejection> {
-        self.promote_proposal(proposal, now, estimate, reconfiguration, events)
-    }
-
     /// Promotes the safe network now, from any state (§2.8).
     pub fn invoke_safing(
         &mut self,
@@ -271,7 +257,10 @@ impl GoalController {
         }
     }
 
-    fn promote_proposal(
+    /// [`GoalController::promote`], saying whether the proposal was promoted: `Err` carries
+    /// why not (with the scheduler's error, for a caller that reports it typed, as a refused
+    /// submission does). The events are pushed to `events` either way.
+    pub fn try_promote(
         &mut self,
         proposal: Proposal,
         now: f64,
@@ -521,7 +510,7 @@ impl GoalController {
             let mut proposal = self.proposal(&goals, &points, cause);
             proposal.state.elaborations.remove(&goal);
             proposal.roots = vec![(goal, (in_use + 1) % tactics)];
-            self.promote_proposal(proposal, now, estimate, reconfiguration, events)
+            self.try_promote(proposal, now, estimate, reconfiguration, events)
                 .map_err(|rejection| rejection.reason)
         };
         let mut steps = Vec::new();
