@@ -151,8 +151,11 @@ fn event_text(event: &EstimationEvent) -> String {
         EstimationEvent::InconsistentObservation { fallback } => format!(
             "no tracked state explains the observation: {}",
             match fallback {
-                Fallback::UnconstrainedFaults => "fell back to unconstrained fault modes",
-                Fallback::PreviousBelief => "kept the previous belief",
+                Fallback::Reestimated { steps } =>
+                    format!("estimated the last {steps} steps again, tracking more states"),
+                Fallback::UnconstrainedFaults =>
+                    "fell back to unconstrained fault modes".to_string(),
+                Fallback::PreviousBelief => "kept the previous belief".to_string(),
             }
         ),
         EstimationEvent::SearchCut(cut) => {

@@ -18,12 +18,14 @@
 
 mod exact;
 mod expand;
+mod history;
 pub mod log;
 mod observe;
 mod replay;
 mod streams;
 mod timed_me;
 
+use std::fmt;
 use std::sync::Arc;
 
 pub use exact::BeliefUpdate;
@@ -56,12 +58,32 @@ pub struct PlantEstimate {
 }
 
 /// A belief state: system states with probabilities, most probable first, at a time.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Clone)]
 pub struct Belief {
     time: f64,
     states: Vec<WeightedState>,
     /// The plant's mode variables, by component, to answer [`Belief::marginal`].
     mode_vars: Arc<[VarId]>,
+    /// The serial number TimedME returned this belief under, if it did (`history.rs`: an
+    /// update from it continues that estimator's history). Where a belief came from is not
+    /// part of its value: equality and `Debug` leave it out.
+    issued: Option<u64>,
+}
+
+impl PartialEq for Belief {
+    fn eq(&self, other: &Self) -> bool {
+        self.time == other.time && self.states == other.states && self.mode_vars == other.mode_vars
+    }
+}
+
+impl fmt::Debug for Belief {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Belief")
+            .field("time", &self.time)
+            .field("states", &self.states)
+            .field("mode_vars", &self.mode_vars)
+            .finish()
+    }
 }
 
 impl Belief {
@@ -86,6 +108,7 @@ impl Belief {
             time,
             states,
             mode_vars: plant.components().iter().map(|c| c.mode_var()).collect(),
+            issued: None,
         })
     }
 
@@ -186,6 +209,12 @@ impl Belief {
 /// Which fallback the estimator took when no tracked state explained an observation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Fallback {
+    /// The last `steps` steps were estimated again tracking more states, and that explained it
+    /// (a state truncated away earlier was found again; `history.rs`).
+    Reestimated {
+        /// How many steps were estimated again, this one included.
+        steps: usize,
+    },
     /// Components were allowed to jump into their unconstrained fault modes (`failed`,
     /// `unknown`), which explain any observation of theirs.
     UnconstrainedFaults,

@@ -20,6 +20,7 @@
 use std::rc::Rc;
 
 use super::expand::{Expander, Expansion, Limits, NextMode, SourceChoices, choices_from};
+use super::history::{History, Input, Step, WIDEN};
 use super::{
     Belief, EstimationError, EstimationEvent, Fallback, ModeEstimator, Update, UpdateStats,
     WeightedState, check_step,
@@ -31,6 +32,9 @@ use crate::plant::{Commands, Observation, Plant, SystemState, successor};
 /// The prior of an unexplained jump into an unconstrained fault mode, per component, in the
 /// fallback. Only its smallness matters: explanations with fewer jumps come first.
 const JUMP: f64 = 1e-9;
+
+/// The default history window, in steps (see [`TimedMeOptions::history`]).
+const HISTORY: usize = 16;
 
 /// How TimedME searches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,6 +54,10 @@ pub struct TimedMeOptions {
     /// the same belief bit for bit, else the step is expanded in full (`replay.rs`). On by
     /// default; off, every step is expanded in full (the tests compare the two).
     pub replay: bool,
+    /// How many recent steps TimedME keeps to estimate again, tracking more states, when an
+    /// observation contradicts every tracked state (`history.rs`): the window holds this many
+    /// to twice as many steps; 0 turns it off.
+    pub history: usize,
 }
 
 impl TimedMeOptions {
@@ -61,6 +69,7 @@ impl TimedMeOptions {
             candidates_per_state: 4,
             budget: Budget::default(),
             replay: true,
+            history: HISTORY,
         }
     }
 
@@ -83,14 +92,19 @@ impl TimedMeOptions {
 pub struct TimedMe {
     options: TimedMeOptions,
     expander: Expander,
+    history: History,
 }
 
 /// A clone starts with empty caches: every cache of the `Expander` is certified to hold a pure
 /// function of its key (see its documentation), so a fresh one answers exactly as a warm one —
-/// and an explored state's copy need not carry megabytes of memo it may never read.
+/// and an explored state's copy need not carry megabytes of memo it may never read. The
+/// history is copied: it decides answers.
 impl Clone for TimedMe {
     fn clone(&self) -> Self {
-        TimedMe::new(self.options)
+        TimedMe {
+            history: self.history.clone(),
+            ..TimedMe::new(self.options)
+        }
     }
 }
 
@@ -100,6 +114,7 @@ impl TimedMe {
         TimedMe {
             options,
             expander: Expander::default(),
+            history: History::default(),
         }
     }
 
@@ -117,14 +132,18 @@ impl ModeEstimator for TimedMe {
         time: f64,
         observation: &Observation,
     ) -> Result<Update, EstimationError> {
-        initial_belief(
+        let mut update = initial_belief(
             &mut self.expander,
             plant,
             theory,
             time,
             observation,
             self.options.limits(),
-        )
+        )?;
+        if self.options.history > 0 {
+            self.history.restart(&mut update.belief);
+        }
+        Ok(update)
     }
 
     fn update(
@@ -139,43 +158,149 @@ impl ModeEstimator for TimedMe {
         check_step(plant, belief, commands, observation, time)?;
         let sat_before = theory.stats().sat_calls;
         let limits = self.options.limits();
-        let mut sources = Vec::with_capacity(belief.states().len());
-        for weighted in belief.states() {
-            let choices = self.expander.choices(
-                plant,
-                theory,
-                &weighted.state,
-                commands,
-                belief.time(),
-                time,
-            )?;
-            sources.push(SourceChoices {
-                probability: weighted.probability,
-                choices,
-            });
-        }
-        let next = |k: usize, modes: Vec<ValueId>| {
-            successor(&belief.states()[k].state, modes, time).forget_idle_clocks(plant)
+        let step = Step {
+            commands,
+            observation,
+            time,
         };
-        let expansion = self.expander.step(
+        let (mut sources, expansion) = expand_from(
+            &mut self.expander,
             plant,
             theory,
-            &sources,
-            observation,
+            belief,
+            &step,
             limits,
-            next,
             self.options.replay,
         )?;
         let mut outcome = Outcome::new(expansion);
+        let mut jumped = false;
         if outcome.is_empty() {
-            with_fault_jumps(plant, &mut sources);
-            let expansion =
-                self.expander
-                    .expand(plant, theory, &sources, observation, limits, next)?;
-            outcome.fall_back(expansion, belief.states());
+            if let Some((expansion, steps)) = self.reestimate(plant, theory, belief, &step)? {
+                outcome.reestimated(expansion, steps);
+            } else {
+                with_fault_jumps(plant, &mut sources);
+                let expansion = self.expander.expand(
+                    plant,
+                    theory,
+                    &sources,
+                    observation,
+                    limits,
+                    successor_from(plant, belief, time),
+                )?;
+                outcome.fall_back(expansion, belief.states());
+                jumped = true;
+            }
         }
-        Ok(outcome.into_update(plant, time, theory.stats().sat_calls - sat_before))
+        let mut update = outcome.into_update(plant, time, theory.stats().sat_calls - sat_before);
+        if jumped && self.options.history > 0 {
+            self.history.restart(&mut update.belief);
+        } else {
+            self.history
+                .record(self.options.history, belief, &step, &mut update.belief);
+        }
+        Ok(update)
     }
+}
+
+impl TimedMe {
+    /// The history's re-run (see `history.rs`): from the window's oldest belief through its
+    /// steps and then `step`, tracking [`WIDEN`] × κ states; the κ heaviest states it ends
+    /// with and how many steps it re-ran, or `None` when the window is empty, is not this
+    /// belief's, or cannot explain a step.
+    fn reestimate(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        belief: &Belief,
+        step: &Step,
+    ) -> Result<Option<(Expansion, usize)>, EstimationError> {
+        if !self.history.continues_from(belief) {
+            return Ok(None);
+        }
+        let Some((start, steps)) = self.history.replay() else {
+            return Ok(None);
+        };
+        let wide = TimedMeOptions {
+            kappa: self.options.kappa.saturating_mul(WIDEN),
+            ..self.options
+        }
+        .limits();
+        let mut current = start.clone();
+        let steps: Vec<Step> = steps.map(Input::step).collect();
+        for input in &steps {
+            let (_, expansion) = expand_from(
+                &mut self.expander,
+                plant,
+                theory,
+                &current,
+                input,
+                wide,
+                false,
+            )?;
+            match Belief::new(plant, input.time, expansion.states) {
+                Some(next) => current = next,
+                None => return Ok(None),
+            }
+        }
+        let (_, mut expansion) = expand_from(
+            &mut self.expander,
+            plant,
+            theory,
+            &current,
+            step,
+            wide,
+            false,
+        )?;
+        expansion.states.truncate(self.options.kappa);
+        Ok((!expansion.states.is_empty()).then_some((expansion, steps.len() + 1)))
+    }
+}
+
+/// One TimedME step from `belief` (Figure 6-11 steps 1–6): the sources' next-mode choices and
+/// the expansion, replayed from the last step where `replay` allows and that is certified.
+fn expand_from(
+    expander: &mut Expander,
+    plant: &Plant,
+    theory: &mut Theory,
+    belief: &Belief,
+    step: &Step,
+    limits: Limits,
+    replay: bool,
+) -> Result<(Vec<SourceChoices>, Expansion), EstimationError> {
+    let mut sources = Vec::with_capacity(belief.states().len());
+    for weighted in belief.states() {
+        let choices = expander.choices(
+            plant,
+            theory,
+            &weighted.state,
+            step.commands,
+            belief.time(),
+            step.time,
+        )?;
+        sources.push(SourceChoices {
+            probability: weighted.probability,
+            choices,
+        });
+    }
+    let expansion = expander.step(
+        plant,
+        theory,
+        &sources,
+        step.observation,
+        limits,
+        successor_from(plant, belief, step.time),
+        replay,
+    )?;
+    Ok((sources, expansion))
+}
+
+/// The system state source `k` of `belief` reaches at `time` with next modes `modes`.
+fn successor_from<'a>(
+    plant: &'a Plant,
+    belief: &'a Belief,
+    time: f64,
+) -> impl Fn(usize, Vec<ValueId>) -> SystemState + 'a {
+    move |k, modes| successor(&belief.states()[k].state, modes, time).forget_idle_clocks(plant)
 }
 
 /// The initial belief (shared with the exact update, which passes unbounded limits): the
@@ -286,6 +411,14 @@ impl Outcome {
         self.states.is_empty()
     }
 
+    /// The history's re-run explained the observation no tracked state did (`history.rs`).
+    pub(crate) fn reestimated(&mut self, expansion: Expansion, steps: usize) {
+        self.absorb(expansion);
+        self.events.push(EstimationEvent::InconsistentObservation {
+            fallback: Fallback::Reestimated { steps },
+        });
+    }
+
     /// DESIGN.md §8's fallbacks: the fault-jump expansion, else `previous` as it was.
     pub(crate) fn fall_back(&mut self, jumps: Expansion, previous: &[WeightedState]) {
         self.absorb(jumps);
@@ -305,6 +438,7 @@ impl Outcome {
             time,
             states: Vec::new(),
             mode_vars: plant.components().iter().map(|c| c.mode_var()).collect(),
+            issued: None,
         });
         Update {
             belief,

@@ -242,10 +242,13 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             format!(
                 "no tracked state explains the observation; {}",
                 match fallback {
+                    Fallback::Reestimated { steps } => format!(
+                        "the last {steps} steps estimated again, tracking more states, explain it"
+                    ),
                     Fallback::UnconstrainedFaults =>
-                        "components may jump into unconstrained faults",
+                        "components may jump into unconstrained faults".to_string(),
                     Fallback::PreviousBelief =>
-                        "the previous belief is kept, the observation set aside",
+                        "the previous belief is kept, the observation set aside".to_string(),
                 }
             ),
         ),

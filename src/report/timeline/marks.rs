@@ -605,6 +605,9 @@ impl Builder<'_, '_> {
 
     fn inconsistency(&mut self, time: f64, fallback: Fallback) {
         let reading = match fallback {
+            Fallback::Reestimated { steps } => {
+                format!("explained by the last {steps} steps estimated again, wider")
+            }
             Fallback::UnconstrainedFaults => {
                 "explained only by unconstrained fault modes".to_string()
             }

@@ -1,0 +1,151 @@
+//! TimedME's history (issue 16 item 3, beyond the thesis; ARCHITECTURE.md "Decisions: TimedME's
+//! history window"): when an observation contradicts every tracked state, the last steps are
+//! estimated again tracking more states before DESIGN.md §8's fault-jump fallback — so a state
+//! truncated away a few steps ago is found again, with its weight.
+
+mod support;
+
+use kairos::estimation::{
+    EstimationEvent, Fallback, ModeEstimator, TimedMe, TimedMeOptions, Update,
+};
+use kairos::plant::{Commands, Observation, Plant};
+use support::plants::{mode_in, plant_from, value};
+
+/// A switch that may start moving up unseen (0.4 a cycle) and is up the cycle after, never
+/// back; a lamp lit only when it is up; a fault no transition enters, which explains any lamp
+/// (DESIGN.md §8's fault jumps).
+fn switch() -> Plant {
+    plant_from(
+        "switch",
+        r#"Plant(
+            name: "switch",
+            components: [Component(
+                name: "switch",
+                attributes: { "lamp": ["dark", "lit"] },
+                modes: [
+                    Mode(name: "down", constraint: "switch.lamp = dark"),
+                    Mode(name: "moving", constraint: "switch.lamp = dark"),
+                    Mode(name: "up", constraint: "switch.lamp = lit"),
+                    Mode(name: "broken", kind: Fault),
+                ],
+                initial: { "down": 1.0 },
+                transitions: [
+                    (from: "down", to: "moving", probability: 0.4),
+                    (from: "moving", to: "up", probability: 1.0),
+                ],
+            )],
+            observables: ["switch.lamp"],
+        )"#,
+    )
+}
+
+/// `estimator` from its own initial belief through two unseen cycles (κ = 1 truncates the move
+/// away, being the less likely), then the lamp lit. Returns every update.
+fn run(plant: &Plant, estimator: &mut TimedMe) -> Vec<Update> {
+    let mut theory = plant.theory().expect("theory");
+    let idle = Commands::idle(plant);
+    let lit = Observation::new(plant, &[value(plant, "switch.lamp", "lit")]).expect("obs");
+    let mut updates = vec![
+        estimator
+            .initial(plant, &mut theory, 0.0, &Observation::none())
+            .expect("initial"),
+    ];
+    for (time, observation) in [
+        (1.0, Observation::none()),
+        (2.0, Observation::none()),
+        (3.0, lit),
+    ] {
+        let last = &updates[updates.len() - 1].belief;
+        let next = estimator
+            .update(plant, &mut theory, last, &idle, &observation, time)
+            .expect("update");
+        updates.push(next);
+    }
+    updates
+}
+
+fn kappa_one(history: usize) -> TimedMe {
+    TimedMe::new(TimedMeOptions {
+        history,
+        ..TimedMeOptions::kappa(1)
+    })
+}
+
+#[test]
+fn a_state_truncated_within_the_window_is_found_again() {
+    let plant = switch();
+    let updates = run(&plant, &mut kappa_one(16));
+    // Unseen, κ = 1 keeps `down` (0.6 a cycle against 0.4).
+    for update in &updates[1..3] {
+        assert_eq!(
+            mode_in(&plant, &update.belief.most_likely_plant_state(), "switch"),
+            "down"
+        );
+        assert!(update.events.is_empty());
+    }
+    // The lamp lit: `down` cannot show it; the three steps estimated again at κ = 4 hold `up`.
+    let last = &updates[3];
+    assert_eq!(
+        last.events,
+        vec![EstimationEvent::InconsistentObservation {
+            fallback: Fallback::Reestimated { steps: 3 }
+        }]
+    );
+    assert_eq!(
+        mode_in(&plant, &last.belief.most_likely_plant_state(), "switch"),
+        "up"
+    );
+}
+
+#[test]
+fn without_the_history_the_fault_explains_it() {
+    let plant = switch();
+    let last = &run(&plant, &mut kappa_one(0))[3];
+    assert_eq!(
+        last.events,
+        vec![EstimationEvent::InconsistentObservation {
+            fallback: Fallback::UnconstrainedFaults
+        }]
+    );
+    assert_eq!(
+        mode_in(&plant, &last.belief.most_likely_plant_state(), "switch"),
+        "broken"
+    );
+}
+
+#[test]
+fn an_update_from_another_belief_starts_the_window_afresh() {
+    // The caller goes on, at the second cycle, from a belief this estimator did not return (a
+    // κ = 2 estimator's, which holds the move): the window starts there, so the lamp's step
+    // re-runs two steps, not three.
+    let plant = switch();
+    let mut theory = plant.theory().expect("theory");
+    let idle = Commands::idle(&plant);
+    let none = Observation::none();
+    let foreign = &run(&plant, &mut TimedMe::new(TimedMeOptions::kappa(2)))[1].belief;
+    let mut estimator = kappa_one(16);
+    let own = &run(&plant, &mut estimator)[1].belief;
+    assert_ne!(foreign, own);
+    let second = estimator
+        .update(&plant, &mut theory, foreign, &idle, &none, 2.0)
+        .expect("update");
+    // κ = 1 from {down 0.6, moving 0.4}: up (0.4) beats down (0.36).
+    assert_eq!(
+        mode_in(&plant, &second.belief.most_likely_plant_state(), "switch"),
+        "up"
+    );
+    let lit = Observation::new(&plant, &[value(&plant, "switch.lamp", "dark")]).expect("obs");
+    let third = estimator
+        .update(&plant, &mut theory, &second.belief, &idle, &lit, 3.0)
+        .expect("update");
+    assert_eq!(
+        third.events,
+        vec![EstimationEvent::InconsistentObservation {
+            fallback: Fallback::Reestimated { steps: 2 }
+        }]
+    );
+    assert_eq!(
+        mode_in(&plant, &third.belief.most_likely_plant_state(), "switch"),
+        "down"
+    );
+}
