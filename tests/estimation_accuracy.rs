@@ -24,12 +24,15 @@ const KAPPAS: [usize; 4] = [3, 5, 10, 20];
 const COMPONENTS: usize = 5;
 const STEPS: usize = 30;
 
-/// Per κ: steps, steps whose ŝ agreed, summed total-variation distance.
+/// Per κ: steps, steps whose ŝ agreed, summed total-variation distance, and the updates that
+/// re-ran the history window (and how many steps they re-ran).
 #[derive(Default, Clone, Copy)]
 struct Score {
     steps: u64,
     agreed: u64,
     distance: f64,
+    reruns: u64,
+    rerun_steps: u64,
 }
 
 /// TimedME's ŝ is the exact ŝ, or exactly as probable under the exact belief.
@@ -85,6 +88,8 @@ fn measure(spec: &RandomPlant, run: &RandomRun, scores: &mut [Score]) -> Option<
             score.steps += 1;
             score.agreed += u64::from(agrees(&e.belief, &t.belief));
             score.distance += total_variation(&e.belief, &t.belief);
+            score.reruns += u64::from(t.stats.rerun > 0);
+            score.rerun_steps += u64::from(t.stats.rerun);
         }
     }
     Some(largest)
@@ -117,6 +122,8 @@ fn accuracy_of_timed_me_on_broad_random_plants() {
                     total.steps += score.steps;
                     total.agreed += score.agreed;
                     total.distance += score.distance;
+                    total.reruns += score.reruns;
+                    total.rerun_steps += score.rerun_steps;
                 }
             }
             None => refused += 1,
@@ -129,14 +136,20 @@ fn accuracy_of_timed_me_on_broad_random_plants() {
     );
     for (title, scores) in [("≤ 80 states", &narrow), ("> 80 states", &broad)] {
         println!("\nExact belief {title}:\n");
-        println!("| κ | steps | top-1 agreement | mean total-variation distance |");
-        println!("|---|---|---|---|");
+        println!(
+            "| κ | steps | top-1 agreement | mean total-variation distance | updates re-run | \
+             steps re-run per update |"
+        );
+        println!("|---|---|---|---|---|---|");
         for (kappa, score) in KAPPAS.iter().zip(scores) {
+            let steps = score.steps.max(1) as f64;
             println!(
-                "| {kappa} | {} | {:.2} % | {:.4} |",
+                "| {kappa} | {} | {:.2} % | {:.4} | {:.2} % | {:.2} |",
                 score.steps,
-                100.0 * score.agreed as f64 / score.steps.max(1) as f64,
-                score.distance / score.steps.max(1) as f64
+                100.0 * score.agreed as f64 / steps,
+                score.distance / steps,
+                100.0 * score.reruns as f64 / steps,
+                score.rerun_steps as f64 / steps
             );
         }
     }

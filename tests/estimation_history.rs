@@ -11,13 +11,11 @@ use kairos::estimation::{
 use kairos::plant::{Commands, Observation, Plant};
 use support::plants::{mode_in, plant_from, value};
 
-/// A switch that may start moving up unseen (0.4 a cycle) and is up the cycle after, never
+/// A switch that may start moving up unseen (`p` a cycle) and is up the cycle after, never
 /// back; a lamp lit only when it is up; a fault no transition enters, which explains any lamp
 /// (DESIGN.md §8's fault jumps).
-fn switch() -> Plant {
-    plant_from(
-        "switch",
-        r#"Plant(
+fn switch(p: f64) -> Plant {
+    let text = r#"Plant(
             name: "switch",
             components: [Component(
                 name: "switch",
@@ -30,13 +28,13 @@ fn switch() -> Plant {
                 ],
                 initial: { "down": 1.0 },
                 transitions: [
-                    (from: "down", to: "moving", probability: 0.4),
+                    (from: "down", to: "moving", probability: MOVE),
                     (from: "moving", to: "up", probability: 1.0),
                 ],
             )],
             observables: ["switch.lamp"],
-        )"#,
-    )
+        )"#;
+    plant_from("switch", &text.replace("MOVE", &p.to_string()))
 }
 
 /// `estimator` from its own initial belief through two unseen cycles (κ = 1 truncates the move
@@ -73,9 +71,10 @@ fn kappa_one(history: usize) -> TimedMe {
 
 #[test]
 fn a_state_truncated_within_the_window_is_found_again() {
-    let plant = switch();
+    let plant = switch(0.1);
     let updates = run(&plant, &mut kappa_one(16));
-    // Unseen, κ = 1 keeps `down` (0.6 a cycle against 0.4).
+    // Unseen, κ = 1 keeps `down` (0.9 a cycle against 0.1; 0.19 truncated in all, too little
+    // to put ŝ in doubt).
     for update in &updates[1..3] {
         assert_eq!(
             mode_in(&plant, &update.belief.most_likely_plant_state(), "switch"),
@@ -99,7 +98,7 @@ fn a_state_truncated_within_the_window_is_found_again() {
 
 #[test]
 fn without_the_history_the_fault_explains_it() {
-    let plant = switch();
+    let plant = switch(0.1);
     let last = &run(&plant, &mut kappa_one(0))[3];
     assert_eq!(
         last.events,
@@ -118,23 +117,28 @@ fn an_update_from_another_belief_starts_the_window_afresh() {
     // The caller goes on, at the second cycle, from a belief this estimator did not return (a
     // κ = 2 estimator's, which holds the move): the window starts there, so the lamp's step
     // re-runs two steps, not three.
-    let plant = switch();
+    let plant = switch(0.1);
     let mut theory = plant.theory().expect("theory");
     let idle = Commands::idle(&plant);
-    let none = Observation::none();
     let foreign = &run(&plant, &mut TimedMe::new(TimedMeOptions::kappa(2)))[1].belief;
     let mut estimator = kappa_one(16);
     let own = &run(&plant, &mut estimator)[1].belief;
     assert_ne!(foreign, own);
     let second = estimator
-        .update(&plant, &mut theory, foreign, &idle, &none, 2.0)
+        .update(
+            &plant,
+            &mut theory,
+            foreign,
+            &idle,
+            &Observation::none(),
+            2.0,
+        )
         .expect("update");
-    // κ = 1 from {down 0.6, moving 0.4}: up (0.4) beats down (0.36).
     assert_eq!(
         mode_in(&plant, &second.belief.most_likely_plant_state(), "switch"),
-        "up"
+        "down"
     );
-    let lit = Observation::new(&plant, &[value(&plant, "switch.lamp", "dark")]).expect("obs");
+    let lit = Observation::new(&plant, &[value(&plant, "switch.lamp", "lit")]).expect("obs");
     let third = estimator
         .update(&plant, &mut theory, &second.belief, &idle, &lit, 3.0)
         .expect("update");
@@ -146,6 +150,25 @@ fn an_update_from_another_belief_starts_the_window_afresh() {
     );
     assert_eq!(
         mode_in(&plant, &third.belief.most_likely_plant_state(), "switch"),
-        "down"
+        "up"
     );
+}
+
+#[test]
+fn a_truncation_that_could_decide_the_estimate_is_rerun_wider() {
+    // With the move at 0.4 a cycle, two unseen cycles leave the exact belief at up 0.4, down
+    // 0.36, moving 0.24: ŝ = up. κ = 1 alone keeps `down` both cycles (0.6 against 0.4); the
+    // weight it truncated (0.4, then 0.64) could reverse its single plant state, so the window
+    // is run again at κ = 4 and gives the exact ŝ, silently (no event: nothing was wrong with
+    // the observations).
+    let plant = switch(0.4);
+    let narrow = run(&plant, &mut kappa_one(0));
+    let wide = run(&plant, &mut kappa_one(16));
+    let estimate =
+        |update: &Update| mode_in(&plant, &update.belief.most_likely_plant_state(), "switch");
+    assert_eq!(estimate(&narrow[2]), "down");
+    assert_eq!(narrow[2].stats.rerun, 0);
+    assert_eq!(estimate(&wide[2]), "up");
+    assert_eq!(wide[2].stats.rerun, 2);
+    assert!(wide[2].events.is_empty());
 }

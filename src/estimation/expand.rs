@@ -113,12 +113,26 @@ pub(crate) struct SourceChoices {
 pub(crate) struct Expansion {
     /// Next system states with unnormalised posterior weights, heaviest first.
     pub(crate) states: Vec<WeightedState>,
+    /// The weight of every state merged, `states` and those truncated away.
+    pub(crate) merged: f64,
     /// Candidates examined.
     pub(crate) candidates: u64,
     /// Set when an OPSAT budget ran out.
     pub(crate) cut: Option<Cut>,
     /// Replayed from the last step ([`Expander::step`]) rather than expanded in full.
     pub(crate) replayed: bool,
+}
+
+impl Expansion {
+    /// The fraction of the merged weight truncated away (0 when nothing was merged).
+    pub(crate) fn lost(&self) -> f64 {
+        let kept: f64 = self.states.iter().map(|w| w.probability).sum();
+        if self.merged > 0.0 {
+            (1.0 - kept / self.merged).max(0.0)
+        } else {
+            0.0
+        }
+    }
 }
 
 /// How many candidates and which OPSAT options an expansion may use.
@@ -350,6 +364,7 @@ impl Expander {
             // Uncertified: the full expansion below gives the answer.
             if let Ok(candidates) = replayed {
                 return Ok(Expansion {
+                    merged: self.buffers.merged.total,
                     states: self.buffers.merged.heaviest(limits.kappa),
                     candidates,
                     cut: None,
@@ -419,6 +434,7 @@ impl Expander {
             self.replay = Replay::record(&self.solutions, sources, observation, served);
         }
         Ok(Expansion {
+            merged: self.buffers.merged.total,
             states: self.buffers.merged.heaviest(limits.kappa),
             candidates,
             cut,

@@ -1,15 +1,17 @@
-//! The recent steps TimedME can estimate again, wider, when an observation contradicts every
-//! tracked state (issue 16 item 3; beyond the thesis, after Livingstone 2's history window).
+//! The recent steps TimedME can estimate again, wider, when truncation may have cost it the
+//! truth (issue 16 item 3; beyond the thesis, after Livingstone 2's history window).
 //!
-//! Truncating to κ states can drop the state the plant is really in; TimedME learns it when an
-//! observation arrives that no successor of the tracked states explains. DESIGN.md §8's first
-//! fallback then lets components jump into unconstrained fault modes — an explanation, but
-//! usually not the one that was dropped. Before that, TimedME re-runs the last steps of its own
-//! history (the belief it was given `window`–`2 · window` steps ago, then the same commands and
-//! observations) tracking [`WIDEN`] × κ states, and takes the κ heaviest states of that run
-//! when it explains the new observation. A dropped state within the window and among the wider
-//! run's states is found again with its true weight relative to the others; one dropped longer
-//! ago, or explained by nothing the model allows, still ends in the fault jumps.
+//! Truncating to κ states can drop the state the plant is really in, or enough weight to put the
+//! wrong plant state first. TimedME keeps the belief it was given `window`–`2 · window` steps
+//! ago and every step's commands and observation since; it re-runs that window tracking
+//! [`WIDEN`] × κ states and keeps the κ heaviest states of the run
+//! - when an observation arrives that no successor of the tracked states explains (before
+//!   DESIGN.md §8's fault jumps, which would explain it by a fault instead of the state that
+//!   was dropped): a dropped state within the window and among the wider run's states is found
+//!   again with its true weight relative to the others;
+//! - when ŝ is in doubt because of truncation: the two heaviest plant states of the step differ
+//!   by less than a few times the weight truncated away within the window (the trigger is in
+//!   `timed_me.rs`; the weight lost per step is recorded here).
 //!
 //! The window is kept only while the caller goes on from the belief TimedME returned last (an
 //! update from any other belief starts it afresh), and is dropped when the fault jumps were
@@ -45,6 +47,8 @@ pub(super) struct Input {
     commands: Rc<Commands>,
     observation: Rc<Observation>,
     time: f64,
+    /// The fraction of the merged weight the step truncated away.
+    lost: f64,
 }
 
 impl Input {
@@ -104,7 +108,14 @@ impl History {
     /// Records an update from `from` with these inputs that returned `to`, keeping `window`
     /// to `2 · window` steps; an update from a belief that is not the last one returned starts
     /// afresh.
-    pub(super) fn record(&mut self, window: usize, from: &Belief, step: &Step, to: &mut Belief) {
+    pub(super) fn record(
+        &mut self,
+        window: usize,
+        from: &Belief,
+        step: &Step,
+        lost: f64,
+        to: &mut Belief,
+    ) {
         if window == 0 {
             return;
         }
@@ -125,11 +136,22 @@ impl History {
             commands: shared(previous.map(|p| &p.commands), step.commands),
             observation: shared(previous.map(|p| &p.observation), step.observation),
             time: step.time,
+            lost,
         };
         if let Some(segment) = self.segments.back_mut() {
             segment.steps.push(input);
         }
         self.last = Some(issue(to));
+    }
+
+    /// The fraction of the window's start belief's weight truncated away on the way since.
+    pub(super) fn lost(&self) -> f64 {
+        1.0 - self
+            .segments
+            .iter()
+            .flat_map(|s| s.steps.iter())
+            .map(|i| 1.0 - i.lost)
+            .product::<f64>()
     }
 
     /// Forgets every step and starts afresh from `belief`, the one just returned (an initial

@@ -249,6 +249,10 @@ pub struct UpdateStats {
     /// probabilities (a quiet step, certified to give the full expansion's answer; see
     /// [`TimedMeOptions::replay`]).
     pub replayed: bool,
+    /// Steps TimedME estimated again from its history window, wider, to give this belief (0
+    /// but when an observation contradicted every tracked state or truncation could have
+    /// decided ŝ; see [`TimedMeOptions::history`]).
+    pub rerun: u32,
 }
 
 /// The result of one estimation step.

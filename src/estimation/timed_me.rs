@@ -36,6 +36,14 @@ const JUMP: f64 = 1e-9;
 /// The default history window, in steps (see [`TimedMeOptions::history`]).
 const HISTORY: usize = 16;
 
+/// ŝ is in doubt when the two heaviest plant states' weights differ by less than this many
+/// times the weight truncated away within the history window (`history.rs`: at 1, the lost
+/// weight alone could have reversed them; 4 allows for what observations since made of it)…
+const AMBIGUITY: f64 = 4.0;
+
+/// …and that weight is more than this.
+const MIN_LOSS: f64 = 1e-3;
+
 /// How TimedME searches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TimedMeOptions {
@@ -54,9 +62,10 @@ pub struct TimedMeOptions {
     /// the same belief bit for bit, else the step is expanded in full (`replay.rs`). On by
     /// default; off, every step is expanded in full (the tests compare the two).
     pub replay: bool,
-    /// How many recent steps TimedME keeps to estimate again, tracking more states, when an
-    /// observation contradicts every tracked state (`history.rs`): the window holds this many
-    /// to twice as many steps; 0 turns it off.
+    /// How many recent steps TimedME keeps to estimate again, tracking 4κ states, when an
+    /// observation contradicts every tracked state or truncation could have decided ŝ
+    /// (`history.rs`): the window holds this many to twice as many steps, so a step costs at
+    /// worst 2 · `history` + 1 steps at 4κ; 0 turns it off (and bounds a step by one at κ).
     pub history: usize,
 }
 
@@ -172,11 +181,29 @@ impl ModeEstimator for TimedMe {
             limits,
             self.options.replay,
         )?;
+        let lost = expansion.lost();
+        let ambiguous = self.options.history > 0
+            && !expansion.states.is_empty()
+            && self.history.continues_from(belief)
+            && {
+                let window = 1.0 - (1.0 - self.history.lost()) * (1.0 - lost);
+                window > MIN_LOSS && margin(&expansion.states) < AMBIGUITY * window
+            };
         let mut outcome = Outcome::new(expansion);
+        if ambiguous
+            && let Some((expansion, steps)) = self.reestimate(plant, theory, belief, &step)?
+        {
+            outcome.rerun(expansion, steps);
+        }
         let mut jumped = false;
         if outcome.is_empty() {
             if let Some((expansion, steps)) = self.reestimate(plant, theory, belief, &step)? {
-                outcome.reestimated(expansion, steps);
+                outcome.rerun(expansion, steps);
+                outcome
+                    .events
+                    .push(EstimationEvent::InconsistentObservation {
+                        fallback: Fallback::Reestimated { steps },
+                    });
             } else {
                 with_fault_jumps(plant, &mut sources);
                 let expansion = self.expander.expand(
@@ -195,8 +222,13 @@ impl ModeEstimator for TimedMe {
         if jumped && self.options.history > 0 {
             self.history.restart(&mut update.belief);
         } else {
-            self.history
-                .record(self.options.history, belief, &step, &mut update.belief);
+            self.history.record(
+                self.options.history,
+                belief,
+                &step,
+                lost,
+                &mut update.belief,
+            );
         }
         Ok(update)
     }
@@ -254,6 +286,23 @@ impl TimedMe {
         expansion.states.truncate(self.options.kappa);
         Ok((!expansion.states.is_empty()).then_some((expansion, steps.len() + 1)))
     }
+}
+
+/// The difference between the two heaviest plant states' weights, over the total (`states`
+/// not empty).
+fn margin(states: &[WeightedState]) -> f64 {
+    let mut plants: Vec<(&[ValueId], f64)> = Vec::new();
+    let mut total = 0.0;
+    for w in states {
+        total += w.probability;
+        match plants.iter_mut().find(|(m, _)| *m == &w.state.modes[..]) {
+            Some((_, p)) => *p += w.probability,
+            None => plants.push((&w.state.modes, w.probability)),
+        }
+    }
+    plants.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let second = plants.get(1).map_or(0.0, |p| p.1);
+    plants.first().map_or(0.0, |p| (p.1 - second) / total)
 }
 
 /// One TimedME step from `belief` (Figure 6-11 steps 1–6): the sources' next-mode choices and
@@ -379,6 +428,7 @@ pub(crate) struct Outcome {
     events: Vec<EstimationEvent>,
     candidates: u64,
     replayed: bool,
+    rerun: u32,
 }
 
 impl Outcome {
@@ -395,6 +445,7 @@ impl Outcome {
             events: Vec::new(),
             candidates,
             replayed: false,
+            rerun: 0,
         }
     }
 
@@ -411,12 +462,10 @@ impl Outcome {
         self.states.is_empty()
     }
 
-    /// The history's re-run explained the observation no tracked state did (`history.rs`).
-    pub(crate) fn reestimated(&mut self, expansion: Expansion, steps: usize) {
+    /// The history's re-run of `steps` steps gave the belief instead (`history.rs`).
+    fn rerun(&mut self, expansion: Expansion, steps: usize) {
         self.absorb(expansion);
-        self.events.push(EstimationEvent::InconsistentObservation {
-            fallback: Fallback::Reestimated { steps },
-        });
+        self.rerun = steps as u32;
     }
 
     /// DESIGN.md §8's fallbacks: the fault-jump expansion, else `previous` as it was.
@@ -448,6 +497,7 @@ impl Outcome {
                 sat_calls,
                 states,
                 replayed: self.replayed,
+                rerun: self.rerun,
             },
         }
     }
