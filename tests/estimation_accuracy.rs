@@ -2,7 +2,8 @@
 //! (item 3; DESIGN.md §8: "the exact BeliefUpdate_TCCA is the reference the approximate
 //! estimator is measured against"): per step, whether TimedME's most likely plant state is the
 //! exact one (up to exact ties) and the total-variation distance between the two distributions
-//! over plant states, at κ = 3, 5, 10 and 20. A measurement, recorded in BENCHMARKS.md:
+//! over plant states, at κ = 3, 5, 10 and 20, with TimedME's history window and without, and
+//! the time TimedME took per update. A measurement, recorded in BENCHMARKS.md:
 //!
 //! ```text
 //! KAIROS_CASES=3000 cargo test --release --test estimation_accuracy -- --ignored --nocapture
@@ -14,20 +15,34 @@ mod support;
 mod seeded;
 
 use std::collections::HashMap;
+use std::time::Instant;
 
 use kairos::estimation::{Belief, BeliefUpdate, ModeEstimator, TimedMe, TimedMeOptions, Update};
 use kairos::logic::ValueId;
 use proptest::strategy::{Strategy, ValueTree};
 use support::random_plant::{RandomPlant, RandomRun, broad_plant, runs};
 
-const KAPPAS: [usize; 4] = [3, 5, 10, 20];
+/// The estimators scored: κ, and whether TimedME keeps its history window (ARCHITECTURE.md
+/// "Decisions: reasoning fidelity"; 0 turns it off).
+const ESTIMATORS: [(usize, usize); 8] = [
+    (3, 0),
+    (3, DEFAULT_HISTORY),
+    (5, 0),
+    (5, DEFAULT_HISTORY),
+    (10, 0),
+    (10, DEFAULT_HISTORY),
+    (20, 0),
+    (20, DEFAULT_HISTORY),
+];
+const DEFAULT_HISTORY: usize = usize::MAX;
 const COMPONENTS: usize = 5;
 const STEPS: usize = 30;
 
 /// Per κ: steps, steps whose ŝ agreed, summed total-variation distance, and the updates that
-/// re-ran the history window (and how many steps they re-ran).
+/// re-ran the history window (and how many steps they re-ran), and the time TimedME took.
 #[derive(Default, Clone, Copy)]
 struct Score {
+    seconds: f64,
     steps: u64,
     agreed: u64,
     distance: f64,
@@ -69,10 +84,14 @@ fn measure(spec: &RandomPlant, run: &RandomRun, scores: &mut [Score]) -> Option<
     let mut e = exact
         .initial(&plant, &mut theory, 0.0, &first)
         .expect("exact initial");
-    let mut timed: Vec<(TimedMe, Update)> = KAPPAS
+    let mut timed: Vec<(TimedMe, Update)> = ESTIMATORS
         .iter()
-        .map(|&kappa| {
-            let mut estimator = TimedMe::new(TimedMeOptions::kappa(kappa));
+        .map(|&(kappa, history)| {
+            let mut options = TimedMeOptions::kappa(kappa);
+            if history != DEFAULT_HISTORY {
+                options.history = history;
+            }
+            let mut estimator = TimedMe::new(options);
             let update = estimator
                 .initial(&plant, &mut theory, 0.0, &first)
                 .expect("timed initial");
@@ -84,7 +103,9 @@ fn measure(spec: &RandomPlant, run: &RandomRun, scores: &mut [Score]) -> Option<
         e = cycle.update(&mut exact, &plant, &mut theory, &e);
         largest = largest.max(e.belief.states().len());
         for ((estimator, t), score) in timed.iter_mut().zip(scores.iter_mut()) {
+            let started = Instant::now();
             *t = cycle.update(estimator, &plant, &mut theory, t);
+            score.seconds += started.elapsed().as_secs_f64();
             score.steps += 1;
             score.agreed += u64::from(agrees(&e.belief, &t.belief));
             score.distance += total_variation(&e.belief, &t.belief);
@@ -102,12 +123,12 @@ fn accuracy_of_timed_me_on_broad_random_plants() {
     let mut runner = seeded::runner();
     // Scored apart: plants whose exact belief stays within 80 system states (the issue's
     // "30–80 clock-distinct states" and smaller) and the wider ones (up to thousands).
-    let mut narrow = [Score::default(); KAPPAS.len()];
-    let mut broad = [Score::default(); KAPPAS.len()];
+    let mut narrow = [Score::default(); ESTIMATORS.len()];
+    let mut broad = [Score::default(); ESTIMATORS.len()];
     let (mut plants, mut refused, mut wide, mut widest) = (0u32, 0u32, 0u32, 0usize);
     for _ in 0..seeded::cases(300) {
         let (spec, run) = strategy.new_tree(&mut runner).expect("a case").current();
-        let mut scores = [Score::default(); KAPPAS.len()];
+        let mut scores = [Score::default(); ESTIMATORS.len()];
         match measure(&spec, &run, &mut scores) {
             Some(largest) => {
                 plants += 1;
@@ -122,6 +143,7 @@ fn accuracy_of_timed_me_on_broad_random_plants() {
                     total.steps += score.steps;
                     total.agreed += score.agreed;
                     total.distance += score.distance;
+                    total.seconds += score.seconds;
                     total.reruns += score.reruns;
                     total.rerun_steps += score.rerun_steps;
                 }
@@ -137,19 +159,21 @@ fn accuracy_of_timed_me_on_broad_random_plants() {
     for (title, scores) in [("≤ 80 states", &narrow), ("> 80 states", &broad)] {
         println!("\nExact belief {title}:\n");
         println!(
-            "| κ | steps | top-1 agreement | mean total-variation distance | updates re-run | \
-             steps re-run per update |"
+            "| κ | history | steps | top-1 agreement | mean total-variation distance | updates \
+             re-run | steps re-run per update | TimedME µs per update |"
         );
-        println!("|---|---|---|---|---|---|");
-        for (kappa, score) in KAPPAS.iter().zip(scores) {
+        println!("|---|---|---|---|---|---|---|---|");
+        for (&(kappa, history), score) in ESTIMATORS.iter().zip(scores) {
             let steps = score.steps.max(1) as f64;
             println!(
-                "| {kappa} | {} | {:.2} % | {:.4} | {:.2} % | {:.2} |",
+                "| {kappa} | {} | {} | {:.2} % | {:.4} | {:.2} % | {:.2} | {:.1} |",
+                if history == 0 { "off" } else { "on" },
                 score.steps,
                 100.0 * score.agreed as f64 / steps,
                 score.distance / steps,
                 100.0 * score.reruns as f64 / steps,
-                score.rerun_steps as f64 / steps
+                score.rerun_steps as f64 / steps,
+                1e6 * score.seconds / steps
             );
         }
     }

@@ -13,6 +13,11 @@
 //!   by less than a few times the weight truncated away within the window (the trigger is in
 //!   `timed_me.rs`; the weight lost per step is recorded here).
 //!
+//! The wide belief a re-run ends with is kept behind the belief returned from it: when the next
+//! update starts from that belief and needs a re-run too, the wide one is stepped once — the
+//! same run carried one step further — instead of running the window again, so a stretch of
+//! doubt costs one 8κ step per step.
+//!
 //! The window is kept only while the caller goes on from the belief TimedME returned last (an
 //! update from any other belief starts it afresh), and is dropped when the fault jumps were
 //! needed: a history that could not explain a step cannot explain the steps after it.
@@ -30,7 +35,7 @@ use super::Belief;
 use crate::plant::{Commands, Observation};
 
 /// How many times κ the re-run tracks.
-pub(super) const WIDEN: usize = 4;
+pub(super) const WIDEN: usize = 8;
 
 /// One step's inputs, as an update is given them.
 #[derive(Clone, Copy)]
@@ -76,6 +81,10 @@ pub(super) struct History {
     /// The serial number of the belief the last update returned: the next update must start
     /// from it.
     last: Option<u64>,
+    /// The wide belief the last re-run ended with, and the serial number of the belief returned
+    /// from it: an update from that belief steps the wide one instead of re-running the window
+    /// (the same run, carried one step further).
+    wide: Option<(u64, Belief)>,
 }
 
 /// The next serial number for a returned belief, over every TimedME of the process (so that a
@@ -93,6 +102,17 @@ impl History {
     /// Whether an update from `belief` continues this history.
     pub(super) fn continues_from(&self, belief: &Belief) -> bool {
         belief.issued.is_some() && belief.issued == self.last
+    }
+
+    /// The wide belief the re-run that returned `belief` ended with, if one did.
+    pub(super) fn wide_behind(&self, belief: &Belief) -> Option<&Belief> {
+        let (serial, wide) = self.wide.as_ref()?;
+        (belief.issued == Some(*serial)).then_some(wide)
+    }
+
+    /// Remembers the wide belief a re-run ended with, behind `returned` (recorded already).
+    pub(super) fn keep_wide(&mut self, wide: Belief, returned: &Belief) {
+        self.wide = returned.issued.map(|serial| (serial, wide));
     }
 
     /// The oldest segment's start and every recorded step since, oldest first; `None` when
@@ -158,6 +178,7 @@ impl History {
     /// belief, or one the fault jumps gave).
     pub(super) fn restart(&mut self, belief: &mut Belief) {
         self.segments.clear();
+        self.wide = None;
         self.last = Some(issue(belief));
     }
 }

@@ -38,8 +38,9 @@ const HISTORY: usize = 16;
 
 /// ŝ is in doubt when the two heaviest plant states' weights differ by less than this many
 /// times the weight truncated away within the history window (`history.rs`: at 1, the lost
-/// weight alone could have reversed them; 4 allows for what observations since made of it)…
-const AMBIGUITY: f64 = 4.0;
+/// weight alone could have reversed them; more allows for what observations since made of it;
+/// BENCHMARKS.md has 1, 4 and 16 measured)…
+const AMBIGUITY: f64 = 16.0;
 
 /// …and that weight is more than this.
 const MIN_LOSS: f64 = 1e-3;
@@ -62,10 +63,10 @@ pub struct TimedMeOptions {
     /// the same belief bit for bit, else the step is expanded in full (`replay.rs`). On by
     /// default; off, every step is expanded in full (the tests compare the two).
     pub replay: bool,
-    /// How many recent steps TimedME keeps to estimate again, tracking 4κ states, when an
+    /// How many recent steps TimedME keeps to estimate again, tracking 8κ states, when an
     /// observation contradicts every tracked state or truncation could have decided ŝ
     /// (`history.rs`): the window holds this many to twice as many steps, so a step costs at
-    /// worst 2 · `history` + 1 steps at 4κ; 0 turns it off (and bounds a step by one at κ).
+    /// worst 2 · `history` + 1 steps at 8κ; 0 turns it off (and bounds a step by one at κ).
     pub history: usize,
 }
 
@@ -190,15 +191,15 @@ impl ModeEstimator for TimedMe {
                 window > MIN_LOSS && margin(&expansion.states) < AMBIGUITY * window
             };
         let mut outcome = Outcome::new(expansion);
-        if ambiguous
-            && let Some((expansion, steps)) = self.reestimate(plant, theory, belief, &step)?
-        {
-            outcome.rerun(expansion, steps);
+        let mut wide = None;
+        if ambiguous && let Some(rerun) = self.reestimate(plant, theory, belief, &step)? {
+            wide = Some(outcome.rerun(rerun));
         }
         let mut jumped = false;
         if outcome.is_empty() {
-            if let Some((expansion, steps)) = self.reestimate(plant, theory, belief, &step)? {
-                outcome.rerun(expansion, steps);
+            if let Some(rerun) = self.reestimate(plant, theory, belief, &step)? {
+                let steps = rerun.steps;
+                wide = Some(outcome.rerun(rerun));
                 outcome
                     .events
                     .push(EstimationEvent::InconsistentObservation {
@@ -229,6 +230,9 @@ impl ModeEstimator for TimedMe {
                 lost,
                 &mut update.belief,
             );
+            if let Some(wide) = wide {
+                self.history.keep_wide(wide, &update.belief);
+            }
         }
         Ok(update)
     }
@@ -236,30 +240,33 @@ impl ModeEstimator for TimedMe {
 
 impl TimedMe {
     /// The history's re-run (see `history.rs`): from the window's oldest belief through its
-    /// steps and then `step`, tracking [`WIDEN`] × κ states; the κ heaviest states it ends
-    /// with and how many steps it re-ran, or `None` when the window is empty, is not this
-    /// belief's, or cannot explain a step.
+    /// steps and then `step`, tracking [`WIDEN`] × κ states — or only `step`, from the wide
+    /// belief the last re-run ended with when it returned `belief`. The κ heaviest states it
+    /// ends with, how many steps it ran and the wide belief it ended with; `None` when the
+    /// window is empty, is not this belief's, or cannot explain a step.
     fn reestimate(
         &mut self,
         plant: &Plant,
         theory: &mut Theory,
         belief: &Belief,
         step: &Step,
-    ) -> Result<Option<(Expansion, usize)>, EstimationError> {
+    ) -> Result<Option<Rerun>, EstimationError> {
         if !self.history.continues_from(belief) {
             return Ok(None);
         }
-        let Some((start, steps)) = self.history.replay() else {
-            return Ok(None);
+        let (mut current, steps): (Belief, Vec<Step>) = match self.history.wide_behind(belief) {
+            Some(wide) => (wide.clone(), Vec::new()),
+            None => match self.history.replay() {
+                Some((start, steps)) => (start.clone(), steps.map(Input::step).collect()),
+                None => return Ok(None),
+            },
         };
         let wide = TimedMeOptions {
             kappa: self.options.kappa.saturating_mul(WIDEN),
             ..self.options
         }
         .limits();
-        let mut current = start.clone();
-        let steps: Vec<Step> = steps.map(Input::step).collect();
-        for input in &steps {
+        for input in steps.iter().chain(std::iter::once(step)) {
             let (_, expansion) = expand_from(
                 &mut self.expander,
                 plant,
@@ -269,23 +276,39 @@ impl TimedMe {
                 wide,
                 false,
             )?;
+            let kept = expansion
+                .states
+                .iter()
+                .take(self.options.kappa)
+                .cloned()
+                .collect();
             match Belief::new(plant, input.time, expansion.states) {
                 Some(next) => current = next,
                 None => return Ok(None),
             }
+            if std::ptr::eq(input, step) {
+                return Ok(Some(Rerun {
+                    expansion: Expansion {
+                        states: kept,
+                        ..expansion
+                    },
+                    steps: steps.len() + 1,
+                    wide: current,
+                }));
+            }
         }
-        let (_, mut expansion) = expand_from(
-            &mut self.expander,
-            plant,
-            theory,
-            &current,
-            step,
-            wide,
-            false,
-        )?;
-        expansion.states.truncate(self.options.kappa);
-        Ok((!expansion.states.is_empty()).then_some((expansion, steps.len() + 1)))
+        Ok(None)
     }
+}
+
+/// What a re-run of the history gave.
+struct Rerun {
+    /// The κ heaviest states it ended with.
+    expansion: Expansion,
+    /// How many steps it ran.
+    steps: usize,
+    /// Every state it ended with (at most 8κ), normalised.
+    wide: Belief,
 }
 
 /// The difference between the two heaviest plant states' weights, over the total (`states`
@@ -462,10 +485,12 @@ impl Outcome {
         self.states.is_empty()
     }
 
-    /// The history's re-run of `steps` steps gave the belief instead (`history.rs`).
-    fn rerun(&mut self, expansion: Expansion, steps: usize) {
-        self.absorb(expansion);
-        self.rerun = steps as u32;
+    /// The history's re-run gave the belief instead (`history.rs`); returns the wide belief it
+    /// ended with.
+    fn rerun(&mut self, rerun: Rerun) -> Belief {
+        self.absorb(rerun.expansion);
+        self.rerun = rerun.steps as u32;
+        rerun.wide
     }
 
     /// DESIGN.md §8's fallbacks: the fault-jump expansion, else `previous` as it was.
