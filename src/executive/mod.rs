@@ -555,7 +555,7 @@ impl Executive {
         observed: &[NamedValue],
         log: &mut EventLog,
     ) -> Result<(), StepError> {
-        let (checked, observation) = self
+        let (checked, observation, repeated) = self
             .observed
             .check(&self.plant, observed)
             .map_err(EstimationError::from)?;
@@ -563,8 +563,11 @@ impl Executive {
             .rejected
             .iter()
             .for_each(|kind| log.push(kind.clone()));
-        report_missing(&self.plant, &mut self.reported, &checked.values, log);
-        self.timelines.record_observation(now, &checked.values);
+        // Both only note changes of the typed values, which a repeated report cannot have.
+        if !repeated {
+            report_missing(&self.plant, &mut self.reported, &checked.values, log);
+            self.timelines.record_observation(now, &checked.values);
+        }
         let update = match &self.belief {
             None => self
                 .estimator

@@ -26,6 +26,8 @@ mod open;
 
 pub use open::OpenLanding;
 
+use std::sync::Arc;
+
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
 use crate::executive::{NamedValue, Submission};
 use crate::logic::{Formula, ValueId, VarId, VarTable};
@@ -295,6 +297,10 @@ pub struct ScriptedPlant<'s> {
     landing: Vec<Option<f64>>,
     /// The order to apply the effects due at the next cycle in ([`ScriptedPlant::force_order`]).
     order: Option<Vec<usize>>,
+    /// The last report, while it still holds: a report is a pure function of `values` and
+    /// `garbled`, which only [`apply`](Self::apply) changes (and clears this), so a quiet cycle
+    /// hands out the same names instead of formatting every observable again.
+    report: Option<Arc<[NamedValue]>>,
 }
 
 impl<'s> ScriptedPlant<'s> {
@@ -321,6 +327,7 @@ impl<'s> ScriptedPlant<'s> {
             open: false,
             landing: vec![None; rules],
             order: None,
+            report: None,
         }
     }
 
@@ -468,6 +475,7 @@ impl<'s> ScriptedPlant<'s> {
     fn apply(&mut self, i: usize) {
         let script = self.script;
         let effect = &script.rules[i].effect;
+        self.report = None;
         for &(var, value) in &effect.set {
             self.values[var.index()] = Some(value);
             let name = script.world.variable(var).name();
@@ -546,6 +554,25 @@ impl<'s> ScriptedPlant<'s> {
         pinned.map(|&(_, at)| at)
     }
 
+    /// [`observe`](MonitorAdapter::observe) without copying the report: the same shared
+    /// report every cycle until an effect changes a value, so that a run's quiet cycle neither
+    /// formats nor frees names.
+    pub fn observe_shared(&mut self, time: f64) -> Arc<[NamedValue]> {
+        let cycle = self.cycle.map_or(0, |c| c + 1);
+        self.cycle = Some(cycle);
+        self.time = time;
+        self.apply_due();
+        self.order = None;
+        self.fire_timed();
+        self.forced.clear();
+        if let Some(report) = &self.report {
+            return Arc::clone(report);
+        }
+        let report: Arc<[NamedValue]> = self.report().into();
+        self.report = Some(Arc::clone(&report));
+        report
+    }
+
     /// The observation: every observable with a value, garbled pairs in place of or beside them.
     fn report(&self) -> Vec<NamedValue> {
         let world = &self.script.world;
@@ -602,14 +629,7 @@ fn due_at(due: Due, cycle: u64, time: f64) -> bool {
 
 impl MonitorAdapter for ScriptedPlant<'_> {
     fn observe(&mut self, time: f64) -> Vec<NamedValue> {
-        let cycle = self.cycle.map_or(0, |c| c + 1);
-        self.cycle = Some(cycle);
-        self.time = time;
-        self.apply_due();
-        self.order = None;
-        self.fire_timed();
-        self.forced.clear();
-        self.report()
+        self.observe_shared(time).to_vec()
     }
 }
 
