@@ -102,7 +102,8 @@ impl Belief {
     /// The plant states (system states with equal modes summed), most probable first; ties keep
     /// the order of their most probable system state.
     pub fn plant_states(&self) -> Vec<PlantEstimate> {
-        let mut out: Vec<PlantEstimate> = Vec::new();
+        // At most one plant state per system state: sized once rather than grown step by step.
+        let mut out: Vec<PlantEstimate> = Vec::with_capacity(self.states.len());
         for weighted in &self.states {
             match out.iter_mut().find(|e| e.modes == weighted.state.modes) {
                 Some(estimate) => estimate.probability += weighted.probability,

@@ -301,6 +301,10 @@ pub struct ScriptedPlant<'s> {
     /// `garbled`, which only [`apply`](Self::apply) changes (and clears this), so a quiet cycle
     /// hands out the same names instead of formatting every observable again.
     report: Option<Arc<[NamedValue]>>,
+    /// The command rules the idle action μ (no command) issues, in declaration order: a
+    /// function of the fixed script alone, so a quiet cycle's [`send`](ControlAdapter::send)
+    /// evaluates no trigger (their conditions still are, on the current values).
+    idle_issues: Arc<[usize]>,
 }
 
 impl<'s> ScriptedPlant<'s> {
@@ -328,6 +332,7 @@ impl<'s> ScriptedPlant<'s> {
             landing: vec![None; rules],
             order: None,
             report: None,
+            idle_issues: issued_by(script, &idle_values(script)).collect(),
         }
     }
 
@@ -599,10 +604,7 @@ impl<'s> ScriptedPlant<'s> {
     /// values are refused.
     fn control_values(&self, command: &[NamedValue]) -> Result<Vec<Option<ValueId>>, String> {
         let world = &self.script.world;
-        let mut values = vec![None; world.len()];
-        for &(var, idle) in &self.script.controls {
-            values[var.index()] = Some(idle);
-        }
+        let mut values = idle_values(self.script);
         for assignment in command {
             let var = world
                 .variable_id(&assignment.variable)
@@ -635,19 +637,45 @@ impl MonitorAdapter for ScriptedPlant<'_> {
 
 impl ControlAdapter for ScriptedPlant<'_> {
     fn send(&mut self, _time: f64, command: &[NamedValue]) -> Result<(), String> {
-        let values = self.control_values(command)?;
-        let script = self.script;
-        for (i, rule) in script.rules.iter().enumerate() {
-            if let Trigger::Command(formula) = &rule.trigger {
-                let issued = formula.eval_assignment(&script.world, &|var| values[var.index()])
-                    == Some(true);
-                if issued && self.condition_holds(rule) {
-                    self.fire(i);
-                }
+        let issued: Arc<[usize]> = if command.is_empty() {
+            Arc::clone(&self.idle_issues)
+        } else {
+            issued_by(self.script, &self.control_values(command)?).collect()
+        };
+        for &i in issued.iter() {
+            if self.condition_holds(&self.script.rules[i]) {
+                self.fire(i);
             }
         }
         Ok(())
     }
+}
+
+/// The idle control action: every control at its idle value, every other variable unset.
+fn idle_values(script: &Script) -> Vec<Option<ValueId>> {
+    let mut values = vec![None; script.world.len()];
+    for &(var, idle) in &script.controls {
+        values[var.index()] = Some(idle);
+    }
+    values
+}
+
+/// The command rules whose trigger the control action `values` satisfies, in declaration order.
+fn issued_by<'a>(
+    script: &'a Script,
+    values: &'a [Option<ValueId>],
+) -> impl Iterator<Item = usize> + 'a {
+    script
+        .rules
+        .iter()
+        .enumerate()
+        .filter_map(move |(i, rule)| match &rule.trigger {
+            Trigger::Command(formula) => {
+                (formula.eval_assignment(&script.world, &|var| values[var.index()]) == Some(true))
+                    .then_some(i)
+            }
+            _ => None,
+        })
 }
 
 #[cfg(test)]
