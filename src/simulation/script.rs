@@ -720,6 +720,57 @@ mod tests {
         assert_eq!(kinds, [PlantEventKind::Fired, PlantEventKind::Applied]);
     }
 
+    /// §7.2.1 (the plant holds its values, DESIGN.md §3): while no effect applies, every cycle
+    /// reports the very same observation — shared, not formatted again (issue 15) — and an
+    /// effect shows in the next report.
+    #[test]
+    fn the_report_is_shared_until_an_effect_applies() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} rules: [Rule(name: "fires", on: Command("engine.cmd = fire"),
+                set: {{ "engine.thrust": "nominal" }})]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        let first = plant.observe_shared(0.0);
+        let quiet = plant.observe_shared(1.0);
+        assert!(
+            Arc::ptr_eq(&first, &quiet),
+            "nothing applied: the same report"
+        );
+        assert_eq!(&*quiet, plant.observe(2.0).as_slice());
+        fire(&mut plant);
+        let after = plant.observe_shared(3.0);
+        assert_eq!(observed(&after, "engine.thrust"), Some("nominal"));
+        assert_eq!(observed(&first, "engine.thrust"), Some("zero"));
+    }
+
+    /// A command rule on the idle action (no command: every control at its idle value) fires
+    /// on a quiet cycle as on any other whose action satisfies it, each time its condition
+    /// holds; a command that changes the control does not fire it.
+    #[test]
+    fn a_command_rule_on_the_idle_action_fires_without_a_command() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} rules: [Rule(name: "idle", on: Command("engine.cmd = none"),
+                when: "engine.thrust = zero", set: {{ "engine.temp": "nominal" }})]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        plant.observe(0.0);
+        fire(&mut plant);
+        assert_eq!(plant.times_fired(0), 0, "engine.cmd = fire is not idle");
+        plant.send(0.0, &[]).expect("the idle action");
+        plant
+            .send(0.0, &[NamedValue::new("camera.cmd", "on")])
+            .expect("a control");
+        assert_eq!(
+            plant.times_fired(0),
+            2,
+            "idle engine.cmd, with and without a command"
+        );
+        assert_eq!(
+            observed(&plant.observe(1.0), "engine.temp"),
+            Some("nominal")
+        );
+    }
+
     /// `Seconds(s)`: the first cycle at least s after the firing; `once`: one firing only.
     #[test]
     fn a_delay_in_seconds_and_a_once_rule() {
