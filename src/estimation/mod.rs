@@ -147,13 +147,20 @@ impl Belief {
     /// tracked; see [`Belief::predicted_marginal`]).
     pub fn marginal(&self, var: VarId, value: ValueId) -> Option<f64> {
         let component = self.mode_vars.iter().position(|&x| x == var)?;
-        Some(
+        self.component_marginal(component, value)
+    }
+
+    /// [`Belief::marginal`] of the mode variable of the component with this index (`None`
+    /// past the last component): for callers that go through the components in order, without
+    /// looking the variable up.
+    pub fn component_marginal(&self, component: usize, value: ValueId) -> Option<f64> {
+        (component < self.mode_vars.len()).then(|| {
             self.states
                 .iter()
                 .filter(|w| w.state.modes[component] == value)
                 .map(|w| w.probability)
-                .sum(),
-        )
+                .sum()
+        })
     }
 
     /// The belief that any variable (an attribute too) has `value`, as the states predict it:

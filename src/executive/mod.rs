@@ -607,11 +607,13 @@ impl Executive {
         Ok(())
     }
 
+    /// The belief in `component = mode` (the belief is over this plant's components, in
+    /// order, so the component's index names its mode variable: every cycle asks this of each
+    /// component, without a variable look-up).
     fn marginal(&self, component: ComponentId, mode: ValueId) -> f64 {
-        let var = self.plant.component(component).mode_var();
         self.belief
             .as_ref()
-            .and_then(|b| b.marginal(var, mode))
+            .and_then(|b| b.component_marginal(component.index(), mode))
             .unwrap_or(0.0)
     }
 
