@@ -816,7 +816,9 @@ impl Executive {
         // A transient goal mode, once reached, is achieved: the plant is then meant to be where
         // it leaves it for by itself, also as the configuration a new goal keeps
         // (ARCHITECTURE.md, reconfiguration decisions).
-        self.intended = (self.intended.as_ref()).map(|i| self.reconfiguration.settle(i, &modes));
+        if let Some(intended) = &mut self.intended {
+            self.reconfiguration.settle_in_place(intended, &modes);
+        }
         if let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) {
             match self.interpret(goal, &modes) {
                 Ok(goal_state) => {
