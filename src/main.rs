@@ -4,13 +4,6 @@
 
 mod cli;
 
-/// mimalloc rather than the system allocator: the executive's cycle allocates and frees small
-/// vectors throughout (beliefs, successor states, steps), and glibc's malloc and free took
-/// ≈ 13 % of a quiet cycle's instructions (BENCHMARKS.md, "the quiet cycle outside
-/// estimation"). Only the binary chooses; the library leaves the choice to its embedder.
-#[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
-
 use std::path::PathBuf;
 use std::process::ExitCode;
 
