@@ -321,6 +321,40 @@ fn odd_observations_are_events_and_the_cycle_goes_on() {
     assert!(executive.step(f64::NAN, &[]).is_err());
 }
 
+/// DESIGN.md §10, §13 (events on change, issue 15's quiet cycle): a report repeated word for
+/// word is rejected in the same places again, but its missing observables and its observation
+/// changes are not noted twice; the next different report is.
+#[test]
+fn a_repeated_report_notes_missing_observables_and_changes_once() {
+    let mut executive = executive("Standby() :: { engine = standby }");
+    let mut hardware = Hardware::default();
+    let mut observation = hardware.observe(0.0);
+    observation.push(NamedValue::new("engine.colour", "blue"));
+    observation.retain(|o| o.variable != "valve2.outlet");
+    let missing = |step: &Step| {
+        step.events
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::ObservationsMissing { .. }))
+            .count()
+    };
+    let rejected = |step: &Step| {
+        step.events
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::ObservationRejected { .. }))
+            .count()
+    };
+    let first = executive.step(0.0, &observation).expect("the cycle runs");
+    let changes = executive.timelines().observations().len();
+    let again = executive.step(0.1, &observation).expect("the cycle runs");
+    assert_eq!((missing(&first), rejected(&first)), (1, 1));
+    assert_eq!((missing(&again), rejected(&again)), (0, 1));
+    assert_eq!(executive.timelines().observations().len(), changes);
+    let complete = hardware.observe(0.2);
+    let back = executive.step(0.2, &complete).expect("the cycle runs");
+    assert_eq!((missing(&back), rejected(&back)), (1, 0), "the set changed");
+    assert!(executive.timelines().observations().len() > changes);
+}
+
 /// A lamp with no fault modes: nothing explains a lit lamp that was never switched on.
 const LAMP: &str = r#"Plant(
     name: "lamp",

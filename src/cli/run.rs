@@ -124,8 +124,12 @@ fn execute(
         seed: args.seed,
         ..RunOptions::default()
     };
+    // A hidden bar still takes the time on every count: a quiet run does not count.
+    let counting = !progress.is_hidden();
     let outcome = simulation::run(scenario, options, &mut |record| {
-        progress.inc(1);
+        if counting {
+            progress.inc(1);
+        }
         injected.extend(InjectedFault::of_cycle(scenario, record));
         if let Some(recorder) = recorder.as_mut() {
             recorder.cycle(scenario, record);

@@ -125,7 +125,8 @@ impl Belief {
     /// The plant states (system states with equal modes summed), most probable first; ties keep
     /// the order of their most probable system state.
     pub fn plant_states(&self) -> Vec<PlantEstimate> {
-        let mut out: Vec<PlantEstimate> = Vec::new();
+        // At most one plant state per system state: sized once rather than grown step by step.
+        let mut out: Vec<PlantEstimate> = Vec::with_capacity(self.states.len());
         for weighted in &self.states {
             match out.iter_mut().find(|e| e.modes == weighted.state.modes) {
                 Some(estimate) => estimate.probability += weighted.probability,
@@ -169,13 +170,20 @@ impl Belief {
     /// tracked; see [`Belief::predicted_marginal`]).
     pub fn marginal(&self, var: VarId, value: ValueId) -> Option<f64> {
         let component = self.mode_vars.iter().position(|&x| x == var)?;
-        Some(
+        self.component_marginal(component, value)
+    }
+
+    /// [`Belief::marginal`] of the mode variable of the component with this index (`None`
+    /// past the last component): for callers that go through the components in order, without
+    /// looking the variable up.
+    pub fn component_marginal(&self, component: usize, value: ValueId) -> Option<f64> {
+        (component < self.mode_vars.len()).then(|| {
             self.states
                 .iter()
                 .filter(|w| w.state.modes[component] == value)
                 .map(|w| w.probability)
-                .sum(),
-        )
+                .sum()
+        })
     }
 
     /// The belief that any variable (an attribute too) has `value`, as the states predict it:

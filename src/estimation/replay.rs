@@ -98,6 +98,29 @@ pub(crate) struct Replay {
     shapes: Vec<Shape>,
     /// This step, per source: what it is served from.
     sources: Vec<Prepared>,
+    /// The cache's answers about possible modes, as the drift asks them.
+    decided: Decided,
+}
+
+/// The solution cache's answers to "is component c possibly in this mode under the observation"
+/// ([`SolutionCache::decided`]), by component and mode, as first asked while the record lives.
+/// Exact: the cache does not change while a record lives (module documentation), so neither
+/// do its answers, undecided ones included; a table read is what this saves over a hash lookup
+/// per component and source in every step's drift.
+#[derive(Default)]
+struct Decided(Vec<Vec<Option<Option<bool>>>>);
+
+impl Decided {
+    fn get(&mut self, cache: &SolutionCache, c: usize, mode: ValueId) -> Option<bool> {
+        if self.0.len() <= c {
+            self.0.resize_with(c + 1, Vec::new);
+        }
+        let modes = &mut self.0[c];
+        if modes.len() <= mode.index() {
+            modes.resize(mode.index() + 1, None);
+        }
+        *modes[mode.index()].get_or_insert_with(|| cache.decided(c, mode))
+    }
 }
 
 /// One OCSP shape of the recorded step.
@@ -249,6 +272,7 @@ impl Replay {
             observation: observation.clone(),
             shapes,
             sources: Vec::new(),
+            decided: Decided::default(),
         })
     }
 
@@ -277,7 +301,14 @@ impl Replay {
                         .is_some_and(|shape| same_shape(&shape.choices, &source.choices))
                 })
                 .ok_or(Uncertified)?;
-            prepared.prepare(cache, &mut self.shapes[shape], shape, &source.choices)?;
+            let decided = &mut self.decided;
+            prepared.prepare(
+                cache,
+                decided,
+                &mut self.shapes[shape],
+                shape,
+                &source.choices,
+            )?;
         }
         Ok(())
     }
@@ -311,6 +342,7 @@ impl Prepared {
     fn prepare(
         &mut self,
         cache: &SolutionCache,
+        decided: &mut Decided,
         shape: &mut Shape,
         index: usize,
         choices: &Choices,
@@ -323,7 +355,7 @@ impl Prepared {
             let (old, bound) = known.certificate.as_ref().ok_or(Uncertified)?;
             let mut undecided = false;
             let moved = drift(old, choices, |c, mode| {
-                cache.decided(c, mode).unwrap_or_else(|| {
+                decided.get(cache, c, mode).unwrap_or_else(|| {
                     undecided = true;
                     true
                 })

@@ -555,7 +555,7 @@ impl Executive {
         observed: &[NamedValue],
         log: &mut EventLog,
     ) -> Result<(), StepError> {
-        let (checked, observation) = self
+        let (checked, observation, repeated) = self
             .observed
             .check(&self.plant, observed)
             .map_err(EstimationError::from)?;
@@ -563,8 +563,11 @@ impl Executive {
             .rejected
             .iter()
             .for_each(|kind| log.push(kind.clone()));
-        report_missing(&self.plant, &mut self.reported, &checked.values, log);
-        self.timelines.record_observation(now, &checked.values);
+        // Both only note changes of the typed values, which a repeated report cannot have.
+        if !repeated {
+            report_missing(&self.plant, &mut self.reported, &checked.values, log);
+            self.timelines.record_observation(now, &checked.values);
+        }
         let update = match &self.belief {
             None => self
                 .estimator
@@ -604,11 +607,13 @@ impl Executive {
         Ok(())
     }
 
+    /// The belief in `component = mode` (the belief is over this plant's components, in
+    /// order, so the component's index names its mode variable: every cycle asks this of each
+    /// component, without a variable look-up).
     fn marginal(&self, component: ComponentId, mode: ValueId) -> f64 {
-        let var = self.plant.component(component).mode_var();
         self.belief
             .as_ref()
-            .and_then(|b| b.marginal(var, mode))
+            .and_then(|b| b.component_marginal(component.index(), mode))
             .unwrap_or(0.0)
     }
 
@@ -811,7 +816,9 @@ impl Executive {
         // A transient goal mode, once reached, is achieved: the plant is then meant to be where
         // it leaves it for by itself, also as the configuration a new goal keeps
         // (ARCHITECTURE.md, reconfiguration decisions).
-        self.intended = (self.intended.as_ref()).map(|i| self.reconfiguration.settle(i, &modes));
+        if let Some(intended) = &mut self.intended {
+            self.reconfiguration.settle_in_place(intended, &modes);
+        }
         if let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) {
             match self.interpret(goal, &modes) {
                 Ok(goal_state) => {

@@ -67,12 +67,13 @@ pub(crate) struct LastObservation {
 
 impl LastObservation {
     /// `observed` checked ([`check_observation`]) and typed, from the last cycle's answer when
-    /// the report is the same.
+    /// the report is the same; and whether it was (`true`: what is derived from the typed
+    /// values alone — missing observables, observation changes — is what it was last cycle).
     pub(crate) fn check(
         &mut self,
         plant: &Plant,
         observed: &[NamedValue],
-    ) -> Result<(&CheckedObservation, &Observation), InputError> {
+    ) -> Result<(&CheckedObservation, &Observation, bool), InputError> {
         let same = matches!(&self.last, Some((reported, _, _)) if reported.as_slice() == observed);
         if !same {
             let checked = check_observation(plant, observed);
@@ -80,7 +81,7 @@ impl LastObservation {
             self.last = Some((observed.to_vec(), checked, observation));
         }
         let (_, checked, observation) = self.last.as_ref().expect("set above");
-        Ok((checked, observation))
+        Ok((checked, observation, same))
     }
 
     /// The last report, typed (none before the first).

@@ -7,7 +7,7 @@
 //! per estimate *version*, which the executive bumps whenever ŝ (or a belief the program's
 //! confidence atoms read) changes. Consistency of goals with the model never changes.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 use crate::logic::Formula;
 use crate::opsat::Theory;
@@ -20,12 +20,13 @@ pub(crate) struct VersionedEstimate {
     pub(crate) state: StateEstimate,
 }
 
-/// Answers kept across cycles.
+/// Answers kept across cycles. Fx-hashed: a quiet cycle looks up a few formulas, and SipHash
+/// over a formula tree cost more than the answer saved; the maps are never iterated.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct AnswerCache {
     version: u64,
-    entailed: HashMap<Formula, bool>,
-    consistent: HashMap<Formula, bool>,
+    entailed: FxHashMap<Formula, bool>,
+    consistent: FxHashMap<Formula, bool>,
 }
 
 /// [`TheoryOracle`] with an [`AnswerCache`].

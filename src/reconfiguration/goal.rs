@@ -79,24 +79,38 @@ impl GoalState {
         reconfiguration: &Reconfiguration,
         current: &[ValueId],
     ) -> GoalState {
-        let mut modes = self.modes.clone();
+        let mut settled = self.clone();
+        settled.settle(reconfiguration, current);
+        settled
+    }
+
+    /// [`GoalState::settled`] in place. Named stays named: the way out of a named transient
+    /// mode may be irreversible (a repair mode that leads only into a committing mode), and the
+    /// planner takes such a step only toward a named mode. The reward, the sum of the modes',
+    /// is summed again only if a mode changed (the same modes give the same sum).
+    pub(crate) fn settle(&mut self, reconfiguration: &Reconfiguration, current: &[ValueId]) {
         let plant = reconfiguration.plant();
         let policies = reconfiguration.policies();
-        let goals = modes.iter_mut().zip(&self.named).zip(current).zip(policies);
+        let goals = self
+            .modes
+            .iter_mut()
+            .zip(&self.named)
+            .zip(current)
+            .zip(policies);
+        let mut changed = false;
         for (((goal, &named), &here), policy) in goals {
-            if named && *goal == here {
-                *goal = policy.settles_in(here).unwrap_or(here);
+            let settled = if named && *goal == here {
+                policy.settles_in(here).unwrap_or(here)
             } else if !named && left_for_good(plant, policy, *goal, here) {
-                *goal = here;
-            }
+                here
+            } else {
+                *goal
+            };
+            changed |= settled != *goal;
+            *goal = settled;
         }
-        GoalState {
-            reward: summed_reward(reconfiguration.plant(), &modes),
-            modes,
-            // Named stays named: the way out of a named transient mode may be irreversible (a
-            // repair mode that leads only into a committing mode), and the planner takes such a
-            // step only toward a named mode.
-            named: self.named.clone(),
+        if changed {
+            self.reward = summed_reward(plant, &self.modes);
         }
     }
 

@@ -202,6 +202,12 @@ impl Reconfiguration {
         goal.settled(self, current)
     }
 
+    /// [`Reconfiguration::settle`] in place: for a goal state kept from cycle to cycle, which
+    /// is then neither copied nor, when nothing settles, changed.
+    pub fn settle_in_place(&self, goal: &mut GoalState, current: &[ValueId]) {
+        goal.settle(self, current);
+    }
+
     /// The reactive planner (§6.3.2–§6.3.3): the first action toward `goal` from `current` (a
     /// mode per component). Cheap enough for every cycle: a walk over the components and table
     /// look-ups, no theory.

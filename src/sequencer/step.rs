@@ -13,8 +13,9 @@
 //! composite to its contents, so one ascending pass propagates preemption down the hierarchy and
 //! one descending pass propagates "still busy" up it.
 
-use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
+
+use rustc_hash::FxHashMap;
 
 use super::oracle::{Entailment, entailed_in_every_case};
 use super::thca::{
@@ -171,8 +172,9 @@ pub struct Sequencer {
     last_time: Option<f64>,
     open: Option<OpenCycle>,
     /// Whether a set of goals (sorted formula ids) is consistent with the plant model; the model
-    /// does not change, so the answer is kept.
-    consistency: HashMap<Vec<FormulaId>, bool>,
+    /// does not change, so the answer is kept (Fx-hashed: looked up every cycle with two goals
+    /// or more, never iterated).
+    consistency: FxHashMap<Vec<FormulaId>, bool>,
     completed: bool,
 }
 
@@ -210,7 +212,7 @@ impl Sequencer {
             marked,
             last_time: None,
             open: None,
-            consistency: HashMap::new(),
+            consistency: FxHashMap::default(),
             completed,
         }
     }

@@ -2,6 +2,7 @@
 //! expectations checked as it goes.
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::Scenario;
@@ -239,9 +240,9 @@ impl<'s> Simulator<'s> {
         })
     }
 
-    fn observe(&mut self, time: f64) -> Vec<NamedValue> {
+    fn observe(&mut self, time: f64) -> Arc<[NamedValue]> {
         match self {
-            Simulator::Script(plant) => plant.observe(time),
+            Simulator::Script(plant) => plant.observe_shared(time),
             Simulator::Model { plant, rules } => {
                 let mut observation = plant.observe(time);
                 for scripted in rules.observe(time) {
@@ -253,7 +254,7 @@ impl<'s> Simulator<'s> {
                         None => observation.push(scripted),
                     }
                 }
-                observation
+                observation.into()
             }
         }
     }

@@ -26,6 +26,8 @@ mod open;
 
 pub use open::OpenLanding;
 
+use std::sync::Arc;
+
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
 use crate::executive::{NamedValue, Submission};
 use crate::logic::{Formula, ValueId, VarId, VarTable};
@@ -295,6 +297,14 @@ pub struct ScriptedPlant<'s> {
     landing: Vec<Option<f64>>,
     /// The order to apply the effects due at the next cycle in ([`ScriptedPlant::force_order`]).
     order: Option<Vec<usize>>,
+    /// The last report, while it still holds: a report is a pure function of `values` and
+    /// `garbled`, which only [`apply`](Self::apply) changes (and clears this), so a quiet cycle
+    /// hands out the same names instead of formatting every observable again.
+    report: Option<Arc<[NamedValue]>>,
+    /// The command rules the idle action μ (no command) issues, in declaration order: a
+    /// function of the fixed script alone, so a quiet cycle's [`send`](ControlAdapter::send)
+    /// evaluates no trigger (their conditions still are, on the current values).
+    idle_issues: Arc<[usize]>,
 }
 
 impl<'s> ScriptedPlant<'s> {
@@ -321,6 +331,8 @@ impl<'s> ScriptedPlant<'s> {
             open: false,
             landing: vec![None; rules],
             order: None,
+            report: None,
+            idle_issues: issued_by(script, &idle_values(script)).collect(),
         }
     }
 
@@ -468,6 +480,7 @@ impl<'s> ScriptedPlant<'s> {
     fn apply(&mut self, i: usize) {
         let script = self.script;
         let effect = &script.rules[i].effect;
+        self.report = None;
         for &(var, value) in &effect.set {
             self.values[var.index()] = Some(value);
             let name = script.world.variable(var).name();
@@ -546,6 +559,25 @@ impl<'s> ScriptedPlant<'s> {
         pinned.map(|&(_, at)| at)
     }
 
+    /// [`observe`](MonitorAdapter::observe) without copying the report: the same shared
+    /// report every cycle until an effect changes a value, so that a run's quiet cycle neither
+    /// formats nor frees names.
+    pub fn observe_shared(&mut self, time: f64) -> Arc<[NamedValue]> {
+        let cycle = self.cycle.map_or(0, |c| c + 1);
+        self.cycle = Some(cycle);
+        self.time = time;
+        self.apply_due();
+        self.order = None;
+        self.fire_timed();
+        self.forced.clear();
+        if let Some(report) = &self.report {
+            return Arc::clone(report);
+        }
+        let report: Arc<[NamedValue]> = self.report().into();
+        self.report = Some(Arc::clone(&report));
+        report
+    }
+
     /// The observation: every observable with a value, garbled pairs in place of or beside them.
     fn report(&self) -> Vec<NamedValue> {
         let world = &self.script.world;
@@ -572,10 +604,7 @@ impl<'s> ScriptedPlant<'s> {
     /// values are refused.
     fn control_values(&self, command: &[NamedValue]) -> Result<Vec<Option<ValueId>>, String> {
         let world = &self.script.world;
-        let mut values = vec![None; world.len()];
-        for &(var, idle) in &self.script.controls {
-            values[var.index()] = Some(idle);
-        }
+        let mut values = idle_values(self.script);
         for assignment in command {
             let var = world
                 .variable_id(&assignment.variable)
@@ -602,32 +631,51 @@ fn due_at(due: Due, cycle: u64, time: f64) -> bool {
 
 impl MonitorAdapter for ScriptedPlant<'_> {
     fn observe(&mut self, time: f64) -> Vec<NamedValue> {
-        let cycle = self.cycle.map_or(0, |c| c + 1);
-        self.cycle = Some(cycle);
-        self.time = time;
-        self.apply_due();
-        self.order = None;
-        self.fire_timed();
-        self.forced.clear();
-        self.report()
+        self.observe_shared(time).to_vec()
     }
 }
 
 impl ControlAdapter for ScriptedPlant<'_> {
     fn send(&mut self, _time: f64, command: &[NamedValue]) -> Result<(), String> {
-        let values = self.control_values(command)?;
-        let script = self.script;
-        for (i, rule) in script.rules.iter().enumerate() {
-            if let Trigger::Command(formula) = &rule.trigger {
-                let issued = formula.eval_assignment(&script.world, &|var| values[var.index()])
-                    == Some(true);
-                if issued && self.condition_holds(rule) {
-                    self.fire(i);
-                }
+        let issued: Arc<[usize]> = if command.is_empty() {
+            Arc::clone(&self.idle_issues)
+        } else {
+            issued_by(self.script, &self.control_values(command)?).collect()
+        };
+        for &i in issued.iter() {
+            if self.condition_holds(&self.script.rules[i]) {
+                self.fire(i);
             }
         }
         Ok(())
     }
+}
+
+/// The idle control action: every control at its idle value, every other variable unset.
+fn idle_values(script: &Script) -> Vec<Option<ValueId>> {
+    let mut values = vec![None; script.world.len()];
+    for &(var, idle) in &script.controls {
+        values[var.index()] = Some(idle);
+    }
+    values
+}
+
+/// The command rules whose trigger the control action `values` satisfies, in declaration order.
+fn issued_by<'a>(
+    script: &'a Script,
+    values: &'a [Option<ValueId>],
+) -> impl Iterator<Item = usize> + 'a {
+    script
+        .rules
+        .iter()
+        .enumerate()
+        .filter_map(move |(i, rule)| match &rule.trigger {
+            Trigger::Command(formula) => {
+                (formula.eval_assignment(&script.world, &|var| values[var.index()]) == Some(true))
+                    .then_some(i)
+            }
+            _ => None,
+        })
 }
 
 #[cfg(test)]
@@ -670,6 +718,57 @@ mod tests {
         );
         let kinds: Vec<PlantEventKind> = plant.take_events().iter().map(|e| e.kind).collect();
         assert_eq!(kinds, [PlantEventKind::Fired, PlantEventKind::Applied]);
+    }
+
+    /// §7.2.1 (the plant holds its values, DESIGN.md §3): while no effect applies, every cycle
+    /// reports the very same observation — shared, not formatted again (issue 15) — and an
+    /// effect shows in the next report.
+    #[test]
+    fn the_report_is_shared_until_an_effect_applies() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} rules: [Rule(name: "fires", on: Command("engine.cmd = fire"),
+                set: {{ "engine.thrust": "nominal" }})]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        let first = plant.observe_shared(0.0);
+        let quiet = plant.observe_shared(1.0);
+        assert!(
+            Arc::ptr_eq(&first, &quiet),
+            "nothing applied: the same report"
+        );
+        assert_eq!(&*quiet, plant.observe(2.0).as_slice());
+        fire(&mut plant);
+        let after = plant.observe_shared(3.0);
+        assert_eq!(observed(&after, "engine.thrust"), Some("nominal"));
+        assert_eq!(observed(&first, "engine.thrust"), Some("zero"));
+    }
+
+    /// A command rule on the idle action (no command: every control at its idle value) fires
+    /// on a quiet cycle as on any other whose action satisfies it, each time its condition
+    /// holds; a command that changes the control does not fire it.
+    #[test]
+    fn a_command_rule_on_the_idle_action_fires_without_a_command() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} rules: [Rule(name: "idle", on: Command("engine.cmd = none"),
+                when: "engine.thrust = zero", set: {{ "engine.temp": "nominal" }})]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        plant.observe(0.0);
+        fire(&mut plant);
+        assert_eq!(plant.times_fired(0), 0, "engine.cmd = fire is not idle");
+        plant.send(0.0, &[]).expect("the idle action");
+        plant
+            .send(0.0, &[NamedValue::new("camera.cmd", "on")])
+            .expect("a control");
+        assert_eq!(
+            plant.times_fired(0),
+            2,
+            "idle engine.cmd, with and without a command"
+        );
+        assert_eq!(
+            observed(&plant.observe(1.0), "engine.temp"),
+            Some("nominal")
+        );
     }
 
     /// `Seconds(s)`: the first cycle at least s after the firing; `once`: one firing only.
