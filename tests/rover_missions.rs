@@ -26,7 +26,11 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 fn every_rover_scenario_is_tested() {
     assert_every_file_is_tested(
         "scenarios/rover",
-        &["mission_traverse.ron", "mission_blocked.ron"],
+        &[
+            "mission_traverse.ron",
+            "mission_blocked.ron",
+            "mission_motors_fail.ron",
+        ],
         &[
             "r1.ron",
             "r2.ron",
@@ -99,6 +103,36 @@ fn an_obstacle_fails_the_delegated_goal_and_its_response_safes_the_mission() {
         ],
     );
     assert!(!log.contains("fired TP_E"), "{log}");
+}
+
+/// A delegated goal retired while its controller works on it (beyond the seed, whose
+/// constraints end only by `endcstr`): the motors fail two drives into the traverse, safing
+/// retires every goal, and the traverse's constraint is withdrawn in that cycle — the drive
+/// already under way reports, but the controller issues nothing more and never ends it.
+#[test]
+fn safing_withdraws_a_delegated_goal_from_its_controller() {
+    let log = run_passing("scenarios/rover/mission_motors_fail.ron");
+    assert_in_order(
+        &log,
+        &[
+            "delegated to-the-rock: constraint (x=3, y=2) sent to the controller of pose",
+            "[ 5.000 s",
+            "DIAGNOSIS motors = failed",
+            "SAFING motors-on failed",
+            "withdrawn to-the-rock: retired while the controller of pose worked on it; its \
+             constraint is withdrawn, no further command; pose = (2, 0, E)",
+            "fired assessed",
+        ],
+    );
+    let after = log
+        .split("withdrawn to-the-rock")
+        .nth(1)
+        .unwrap_or_default();
+    assert!(!after.contains("controller pose:"), "{after}");
+    assert!(
+        !log.contains("endcstr") && !log.contains("ENDCSTR"),
+        "{log}"
+    );
 }
 
 /// The cycles of both runs as the mission log prints them (snapshot), and the same on a second

@@ -12,10 +12,13 @@
 //! 2. after it ([`Delegations::dispatch`], §2.9 step 6): every delegated goal whose start point
 //!    has fired and whose constraint was not sent yet has it sent to its controller, in goal
 //!    order; the first command goes out to the device, which executes it before the next cycle.
+//!    Before that, the constraint of every goal the step retired (a re-elaboration, safing)
+//!    while its controller still worked on it is withdrawn (beyond the seed: a safed mission
+//!    must not go on driving): no further command is issued for it.
 //!
 //! Everything is delivered first in, first out: a run is deterministic.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use super::events::EventKind;
 use crate::goalnet::{FailureReason, GoalController, GoalId, Mission};
@@ -30,6 +33,8 @@ pub(super) struct Delegations {
     runs: Vec<Delegation>,
     /// The goals whose constraint was sent (a constraint is sent once).
     sent: BTreeSet<GoalId>,
+    /// Those whose constraint has not ended (nor been withdrawn) yet, with their controller.
+    open: BTreeMap<GoalId, usize>,
 }
 
 impl Delegations {
@@ -38,6 +43,7 @@ impl Delegations {
         Delegations {
             runs: mission.controllers.iter().map(Delegation::new).collect(),
             sent: BTreeSet::new(),
+            open: BTreeMap::new(),
         }
     }
 
@@ -82,9 +88,10 @@ impl Delegations {
                 due.then_some((id, delegate.controller, delegate.constraint))
             })
             .collect();
-        let mut events = Vec::new();
+        let mut events = self.withdraw_retired(mission, goals);
         for (goal, controller, constraint) in due {
             self.sent.insert(goal);
+            self.open.insert(goal, controller);
             events.push(EventKind::ConstraintSent {
                 goal: goals.network().goal(goal).name.clone(),
                 sv: mission.controllers[controller].sv.clone(),
@@ -96,9 +103,34 @@ impl Delegations {
         events
     }
 
+    /// Withdraws the constraints of the goals retired while their controllers worked on them
+    /// (a retired goal's copy in the running network has no delegate).
+    fn withdraw_retired(
+        &mut self,
+        mission: &Mission,
+        goals: &mut GoalController,
+    ) -> Vec<EventKind> {
+        let retired: Vec<(GoalId, usize)> = (self.open.iter())
+            .filter(|&(&g, _)| goals.network().goal(g).delegate.is_none())
+            .map(|(&g, &c)| (g, c))
+            .collect();
+        let mut events = Vec::new();
+        for (goal, controller) in retired {
+            self.open.remove(&goal);
+            events.push(EventKind::ConstraintWithdrawn {
+                goal: goals.network().goal(goal).name.clone(),
+                sv: mission.controllers[controller].sv.clone(),
+                value: self.value(controller),
+            });
+            let delivered = self.runs[controller].retract(goal.index());
+            events.extend(self.report(mission, controller, delivered, goals));
+        }
+        events
+    }
+
     /// The events of what controller `controller` delivered; its `endcstr`s go to `goals`.
     fn report(
-        &self,
+        &mut self,
         mission: &Mission,
         controller: usize,
         delivered: Vec<Delivered>,
@@ -119,6 +151,7 @@ impl Delegations {
                 },
                 Delivered::Ended { id, outcome } => {
                     let goal = GoalId(id as u32);
+                    self.open.remove(&goal);
                     // A goal retired while its controller worked on it (a re-elaboration or
                     // safing took it out) has nothing left to fail.
                     let live = goals.network().goal(goal).delegate.is_some();

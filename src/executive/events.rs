@@ -251,6 +251,16 @@ pub enum EventKind {
         /// The state variable's value as the controller last heard it.
         value: String,
     },
+    /// A delegated goal was retired (a re-elaboration, safing) while its controller worked on
+    /// it: its constraint was withdrawn and no further command is issued for it.
+    ConstraintWithdrawn {
+        /// The goal.
+        goal: String,
+        /// The controlled state variable.
+        sv: String,
+        /// The state variable's value as the controller last heard it.
+        value: String,
+    },
     /// Grounding a fired point contradicted the temporal constraints.
     TemporalInconsistency {
         /// The point.

@@ -83,6 +83,24 @@ impl CoaController {
     }
 }
 
+impl CoaController {
+    /// Withdraws constraint `id` (beyond the seed, whose constraints only end by `endcstr`: the
+    /// executive retired the goal it served). Being processed, its course of action stops — no
+    /// further command — and the next queued constraint starts (its messages are returned);
+    /// queued, it is dropped. Nothing is said back: the goal that asked is gone.
+    pub fn retract(&mut self, id: ConstraintId) -> Vec<Message> {
+        self.queue.retain(|(queued, _)| *queued != id);
+        if self.waitafter.as_ref().is_none_or(|p| p.id != id) {
+            return Vec::new();
+        }
+        self.waitafter = None;
+        match self.queue.pop_front() {
+            Some((next, constraint)) => self.start(next, constraint),
+            None => Vec::new(),
+        }
+    }
+}
+
 /// The `endcstr` message.
 fn end(id: ConstraintId, outcome: Outcome) -> Message {
     Message::EndCstr { id, outcome }
@@ -168,6 +186,36 @@ mod tests {
             [end(0, Outcome::Failure(Reason::CoaNoSuccess))]
         );
         assert!(c.processing().is_empty());
+    }
+
+    /// A retracted constraint issues no further command; the one queued behind it starts.
+    #[test]
+    fn a_retracted_constraint_stops_and_the_next_starts() {
+        let mut c = CoaController::new(at(0, 0, Heading::E));
+        c.on_constraint(0, reach(2, 0));
+        c.on_constraint(1, reach(0, 1));
+        c.on_constraint(2, reach(1, 1));
+        // Queued: dropped, nothing to say.
+        assert!(c.retract(2).is_empty());
+        assert_eq!(
+            c.retract(0),
+            [Message::Command {
+                id: 1,
+                command: Command::Turn(Heading::N)
+            }]
+        );
+        assert_eq!(c.processing(), [1]);
+        // The first constraint's drive reports back: heard, but it asks for nothing now.
+        assert_eq!(
+            c.on_newval(at(1, 0, Heading::N)),
+            [Message::Command {
+                id: 1,
+                command: Command::Drive
+            }]
+        );
+        assert!(c.retract(1).is_empty());
+        assert!(c.processing().is_empty());
+        assert!(c.on_newval(at(1, 1, Heading::N)).is_empty());
     }
 
     /// One constraint at a time (R5): a second one waits, and starts from the value the first

@@ -107,6 +107,13 @@ impl Delegation {
         self.deliver(VecDeque::from([Message::Constraint { id, constraint }]))
     }
 
+    /// Withdraws constraint `id` from the controller ([`CoaController::retract`]): no further
+    /// command for it; what the controller starts instead is delivered.
+    pub fn retract(&mut self, id: ConstraintId) -> Vec<Delivered> {
+        let next = self.controller.retract(id);
+        self.deliver(next.into())
+    }
+
     /// One cycle: the reports of the last cycle's commands are measured and estimated, the
     /// controller hears the new value (C-val) and answers.
     pub fn cycle(&mut self) -> Vec<Delivered> {
@@ -232,6 +239,20 @@ mod tests {
                 outcome: Outcome::Success
             }]
         );
+    }
+
+    /// A retracted constraint's course of action stops: the drive under way still reports,
+    /// nothing more is commanded, and nothing ends.
+    #[test]
+    fn a_retracted_constraint_commands_nothing_more() {
+        let mut delegation = Delegation::new(&declaration(&[]));
+        assert_eq!(delegation.send(0, reach(3, 0)).len(), 1);
+        assert_eq!(delegation.cycle().len(), 1);
+        assert!(delegation.retract(0).is_empty());
+        for _ in 0..5 {
+            assert!(delegation.cycle().is_empty());
+        }
+        assert_eq!(delegation.rover().x, 2, "two drives, then none");
     }
 
     fn satisfied(delegation: &Delegation, constraint: Constraint) -> bool {

@@ -348,6 +348,13 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             },
             format!("{goal}: the controller of {sv} ended it {outcome}; {sv} = {value}"),
         ),
+        E::ConstraintWithdrawn { goal, sv, value } => (
+            "withdrawn",
+            format!(
+                "{goal}: retired while the controller of {sv} worked on it; its constraint is \
+                 withdrawn, no further command; {sv} = {value}"
+            ),
+        ),
         E::SubmissionRefused { by, goals, reason } => (
             "REFUSED",
             format!("{} submitted by `{by}`: {reason}", goals.join(", ")),

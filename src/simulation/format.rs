@@ -316,6 +316,8 @@ pub enum EventName {
     ControllerCommand,
     /// A controller ended a delegated goal's constraint.
     ConstraintEnded,
+    /// A retired delegated goal's constraint was withdrawn from its controller.
+    ConstraintWithdrawn,
     /// Firing a time point contradicted the temporal constraints.
     TemporalInconsistency,
     /// A scenario rule's submission was refused.
@@ -365,6 +367,7 @@ impl EventName {
             E::ConstraintSent { .. } => EventName::ConstraintSent,
             E::ControllerCommand { .. } => EventName::ControllerCommand,
             E::ConstraintEnded { .. } => EventName::ConstraintEnded,
+            E::ConstraintWithdrawn { .. } => EventName::ConstraintWithdrawn,
             E::TemporalInconsistency { .. } => EventName::TemporalInconsistency,
             E::SubmissionRefused { .. } => EventName::SubmissionRefused,
             E::TacticChosen { .. } => EventName::TacticChosen,

@@ -225,7 +225,7 @@
 //! missions `TimePointFired`, `TimePointForced`, `XGoalDispatched`, `MissionGoalFailed`,
 //! `TemporalInconsistency`, `SubmissionRefused`, `TacticChosen`, `TacticRejected`,
 //! `ResponseTaken`, `Promoted`, `PromotionFailed`, `Safing`, and for a goal delegated to a
-//! controller `ConstraintSent`, `ControllerCommand`, `ConstraintEnded`.
+//! controller `ConstraintSent`, `ControllerCommand`, `ConstraintEnded`, `ConstraintWithdrawn`.
 //!
 //! ## Missions
 //!

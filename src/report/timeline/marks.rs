@@ -325,7 +325,8 @@ impl Builder<'_, '_> {
             // is a `MissionGoalFailed`, drawn above.
             EventKind::ConstraintSent { .. }
             | EventKind::ControllerCommand { .. }
-            | EventKind::ConstraintEnded { .. } => self.omit("delegated-goal messages"),
+            | EventKind::ConstraintEnded { .. }
+            | EventKind::ConstraintWithdrawn { .. } => self.omit("delegated-goal messages"),
         }
     }
 
