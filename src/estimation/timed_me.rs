@@ -50,6 +50,12 @@ pub struct TimedMeOptions {
     /// the same belief bit for bit, else the step is expanded in full (`replay.rs`). On by
     /// default; off, every step is expanded in full (the tests compare the two).
     pub replay: bool,
+    /// Share the conflicts OPSAT learns between the sources' searches of a step, and between
+    /// steps with the same observation (`opsat::ConflictStore`): each source's OCSP assumes the
+    /// same observation, so a conflict one source paid a SAT call for prunes the others'
+    /// searches for free. On by default; off, each search learns its own (the tests compare the
+    /// two: the beliefs are the same bit for bit).
+    pub share_conflicts: bool,
 }
 
 impl TimedMeOptions {
@@ -61,6 +67,7 @@ impl TimedMeOptions {
             candidates_per_state: 4,
             budget: Budget::default(),
             replay: true,
+            share_conflicts: true,
         }
     }
 
@@ -75,6 +82,7 @@ impl TimedMeOptions {
                 budget: self.budget,
                 ..SearchOptions::default()
             },
+            share_conflicts: self.share_conflicts,
         }
     }
 }

@@ -31,6 +31,7 @@ use priority_queue::PriorityQueue;
 use rustc_hash::{FxHashMap, FxHasher};
 
 use super::ocsp::{Cut, Meter, Ocsp};
+use super::shared::ConflictStore;
 use super::theory::{Consistency, Literal, Theory};
 use crate::logic::VarId;
 
@@ -95,6 +96,8 @@ pub(crate) struct ComponentSearch {
     frontier: PriorityQueue<Node, Priority, FxBuildHasher>,
     created: u64,
     conflicts: Vec<Conflict>,
+    /// How many of the shared store's conflicts this search has read (see [`ConflictStore`]).
+    read: usize,
 }
 
 impl ComponentSearch {
@@ -112,6 +115,7 @@ impl ComponentSearch {
             frontier: PriorityQueue::with_default_hasher(),
             created: 0,
             conflicts: Vec::new(),
+            read: 0,
         };
         let root = Node(vec![Slot::From(0); search.members.len()].into_boxed_slice());
         search.push(ocsp, root);
@@ -124,12 +128,15 @@ impl ComponentSearch {
     }
 
     /// The next solution, cheapest first; `Ok(None)` when there are no more; `Err` when the
-    /// budget ran out (the search can be resumed with a new meter).
+    /// budget ran out (the search can be resumed with a new meter). With `shared` (a store for
+    /// the OCSP's own assumptions, used only with `use_conflicts`), the search reads the
+    /// conflicts other searches learned there and adds its own.
     pub(crate) fn next(
         &mut self,
         ocsp: &Ocsp,
         theory: &mut Theory,
         use_conflicts: bool,
+        mut shared: Option<&mut ConflictStore>,
         meter: &mut Meter,
     ) -> Result<Option<PartialSolution>, Cut> {
         loop {
@@ -137,6 +144,9 @@ impl ComponentSearch {
                 return Ok(None);
             }
             meter.charge_node()?;
+            if let Some(store) = shared.as_deref_mut() {
+                self.read_shared(ocsp, store);
+            }
             let Some((node, Reverse((cost, _)))) = self.frontier.pop() else {
                 return Ok(None);
             };
@@ -148,7 +158,8 @@ impl ComponentSearch {
             }
             meter.stats.consistency_checks += 1;
             let mut assumptions = ocsp.assumptions().to_vec();
-            assumptions.extend(self.literals(ocsp, &candidate));
+            let pairs = candidate.iter().copied().enumerate();
+            assumptions.extend(pairs.map(|pair| self.literal(ocsp, pair)));
             match theory.consistent(&assumptions) {
                 Consistency::Consistent => {
                     let whole: Conflict = candidate.iter().copied().enumerate().collect();
@@ -172,6 +183,11 @@ impl ComponentSearch {
                     self.split(ocsp, &node, &conflict);
                     if use_conflicts {
                         meter.stats.conflicts += 1;
+                        if let Some(store) = shared.as_deref_mut() {
+                            // Read up to here at the top of this pass: only this one is new.
+                            store.learn(conflict.iter().map(|&pair| self.literal(ocsp, pair)));
+                            self.read = store.len();
+                        }
                         self.conflicts.push(conflict);
                     }
                 }
@@ -185,15 +201,40 @@ impl ComponentSearch {
             .find(|k| k.iter().all(|&(p, c)| candidate[p] == c))
     }
 
-    fn literals<'a>(
-        &'a self,
-        ocsp: &'a Ocsp,
-        choices: &'a [u32],
-    ) -> impl Iterator<Item = Literal> + 'a {
-        self.members.iter().zip(choices).map(|(&d, &c)| {
-            let decision = &ocsp.decisions()[d];
-            Literal::Is(decision.var, decision.choices[c as usize].value)
-        })
+    /// Takes in the conflicts the store gained since the last call, each translated into this
+    /// search's (member position, choice) pairs; one naming a variable that is not a member, or
+    /// a value that is not among its choices, cannot be contained in any candidate here and is
+    /// left out.
+    fn read_shared(&mut self, ocsp: &Ocsp, store: &ConflictStore) {
+        for literals in store.since(self.read) {
+            let translated: Option<Conflict> = literals
+                .iter()
+                .map(|literal| self.pair_of(ocsp, *literal))
+                .collect();
+            if let Some(mut conflict) = translated {
+                conflict.sort_unstable();
+                conflict.dedup();
+                self.conflicts.push(conflict);
+            }
+        }
+        self.read = store.len();
+    }
+
+    /// The (member position, choice) pair stating `literal`, if it is one of this search's.
+    fn pair_of(&self, ocsp: &Ocsp, literal: Literal) -> Option<(usize, u32)> {
+        let Literal::Is(var, value) = literal else {
+            return None;
+        };
+        let &p = self.position.get(&var)?;
+        let choices = &ocsp.decisions()[self.members[p]].choices;
+        let c = choices.iter().position(|c| c.value == value)?;
+        Some((p, c as u32))
+    }
+
+    /// The literal stating that member `p` takes its choice `c`.
+    fn literal(&self, ocsp: &Ocsp, (p, c): (usize, u32)) -> Literal {
+        let decision = &ocsp.decisions()[self.members[p]];
+        Literal::Is(decision.var, decision.choices[c as usize].value)
     }
 
     /// The theory's conflict restricted to the candidate's own assignments. The per-problem
@@ -208,12 +249,7 @@ impl ComponentSearch {
         let mut conflict: Conflict = literals
             .iter()
             .filter_map(|literal| {
-                let Literal::Is(var, value) = *literal else {
-                    return None;
-                };
-                let &p = self.position.get(&var)?;
-                let choices = &ocsp.decisions()[self.members[p]].choices;
-                let c = choices.iter().position(|c| c.value == value)? as u32;
+                let (p, c) = self.pair_of(ocsp, *literal)?;
                 (candidate[p] == c).then_some((p, c))
             })
             .collect();
