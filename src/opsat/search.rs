@@ -23,11 +23,30 @@
 //!
 //! Each node is popped at its exact least cost, so solutions come out cheapest first; a conflict
 //! prunes every assignment containing it without testing them one by one.
+//!
+//! # Order
+//! Assignments are ordered by cost, then by their choice indices compared colexicographically
+//! (the last member first), and the frontier pops the node whose best completion is first in
+//! that order. That best completion is the node's first assignment: every other one takes, in
+//! each slot, a choice at or after the slot's index, so it costs at least as much (choices are
+//! sorted by cost, and a floating-point sum in a fixed order is monotone in each term) and, at
+//! equal cost, comes later in any order that compares indices position by position. The
+//! frontier's nodes partition the assignments not yet returned or refuted, so each pop is at
+//! the first of those, and the feasible ones come out in exactly this order: the sequence of
+//! solutions is a function of the OCSP alone — not of which conflicts are known, which core the
+//! SAT solver returned or what it had learned before. Conflicts shared between searches
+//! (`shared.rs`) and the theory's propagation fast path rely on this.
+//!
+//! Ties used to follow node creation order, which depends on the conflict tree. Colexicographic
+//! is the order a split creates its children in (child `j` raises the `j`-th free member of the
+//! conflict, leaving the later ones at their indices), so it is the order ties came out in on
+//! every shipped model measured: the Mars EDL's beliefs and traces are byte-identical to those
+//! of the creation order (BENCHMARKS.md, "conflicts shared across sources").
 
 use std::cmp::{Ordering, Reverse};
+use std::collections::BinaryHeap;
 use std::hash::BuildHasherDefault;
 
-use priority_queue::PriorityQueue;
 use rustc_hash::{FxHashMap, FxHasher};
 
 use super::ocsp::{Cut, Meter, Ocsp};
@@ -53,14 +72,14 @@ impl Ord for Cost {
     }
 }
 
-/// Frontier priority: cheapest first, then first created (deterministic ties).
+/// The merge frontier's priority: cheapest first, then first created (deterministic ties).
 pub(crate) type Priority = Reverse<(Cost, u64)>;
 
-/// The frontiers' hasher: nodes are hashed on every push and pop, and SipHash was a tenth of a
-/// busy estimation step on a breaker tree (the order of pops does not depend on it).
+/// The merge frontier's hasher: entries are hashed on every push and pop, and SipHash was a
+/// tenth of a busy estimation step on a breaker tree (the order of pops does not depend on it).
 pub(crate) type FxBuildHasher = BuildHasherDefault<FxHasher>;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Slot {
     Fixed(u32),
     From(u32),
@@ -75,8 +94,47 @@ impl Slot {
 }
 
 /// A set of assignments (see the module documentation).
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone)]
 struct Node(Box<[Slot]>);
+
+/// A node in the frontier with the cost of its best completion, ordered so that the heap's
+/// greatest is the first in the search's order (see "Order" in the module documentation).
+#[derive(Debug)]
+struct Queued {
+    cost: Cost,
+    node: Node,
+}
+
+impl Queued {
+    /// The node's best completion: compared from the back, its place among nodes of equal cost.
+    fn completion(&self) -> impl DoubleEndedIterator<Item = u32> + '_ {
+        self.node.0.iter().map(|s| s.choice())
+    }
+}
+
+impl Ord for Queued {
+    fn cmp(&self, other: &Self) -> Ordering {
+        // Reversed: the cheapest, then colexicographically first, is the greatest.
+        other
+            .cost
+            .cmp(&self.cost)
+            .then_with(|| other.completion().rev().cmp(self.completion().rev()))
+    }
+}
+
+impl PartialOrd for Queued {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for Queued {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Queued {}
 
 /// A conflict over this sub-problem: (member position, choice index) pairs, sorted.
 type Conflict = Vec<(usize, u32)>;
@@ -93,8 +151,7 @@ pub(crate) struct ComponentSearch {
     /// Indices into the OCSP's decisions.
     members: Vec<usize>,
     position: FxHashMap<VarId, usize>,
-    frontier: PriorityQueue<Node, Priority, FxBuildHasher>,
-    created: u64,
+    frontier: BinaryHeap<Queued>,
     conflicts: Vec<Conflict>,
     /// How many of the shared store's conflicts this search has read (see [`ConflictStore`]).
     read: usize,
@@ -112,8 +169,7 @@ impl ComponentSearch {
         let mut search = ComponentSearch {
             members,
             position,
-            frontier: PriorityQueue::with_default_hasher(),
-            created: 0,
+            frontier: BinaryHeap::new(),
             conflicts: Vec::new(),
             read: 0,
         };
@@ -147,7 +203,7 @@ impl ComponentSearch {
             if let Some(store) = shared.as_deref_mut() {
                 self.read_shared(ocsp, store);
             }
-            let Some((node, Reverse((cost, _)))) = self.frontier.pop() else {
+            let Some(Queued { cost, node }) = self.frontier.pop() else {
                 return Ok(None);
             };
             let candidate: Vec<u32> = node.0.iter().map(|s| s.choice()).collect();
@@ -281,8 +337,9 @@ impl ComponentSearch {
                 None => return,
             }
         }
-        self.created += 1;
-        self.frontier
-            .push(node, Reverse((Cost(cost), self.created)));
+        self.frontier.push(Queued {
+            cost: Cost(cost),
+            node,
+        });
     }
 }

@@ -15,8 +15,8 @@
 //! a candidate there and is skipped. An applicable `K` is a conflict of that search's OCSP, so
 //! pruning with it removes only inconsistent assignments: each search still enumerates exactly
 //! the feasible assignments of its OCSP, each once (`search.rs`), cheapest first. Solutions come
-//! out in a canonical order — cost, then the assignment's choice indices compared
-//! lexicographically — that the conflicts known cannot change (`search.rs`, "Order"), so every
+//! out in a canonical order — cost, then the assignment's choice indices compared from the last
+//! member back — that the conflicts known cannot change (`search.rs`, "Order"), so every
 //! search's sequence of solutions, and therefore everything computed from it (the merge, the
 //! κ cut, the belief), is the same with and without sharing, bit for bit.
 
