@@ -102,23 +102,32 @@ struct Node(Box<[Slot]>);
 #[derive(Debug)]
 struct Queued {
     cost: Cost,
+    /// One past the last member whose best-completion choice is not its cheapest (0 if none):
+    /// most ties between nodes are told apart by it alone, without scanning both completions.
+    last: usize,
     node: Node,
 }
 
 impl Queued {
-    /// The node's best completion: compared from the back, its place among nodes of equal cost.
-    fn completion(&self) -> impl DoubleEndedIterator<Item = u32> + '_ {
-        self.node.0.iter().map(|s| s.choice())
+    /// Colexicographic comparison of the two nodes' best completions. Past `last` a completion
+    /// is all zeros, so the one whose `last` is greater is the later; at equal `last` the
+    /// choices below it decide, compared from the back.
+    fn colex(&self, other: &Self) -> Ordering {
+        self.last
+            .cmp(&other.last)
+            .then_with(|| self.below_last().cmp(other.below_last()))
+    }
+
+    /// The best completion's choices below `last`, from the back.
+    fn below_last(&self) -> impl Iterator<Item = u32> + '_ {
+        self.node.0[..self.last].iter().rev().map(|s| s.choice())
     }
 }
 
 impl Ord for Queued {
     fn cmp(&self, other: &Self) -> Ordering {
         // Reversed: the cheapest, then colexicographically first, is the greatest.
-        other
-            .cost
-            .cmp(&self.cost)
-            .then_with(|| other.completion().rev().cmp(self.completion().rev()))
+        other.cost.cmp(&self.cost).then_with(|| other.colex(self))
     }
 }
 
@@ -174,7 +183,14 @@ impl ComponentSearch {
             read: 0,
         };
         let root = Node(vec![Slot::From(0); search.members.len()].into_boxed_slice());
-        search.push(ocsp, root);
+        let cheapest = std::iter::repeat(0);
+        if let Some(cost) = search.sum_from(ocsp, 0, 0.0, cheapest) {
+            search.frontier.push(Queued {
+                cost: Cost(cost),
+                last: 0,
+                node: root,
+            });
+        }
         search
     }
 
@@ -203,13 +219,13 @@ impl ComponentSearch {
             if let Some(store) = shared.as_deref_mut() {
                 self.read_shared(ocsp, store);
             }
-            let Some(Queued { cost, node }) = self.frontier.pop() else {
+            let Some(Queued { cost, last, node }) = self.frontier.pop() else {
                 return Ok(None);
             };
             let candidate: Vec<u32> = node.0.iter().map(|s| s.choice()).collect();
             if let Some(known) = self.known_conflict(&candidate) {
                 let known = known.clone();
-                self.split(ocsp, &node, &known);
+                self.split(ocsp, (&node, last), &candidate, &known);
                 continue;
             }
             meter.stats.consistency_checks += 1;
@@ -219,7 +235,7 @@ impl ComponentSearch {
             match theory.consistent(&assumptions) {
                 Consistency::Consistent => {
                     let whole: Conflict = candidate.iter().copied().enumerate().collect();
-                    self.split(ocsp, &node, &whole);
+                    self.split(ocsp, (&node, last), &candidate, &whole);
                     return Ok(Some(PartialSolution {
                         choices: candidate,
                         cost: cost.0,
@@ -236,7 +252,7 @@ impl ComponentSearch {
                         self.frontier.clear();
                         return Ok(None);
                     }
-                    self.split(ocsp, &node, &conflict);
+                    self.split(ocsp, (&node, last), &candidate, &conflict);
                     if use_conflicts {
                         meter.stats.conflicts += 1;
                         if let Some(store) = shared.as_deref_mut() {
@@ -314,32 +330,57 @@ impl ComponentSearch {
         conflict
     }
 
-    /// Replaces `node` by the children that hold its assignments not containing `conflict`
-    /// (systematic expansion over the constituent kernels; see the module documentation).
-    fn split(&mut self, ocsp: &Ocsp, node: &Node, conflict: &Conflict) {
+    /// Replaces `node` (whose best completion is `candidate`, and [`Queued::last`] `last`) by
+    /// the children that hold its assignments not containing `conflict` (systematic expansion
+    /// over the constituent kernels; see the module documentation). Child `j`'s best completion
+    /// is `candidate` with the `j`-th free member of the conflict raised by one, so its cost is
+    /// the candidate's members before that one, summed once for all children, then the rest:
+    /// the same additions in the same order as a sum over all members, so the same bits.
+    fn split(
+        &mut self,
+        ocsp: &Ocsp,
+        (node, last): (&Node, usize),
+        candidate: &[u32],
+        conflict: &Conflict,
+    ) {
         let mut prefix = node.0.clone();
+        let (mut at, mut before) = (0, 0.0);
         for &(p, c) in conflict {
             if let Slot::From(_) = node.0[p] {
-                let mut child = prefix.clone();
-                child[p] = Slot::From(c + 1);
-                self.push(ocsp, Node(child));
+                // Every choice of the candidate exists: it was a node's best completion.
+                before = self
+                    .sum_from(ocsp, at, before, candidate[at..p].iter().copied())
+                    .unwrap_or(f64::INFINITY);
+                at = p;
+                let rest = std::iter::once(c + 1).chain(candidate[p + 1..].iter().copied());
+                // A member with no choice left makes the child empty: it is not queued.
+                if let Some(cost) = self.sum_from(ocsp, p, before, rest) {
+                    let mut child = prefix.clone();
+                    child[p] = Slot::From(c + 1);
+                    self.frontier.push(Queued {
+                        cost: Cost(cost),
+                        last: last.max(p + 1),
+                        node: Node(child),
+                    });
+                }
                 prefix[p] = Slot::Fixed(c);
             }
         }
     }
 
-    /// Adds a node to the frontier unless it is empty (some slot has no choice left).
-    fn push(&mut self, ocsp: &Ocsp, node: Node) {
-        let mut cost = 0.0;
-        for (&d, slot) in self.members.iter().zip(node.0.iter()) {
-            match ocsp.decisions()[d].choices.get(slot.choice() as usize) {
-                Some(choice) => cost += choice.cost,
-                None => return,
-            }
+    /// `start` plus the costs of `choices` (indices) of the members from `from` on, added in
+    /// member order; `None` if a member has no such choice.
+    fn sum_from(
+        &self,
+        ocsp: &Ocsp,
+        from: usize,
+        start: f64,
+        choices: impl Iterator<Item = u32>,
+    ) -> Option<f64> {
+        let mut cost = start;
+        for (&d, c) in self.members[from..].iter().zip(choices) {
+            cost += ocsp.decisions()[d].choices.get(c as usize)?.cost;
         }
-        self.frontier.push(Queued {
-            cost: Cost(cost),
-            node,
-        });
+        Some(cost)
     }
 }
