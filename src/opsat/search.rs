@@ -232,7 +232,7 @@ impl ComponentSearch {
             let mut assumptions = ocsp.assumptions().to_vec();
             let pairs = candidate.iter().copied().enumerate();
             assumptions.extend(pairs.map(|pair| self.literal(ocsp, pair)));
-            match theory.consistent(&assumptions) {
+            match theory.search_conflict(&assumptions) {
                 Consistency::Consistent => {
                     let whole: Conflict = candidate.iter().copied().enumerate().collect();
                     self.split(ocsp, (&node, last), &candidate, &whole);
