@@ -22,7 +22,9 @@
 //! cheapest remaining ones, which is why `From(i)` (a prefix excluded) suffices.
 //!
 //! Each node is popped at its exact least cost, so solutions come out cheapest first; a conflict
-//! prunes every assignment containing it without testing them one by one.
+//! prunes every assignment containing it without testing them one by one. A conflict of a
+//! single pair refutes that choice on its own: it is skipped in every node at once (a `From`
+//! slot moves past it) instead of being split off one node at a time.
 //!
 //! # Order
 //! Assignments are ordered by cost, then by their choice indices compared colexicographically
@@ -161,7 +163,12 @@ pub(crate) struct ComponentSearch {
     members: Vec<usize>,
     position: FxHashMap<VarId, usize>,
     frontier: BinaryHeap<Queued>,
+    /// Conflicts of two or more pairs.
     conflicts: Vec<Conflict>,
+    /// Per member, per choice: refuted on its own (a conflict of one pair). Such choices are
+    /// skipped outright ([`ComponentSearch::skip_refuted`]) rather than split off one pop at a
+    /// time: most conflicts a breaker tree's observation gives are of this kind.
+    refuted: Vec<Vec<bool>>,
     /// How many of the shared store's conflicts this search has read (see [`ConflictStore`]).
     read: usize,
 }
@@ -170,6 +177,7 @@ impl ComponentSearch {
     /// A search over the decisions `members` of `ocsp`, starting from the node of all
     /// assignments.
     pub(crate) fn new(ocsp: &Ocsp, members: Vec<usize>) -> Self {
+        let refuted = vec![Vec::new(); members.len()];
         let position = members
             .iter()
             .enumerate()
@@ -180,6 +188,7 @@ impl ComponentSearch {
             position,
             frontier: BinaryHeap::new(),
             conflicts: Vec::new(),
+            refuted,
             read: 0,
         };
         let root = Node(vec![Slot::From(0); search.members.len()].into_boxed_slice());
@@ -223,6 +232,10 @@ impl ComponentSearch {
                 return Ok(None);
             };
             let candidate: Vec<u32> = node.0.iter().map(|s| s.choice()).collect();
+            if self.takes_refuted(&candidate) {
+                self.skip_refuted(ocsp, &node);
+                continue;
+            }
             if let Some(known) = self.known_conflict(&candidate) {
                 let known = known.clone();
                 self.split(ocsp, (&node, last), &candidate, &known);
@@ -260,7 +273,7 @@ impl ComponentSearch {
                             store.learn(conflict.iter().map(|&pair| self.literal(ocsp, pair)));
                             self.read = store.len();
                         }
-                        self.conflicts.push(conflict);
+                        self.learn(ocsp, conflict);
                     }
                 }
             }
@@ -286,10 +299,68 @@ impl ComponentSearch {
             if let Some(mut conflict) = translated {
                 conflict.sort_unstable();
                 conflict.dedup();
-                self.conflicts.push(conflict);
+                self.learn(ocsp, conflict);
             }
         }
         self.read = store.len();
+    }
+
+    /// Remembers a conflict: a single pair as a refuted choice, a longer one in the list.
+    fn learn(&mut self, ocsp: &Ocsp, conflict: Conflict) {
+        if let [(p, c)] = conflict[..] {
+            let refuted = &mut self.refuted[p];
+            if refuted.is_empty() {
+                refuted.resize(ocsp.decisions()[self.members[p]].choices.len(), false);
+            }
+            refuted[c as usize] = true;
+        } else {
+            self.conflicts.push(conflict);
+        }
+    }
+
+    /// Whether an assignment takes a choice refuted on its own.
+    fn takes_refuted(&self, choices: &[u32]) -> bool {
+        choices
+            .iter()
+            .zip(&self.refuted)
+            .any(|(&c, refuted)| refuted.get(c as usize) == Some(&true))
+    }
+
+    /// The first choice of member `p` at or after `i` not refuted on its own (past the last
+    /// choice if none is left).
+    fn unrefuted_from(&self, p: usize, i: u32) -> u32 {
+        let refuted = &self.refuted[p];
+        (i..)
+            .find(|&j| refuted.get(j as usize) != Some(&true))
+            .unwrap_or(i)
+    }
+
+    /// Puts `node` back without the choices refuted on its own: each `From` slot moved past
+    /// them — the same assignments less infeasible ones, at its new best completion's cost
+    /// (never below the old: choices only move to dearer ones). A `Fixed` slot on a refuted
+    /// choice, or a slot with no choice left, leaves nothing.
+    fn skip_refuted(&mut self, ocsp: &Ocsp, node: &Node) {
+        let mut slots = node.0.clone();
+        for (p, slot) in slots.iter_mut().enumerate() {
+            match *slot {
+                Slot::Fixed(c) if self.refuted[p].get(c as usize) == Some(&true) => return,
+                Slot::Fixed(_) => {}
+                Slot::From(i) => *slot = Slot::From(self.unrefuted_from(p, i)),
+            }
+        }
+        let completion = slots.iter().map(|s| s.choice());
+        let Some(cost) = self.sum_from(ocsp, 0, 0.0, completion) else {
+            return;
+        };
+        let last = slots
+            .iter()
+            .rposition(|s| s.choice() > 0)
+            .map_or(0, |p| p + 1);
+        self.frontier.push(Queued {
+            cost: Cost(cost),
+            last,
+            node: Node(slots),
+        });
     }
 
     /// The (member position, choice) pair stating `literal`, if it is one of this search's.
@@ -332,8 +403,9 @@ impl ComponentSearch {
 
     /// Replaces `node` (whose best completion is `candidate`, and [`Queued::last`] `last`) by
     /// the children that hold its assignments not containing `conflict` (systematic expansion
-    /// over the constituent kernels; see the module documentation). Child `j`'s best completion
-    /// is `candidate` with the `j`-th free member of the conflict raised by one, so its cost is
+    /// over the constituent kernels; see the module documentation), less choices refuted on
+    /// their own. Child `j`'s best completion is `candidate` with the `j`-th free member of the
+    /// conflict raised (to its next choice not refuted on its own), so its cost is
     /// the candidate's members before that one, summed once for all children, then the rest:
     /// the same additions in the same order as a sum over all members, so the same bits.
     fn split(
@@ -352,11 +424,12 @@ impl ComponentSearch {
                     .sum_from(ocsp, at, before, candidate[at..p].iter().copied())
                     .unwrap_or(f64::INFINITY);
                 at = p;
-                let rest = std::iter::once(c + 1).chain(candidate[p + 1..].iter().copied());
+                let raised = self.unrefuted_from(p, c + 1);
+                let rest = std::iter::once(raised).chain(candidate[p + 1..].iter().copied());
                 // A member with no choice left makes the child empty: it is not queued.
                 if let Some(cost) = self.sum_from(ocsp, p, before, rest) {
                     let mut child = prefix.clone();
-                    child[p] = Slot::From(c + 1);
+                    child[p] = Slot::From(raised);
                     self.frontier.push(Queued {
                         cost: Cost(cost),
                         last: last.max(p + 1),
