@@ -227,6 +227,7 @@ impl Propagator {
         for &lit in &assumptions[common..] {
             self.closure_assumptions.push(lit);
             let head = self.trail.len();
+            self.grow(lit);
             let holds = if self.assign(lit, Reason::Assumed) {
                 self.propagate(head)
             } else {
@@ -315,12 +316,14 @@ impl Propagator {
     /// [`Propagator::undo`] to the previous [`Propagator::mark`] takes it back.
     pub(crate) fn extend(&mut self, lit: SatLit) -> bool {
         let head = self.trail.len();
+        self.grow(lit);
         self.assign(lit, Reason::Assumed) && self.propagate(head)
     }
 
-    /// Makes `lit` true for `reason`; false if it is already false.
+    /// Makes `lit` true for `reason`; false if it is already false. Its variable has room: it is
+    /// in a clause, or an assumption (grown for by the caller: this runs for every literal
+    /// propagated, and checking there was 7 % of a breaker tree's busy step).
     fn assign(&mut self, lit: SatLit, reason: Reason) -> bool {
-        self.grow(lit);
         match self.value(lit) {
             Value::True => true,
             Value::False => false,
