@@ -37,13 +37,17 @@
 //! the first of those, and the feasible ones come out in exactly this order: the sequence of
 //! solutions is a function of the OCSP alone — not of which conflicts are known, which core the
 //! SAT solver returned or what it had learned before. Conflicts shared between searches
-//! (`shared.rs`) and the theory's propagation fast path rely on this.
+//! (`shared.rs`), conflicts read off unit propagation (`Theory::search_conflict`) and choices
+//! refuted on their own (skipped, which only removes infeasible assignments and re-queues a
+//! node at a cost no lower than it was popped at) rely on this.
 //!
 //! Ties used to follow node creation order, which depends on the conflict tree. Colexicographic
 //! is the order a split creates its children in (child `j` raises the `j`-th free member of the
 //! conflict, leaving the later ones at their indices), so it is the order ties came out in on
-//! every shipped model measured: the Mars EDL's beliefs and traces are byte-identical to those
-//! of the creation order (BENCHMARKS.md, "conflicts shared across sources").
+//! the Mars EDL: its beliefs and traces are byte-identical to those of the creation order
+//! (BENCHMARKS.md, "conflicts shared across sources"). Where a cut falls inside a group of
+//! ties, another member of the group may now be returned (`kairos solve` on the full adder
+//! with `-k 5`, ARCHITECTURE.md).
 
 use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
