@@ -198,6 +198,24 @@ proptest! {
         }
     }
 
+    /// Negative costs (goal interpretation's −reward) too: the search then sums every child's
+    /// cost when it creates it rather than queueing it at a partial sum, which bounds it from
+    /// below only when no cost is negative (src/opsat/search.rs, "Order").
+    #[test]
+    fn negative_costs_equal_brute_force(problem in random_ocsp(8, 3, 10)) {
+        let mut problem = problem;
+        for costs in &mut problem.decision_costs {
+            for cost in costs.iter_mut() {
+                *cost -= 3.0;
+            }
+        }
+        let expected = problem.brute_force();
+        let (mut theory, ocsp) = problem.build(TheoryOptions::default());
+        let found = ocsp.best_with(&mut theory, usize::MAX, SearchOptions::default());
+        prop_assert_eq!(found.solutions.len(), expected.len());
+        assert_prefix_up_to_ties(&found.solutions, &expected);
+    }
+
     /// Per-problem assumptions — on decision variables too — restrict the solutions exactly as
     /// the same literals would as constraints.
     #[test]

@@ -41,6 +41,13 @@
 //! refuted on their own (skipped, which only removes infeasible assignments and re-queues a
 //! node at a cost no lower than it was popped at) rely on this.
 //!
+//! When every cost is non-negative (estimation's −ln p), a child enters the frontier at a lower
+//! bound: its own partial sum through the member it raises (the rest only adds non-negative
+//! terms, and a floating-point sum never decreases by adding one). Its cost is summed when it
+//! reaches the front, and it re-enters at that cost; a node popped at its exact cost is still
+//! first, since every other node's exact place is at or after its queued one. Most children of
+//! a solution's split raise a member to a fault far dearer than the front and are never summed.
+//!
 //! Ties used to follow node creation order, which depends on the conflict tree. Colexicographic
 //! is the order a split creates its children in (child `j` raises the `j`-th free member of the
 //! conflict, leaving the later ones at their indices), so it is the order ties came out in on
@@ -107,7 +114,10 @@ struct Node(Box<[Slot]>);
 /// greatest is the first in the search's order (see "Order" in the module documentation).
 #[derive(Debug)]
 struct Queued {
+    /// The cost of the node's best completion when `exact`; otherwise a lower bound on it
+    /// (see "Order").
     cost: Cost,
+    exact: bool,
     /// One past the last member whose best-completion choice is not its cheapest (0 if none):
     /// most ties between nodes are told apart by it alone, without scanning both completions.
     last: usize,
@@ -175,6 +185,9 @@ pub(crate) struct ComponentSearch {
     refuted: Vec<Vec<bool>>,
     /// How many of the shared store's conflicts this search has read (see [`ConflictStore`]).
     read: usize,
+    /// Every choice of every member costs at least zero (true of estimation's −ln p), so a
+    /// partial sum bounds every completion of it from below (see "Order").
+    nonnegative: bool,
 }
 
 impl ComponentSearch {
@@ -182,6 +195,9 @@ impl ComponentSearch {
     /// assignments.
     pub(crate) fn new(ocsp: &Ocsp, members: Vec<usize>) -> Self {
         let refuted = vec![Vec::new(); members.len()];
+        let nonnegative = members
+            .iter()
+            .all(|&d| ocsp.decisions()[d].choices.iter().all(|c| c.cost >= 0.0));
         let position = members
             .iter()
             .enumerate()
@@ -194,12 +210,14 @@ impl ComponentSearch {
             conflicts: Vec::new(),
             refuted,
             read: 0,
+            nonnegative,
         };
         let root = Node(vec![Slot::From(0); search.members.len()].into_boxed_slice());
         let cheapest = std::iter::repeat(0);
         if let Some(cost) = search.sum_from(ocsp, 0, 0.0, cheapest) {
             search.frontier.push(Queued {
                 cost: Cost(cost),
+                exact: true,
                 last: 0,
                 node: root,
             });
@@ -225,14 +243,21 @@ impl ComponentSearch {
         meter: &mut Meter,
     ) -> Result<Option<PartialSolution>, Cut> {
         loop {
-            if self.frontier.is_empty() {
+            let Some(front) = self.frontier.peek() else {
                 return Ok(None);
+            };
+            if !front.exact {
+                self.cost_front(ocsp);
+                continue;
             }
             meter.charge_node()?;
             if let Some(store) = shared.as_deref_mut() {
                 self.read_shared(ocsp, store);
             }
-            let Some(Queued { cost, last, node }) = self.frontier.pop() else {
+            let Some(Queued {
+                cost, last, node, ..
+            }) = self.frontier.pop()
+            else {
                 return Ok(None);
             };
             let candidate: Vec<u32> = node.0.iter().map(|s| s.choice()).collect();
@@ -362,6 +387,7 @@ impl ComponentSearch {
             .map_or(0, |p| p + 1);
         self.frontier.push(Queued {
             cost: Cost(cost),
+            exact: true,
             last,
             node: Node(slots),
         });
@@ -411,7 +437,9 @@ impl ComponentSearch {
     /// their own. Child `j`'s best completion is `candidate` with the `j`-th free member of the
     /// conflict raised (to its next choice not refuted on its own), so its cost is
     /// the candidate's members before that one, summed once for all children, then the rest:
-    /// the same additions in the same order as a sum over all members, so the same bits.
+    /// the same additions in the same order as a sum over all members, so the same bits. With
+    /// non-negative costs only the part through the raised member is summed here, a lower
+    /// bound ([`ComponentSearch::cost_front`] finishes it if the child reaches the front).
     fn split(
         &mut self,
         ocsp: &Ocsp,
@@ -429,19 +457,46 @@ impl ComponentSearch {
                     .unwrap_or(f64::INFINITY);
                 at = p;
                 let raised = self.unrefuted_from(p, c + 1);
-                let rest = std::iter::once(raised).chain(candidate[p + 1..].iter().copied());
                 // A member with no choice left makes the child empty: it is not queued.
-                if let Some(cost) = self.sum_from(ocsp, p, before, rest) {
-                    let mut child = prefix.clone();
-                    child[p] = Slot::From(raised);
-                    self.frontier.push(Queued {
-                        cost: Cost(cost),
-                        last: last.max(p + 1),
-                        node: Node(child),
-                    });
-                }
+                let Some(choice) = ocsp.decisions()[self.members[p]]
+                    .choices
+                    .get(raised as usize)
+                else {
+                    prefix[p] = Slot::Fixed(c);
+                    continue;
+                };
+                let (cost, exact) = if self.nonnegative {
+                    // The child's own partial sum through its raised member: the rest only
+                    // adds non-negative terms, which never lowers a floating-point sum.
+                    (before + choice.cost, false)
+                } else {
+                    let rest = std::iter::once(raised).chain(candidate[p + 1..].iter().copied());
+                    let cost = self.sum_from(ocsp, p, before, rest);
+                    (cost.unwrap_or(f64::INFINITY), true)
+                };
+                let mut child = prefix.clone();
+                child[p] = Slot::From(raised);
+                self.frontier.push(Queued {
+                    cost: Cost(cost),
+                    exact,
+                    last: last.max(p + 1),
+                    node: Node(child),
+                });
                 prefix[p] = Slot::Fixed(c);
             }
+        }
+    }
+
+    /// Replaces the front node, queued at a lower bound, by itself at its exact cost: its best
+    /// completion's costs summed in member order from 0.0, the sum every node's cost is.
+    fn cost_front(&mut self, ocsp: &Ocsp) {
+        if let Some(mut front) = self.frontier.pop() {
+            let completion = front.node.0.iter().map(|s| s.choice());
+            // Every slot has its choice: empty children are never queued.
+            let cost = self.sum_from(ocsp, 0, 0.0, completion);
+            front.cost = Cost(cost.unwrap_or(f64::INFINITY));
+            front.exact = true;
+            self.frontier.push(front);
         }
     }
 
