@@ -14,6 +14,12 @@
 //! (`TimedMeOptions::replay`) must give bit-for-bit the same beliefs too, and quiet cycles must
 //! actually be replayed (`UpdateStats::replayed`).
 //!
+//! Conflicts learned by one source's OPSAT search are shared with the other sources' searches
+//! under the same observation (issue 15 direction 2; `src/opsat/shared.rs`): they prune only
+//! inconsistent assignments, and OPSAT returns equal-cost solutions in a canonical order
+//! (`src/opsat/search.rs`, "Order"), so TimedME with sharing on and off
+//! (`TimedMeOptions::share_conflicts`) must give bit-for-bit the same beliefs as well.
+//!
 //! `KAIROS_CASES=N` changes the number of random plants; `KAIROS_PROPTEST_SEED=random` explores.
 
 mod support;
@@ -52,36 +58,48 @@ fn exactly(belief: &Belief) -> Vec<(u64, Vec<u32>, Vec<Option<u64>>)> {
         .collect()
 }
 
-/// How TimedME is run: the theory's propagation fast path, and replaying quiet steps.
+/// How TimedME is run: the theory's propagation fast path, replaying quiet steps, and sharing
+/// conflicts between the sources' searches.
 #[derive(Clone, Copy)]
 struct Setting {
     propagation: bool,
     replay: bool,
+    share: bool,
 }
 
 const REFERENCE: Setting = Setting {
     propagation: true,
     replay: true,
+    share: true,
 };
 const NO_PROPAGATION: Setting = Setting {
     propagation: false,
-    replay: true,
+    ..REFERENCE
 };
 const NO_REPLAY: Setting = Setting {
-    propagation: true,
     replay: false,
+    ..REFERENCE
 };
+const NO_SHARING: Setting = Setting {
+    share: false,
+    ..REFERENCE
+};
+
+/// TimedME at κ as `setting` says.
+fn estimator(kappa: usize, setting: Setting) -> TimedMe {
+    TimedMe::new(TimedMeOptions {
+        replay: setting.replay,
+        share_conflicts: setting.share,
+        ..TimedMeOptions::kappa(kappa)
+    })
+}
 
 /// Every belief of a TimedME replay of `records` (the initial one first), and how many steps
 /// were replayed.
 fn beliefs(plant: &Plant, records: &[LogRecord], setting: Setting) -> (Vec<Belief>, usize) {
     let mut theory = plant.theory().expect("theory");
     theory.set_propagation(setting.propagation);
-    let options = TimedMeOptions {
-        replay: setting.replay,
-        ..TimedMeOptions::kappa(10)
-    };
-    let mut estimator = TimedMe::new(options);
+    let mut estimator = estimator(10, setting);
     let updates = replay(plant, &mut theory, &mut estimator, records).expect("replays");
     assert!(
         setting.propagation || theory.stats().propagated == 0,
@@ -103,7 +121,7 @@ fn first_difference(plant: &Plant, records: &[LogRecord], other: Setting) -> Opt
 }
 
 #[test]
-fn the_breaker_tree_is_estimated_identically_with_and_without_propagation_and_replay() {
+fn the_breaker_tree_is_estimated_identically_with_and_without_propagation_replay_and_sharing() {
     let plant = Plant::load(&Source::new(
         "breakers_15.ron",
         breakers::breaker_tree_ron(15),
@@ -113,10 +131,11 @@ fn the_breaker_tree_is_estimated_identically_with_and_without_propagation_and_re
     let records = parse_log(&log, &plant).expect("parses");
     assert_eq!(first_difference(&plant, &records, NO_PROPAGATION), None);
     assert_eq!(first_difference(&plant, &records, NO_REPLAY), None);
+    assert_eq!(first_difference(&plant, &records, NO_SHARING), None);
 }
 
 #[test]
-fn the_mars_edl_events_are_estimated_identically_with_and_without_propagation_and_replay() {
+fn the_mars_edl_events_are_estimated_identically_with_and_without_propagation_replay_and_sharing() {
     // The nominal EDL on a 600 s grid, with every command and observation change (the
     // `events` case of `examples/me_profile.rs`, where the busy cycles are), up to the entry.
     let plant = model("mars_lander");
@@ -126,6 +145,7 @@ fn the_mars_edl_events_are_estimated_identically_with_and_without_propagation_an
     assert!(records.len() > 30, "{} records", records.len());
     assert_eq!(first_difference(&plant, &records, NO_PROPAGATION), None);
     assert_eq!(first_difference(&plant, &records, NO_REPLAY), None);
+    assert_eq!(first_difference(&plant, &records, NO_SHARING), None);
 }
 
 /// The EDL replayed on a 600 s grid up to `from` s, then `steps` cycles of 0.1 s.
@@ -172,7 +192,7 @@ proptest! {
 
     /// Random plants and runs (`tests/support/random_plant.rs`): the same beliefs, bit for bit.
     #[test]
-    fn random_plants_are_estimated_identically_with_and_without_propagation_and_replay(
+    fn random_plants_are_estimated_identically_with_and_without_propagation_replay_and_sharing(
         spec in random_plant(4),
         run in random_run(4, 12),
     ) {
@@ -183,14 +203,10 @@ proptest! {
         reference.set_propagation(false);
         let (first, cycles) = run.simulate(&plant, &mut reference);
         let mut beliefs: Vec<Vec<Belief>> = Vec::new();
-        for setting in [REFERENCE, NO_PROPAGATION, NO_REPLAY] {
+        for setting in [REFERENCE, NO_PROPAGATION, NO_REPLAY, NO_SHARING] {
             let mut theory = plant.theory().expect("theory");
             theory.set_propagation(setting.propagation);
-            let options = TimedMeOptions {
-                replay: setting.replay,
-                ..TimedMeOptions::kappa(4)
-            };
-            let mut estimator = TimedMe::new(options);
+            let mut estimator = estimator(4, setting);
             let mut update = estimator
                 .initial(&plant, &mut theory, 0.0, &first)
                 .expect("initial");

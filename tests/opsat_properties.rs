@@ -7,7 +7,8 @@ mod support;
 mod seeded;
 use kairos::logic::{Formula, ValueId, VarId};
 use kairos::opsat::{
-    Budget, Consistency, Literal, SatBackend, SearchOptions, Solution, TheoryOptions,
+    Budget, ConflictStore, Consistency, Literal, Ocsp, SatBackend, SearchOptions, Solution,
+    TheoryOptions,
 };
 use proptest::prelude::*;
 use support::random_ocsp::{RandomOcsp, random_ocsp, random_ocsp_with_assumptions};
@@ -111,8 +112,76 @@ fn brute_consistent(problem: &RandomOcsp, literals: &[Literal]) -> bool {
     }
 }
 
+/// `ocsp` with each decision's choices narrowed to those `keep` marks (cycled over the
+/// decisions' choices in order; a decision left with none keeps its cheapest), same
+/// assumptions: another source's OCSP under the same observation, as TimedME asks.
+fn narrowed(ocsp: &Ocsp, keep: &[bool]) -> Ocsp {
+    let mut marks = keep.iter().cycle();
+    let mut out = Ocsp::new();
+    for decision in ocsp.decisions() {
+        let mut kept: Vec<(ValueId, f64)> = decision
+            .choices
+            .iter()
+            .filter(|_| *marks.next().unwrap_or(&true))
+            .map(|c| (c.value, c.cost))
+            .collect();
+        if kept.is_empty() {
+            kept.extend(decision.choices.first().map(|c| (c.value, c.cost)));
+        }
+        out.decide(decision.var, kept).expect("distinct variables");
+    }
+    for &literal in ocsp.assumptions() {
+        out.assume(literal);
+    }
+    out
+}
+
 proptest! {
     #![proptest_config(seeded::config(96))]
+
+    /// Conflicts shared between searches under the same assumptions (src/opsat/shared.rs; issue
+    /// 15 direction 2) change neither the solutions nor their order: several narrowed copies of
+    /// one OCSP, enumerated in turns on one theory with one store, give exactly what each gives
+    /// alone on a fresh theory — with conflicts, and without any (which tests candidates one by
+    /// one: the canonical order of equal costs, src/opsat/search.rs "Order").
+    #[test]
+    fn shared_conflicts_change_no_solution_and_no_order(
+        problem in random_ocsp_with_assumptions(7, 3, 10, 3),
+        keeps in prop::collection::vec(prop::collection::vec(any::<bool>(), 1..12), 1..5),
+    ) {
+        let (_, base) = problem.build(TheoryOptions::default());
+        let ocsps: Vec<Ocsp> = keeps.iter().map(|keep| narrowed(&base, keep)).collect();
+        for decompose in [true, false] {
+            let options = SearchOptions { decompose, ..SearchOptions::default() };
+            let mut theory = problem.build(TheoryOptions::default()).0;
+            let mut store = ConflictStore::default();
+            store.assume(base.assumptions());
+            let mut enumerations: Vec<_> =
+                ocsps.iter().map(|ocsp| ocsp.enumerate(&theory, options)).collect();
+            let mut shared: Vec<Vec<Solution>> = vec![Vec::new(); ocsps.len()];
+            let mut running: Vec<bool> = vec![true; ocsps.len()];
+            while running.contains(&true) {
+                for (k, enumeration) in enumerations.iter_mut().enumerate() {
+                    if !running[k] {
+                        continue;
+                    }
+                    match enumeration.next_sharing(&mut theory, &mut store) {
+                        Ok(Some(solution)) => shared[k].push(solution),
+                        Ok(None) => running[k] = false,
+                        Err(cut) => prop_assert!(false, "no budget, yet cut: {:?}", cut),
+                    }
+                }
+            }
+            for use_conflicts in [true, false] {
+                for (ocsp, shared) in ocsps.iter().zip(&shared) {
+                    let mut fresh = problem.build(TheoryOptions::default()).0;
+                    let alone = SearchOptions { use_conflicts, ..options };
+                    let found = ocsp.best_with(&mut fresh, usize::MAX, alone);
+                    prop_assert_eq!(&found.solutions, shared, "decompose {}", decompose);
+                }
+            }
+        }
+    }
 
     /// best(all) equals brute-force enumeration, for every backend and search variant:
     /// decomposed and undecomposed, with and without conflicts, agree.
@@ -127,6 +196,24 @@ proptest! {
                 "{:?} {:?}", theory_options, search_options);
             assert_prefix_up_to_ties(&found.solutions, &expected);
         }
+    }
+
+    /// Negative costs (goal interpretation's −reward) too: the search then sums every child's
+    /// cost when it creates it rather than queueing it at a partial sum, which bounds it from
+    /// below only when no cost is negative (src/opsat/search.rs, "Order").
+    #[test]
+    fn negative_costs_equal_brute_force(problem in random_ocsp(8, 3, 10)) {
+        let mut problem = problem;
+        for costs in &mut problem.decision_costs {
+            for cost in costs.iter_mut() {
+                *cost -= 3.0;
+            }
+        }
+        let expected = problem.brute_force();
+        let (mut theory, ocsp) = problem.build(TheoryOptions::default());
+        let found = ocsp.best_with(&mut theory, usize::MAX, SearchOptions::default());
+        prop_assert_eq!(found.solutions.len(), expected.len());
+        assert_prefix_up_to_ties(&found.solutions, &expected);
     }
 
     /// Per-problem assumptions — on decision variables too — restrict the solutions exactly as

@@ -47,6 +47,7 @@ fn unbounded() -> Limits {
         kappa: usize::MAX,
         max_candidates: usize::MAX,
         search: SearchOptions::default(),
+        share_conflicts: true,
     }
 }
 

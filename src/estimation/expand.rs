@@ -144,6 +144,8 @@ pub(crate) struct Limits {
     pub(crate) max_candidates: usize,
     /// OPSAT's options (budget) per source stream.
     pub(crate) search: SearchOptions,
+    /// Whether the sources' searches share their conflicts ([`crate::opsat::ConflictStore`]).
+    pub(crate) share_conflicts: bool,
 }
 
 /// The expansion machinery and its caches (one per estimator, per plant).
@@ -405,7 +407,7 @@ impl Expander {
             theory,
             sources,
             observation,
-            limits.search,
+            limits,
             &ocsps,
         );
         let mut live = Live {

@@ -27,9 +27,9 @@ use rustc_hash::FxHashMap;
 
 use std::rc::Rc;
 
-use super::expand::{Choices, SourceChoices};
+use super::expand::{Choices, Limits, SourceChoices};
 use crate::logic::ValueId;
-use crate::opsat::{Cut, Enumeration, Literal, Ocsp, SearchOptions, Theory};
+use crate::opsat::{ConflictStore, Cut, Enumeration, Literal, Ocsp, SearchOptions, Theory};
 use crate::plant::{Observation, Plant, target_ocsp};
 
 /// Past this many shapes the cache starts afresh.
@@ -80,6 +80,9 @@ pub(crate) struct SolutionCache {
     /// Scratch for building a shape key.
     key: Vec<u64>,
     possible: Possible,
+    /// Conflicts learned under the last expansion's observation, kept while it stays the same
+    /// (every source's OCSP assumes the observation and nothing else; `opsat::ConflictStore`).
+    conflicts: ConflictStore,
 }
 
 /// Which modes can appear in a feasible solution under one observation: `component = mode`
@@ -168,6 +171,8 @@ pub(crate) struct Streams<'o> {
     pub(crate) cut: Option<Cut>,
     /// The cache's [`Possible`], taken out for the expansion.
     possible: Possible,
+    /// The cache's conflicts, taken out for the expansion when the searches share them.
+    conflicts: Option<ConflictStore>,
 }
 
 /// The shape of a source's OCSP, into `key`: the allowed values per component and the
@@ -299,7 +304,7 @@ impl<'o> Streams<'o> {
         theory: &mut Theory,
         sources: &[SourceChoices],
         observation: &Observation,
-        options: SearchOptions,
+        limits: Limits,
         ocsps: &'o [OnceCell<Ocsp>],
     ) -> Streams<'o> {
         if cache.shapes.len() >= CACHE_LIMIT {
@@ -307,15 +312,23 @@ impl<'o> Streams<'o> {
             cache.known.clear();
         }
         cache.possible.observe(observation);
+        let conflicts = limits.share_conflicts.then(|| {
+            let mut conflicts = std::mem::take(&mut cache.conflicts);
+            // The assumptions `target_ocsp` makes: the observation's literals, in order.
+            let assumptions: Vec<Literal> = observation.literals().collect();
+            conflicts.assume(&assumptions);
+            conflicts
+        });
         let mut streams = Streams {
             slots: Vec::new(),
             known: Vec::new(),
             streams: Vec::with_capacity(sources.len()),
             ocsps,
             live: sources.iter().map(|_| None).collect(),
-            options,
+            options: limits.search,
             cut: None,
             possible: Possible::default(),
+            conflicts,
         };
         for source in sources {
             shape_key(&source.choices, observation, &mut cache.key);
@@ -357,6 +370,9 @@ impl<'o> Streams<'o> {
     /// be compared with it), the highest bound winning among this cycle's.
     pub(crate) fn put_back(self, cache: &mut SolutionCache) {
         cache.possible = self.possible;
+        if let Some(conflicts) = self.conflicts {
+            cache.conflicts = conflicts;
+        }
         let mut renewed: Vec<Option<(Rc<Choices>, f64)>> = vec![None; self.known.len()];
         for stream in &self.streams {
             if let Some(bound) = stream.live_bound {
@@ -470,7 +486,11 @@ impl<'o> Streams<'o> {
         let mut target = f64::INFINITY;
         let mut beyond = f64::INFINITY;
         loop {
-            match enumeration.next(theory) {
+            let next = match self.conflicts.as_mut() {
+                Some(conflicts) => enumeration.next_sharing(theory, conflicts),
+                None => enumeration.next(theory),
+            };
+            match next {
                 Ok(Some(solution)) => {
                     let cost = solution.cost;
                     let modes: Vec<ValueId> =

@@ -68,6 +68,12 @@ pub struct TimedMeOptions {
     /// (`history.rs`): the window holds this many to twice as many steps, so a step costs at
     /// worst 2 · `history` + 1 steps at 8κ; 0 turns it off (and bounds a step by one at κ).
     pub history: usize,
+    /// Share the conflicts OPSAT learns between the sources' searches of a step, and between
+    /// steps with the same observation (`opsat::ConflictStore`): each source's OCSP assumes the
+    /// same observation, so a conflict one source paid a SAT call for prunes the others'
+    /// searches for free. On by default; off, each search learns its own (the tests compare the
+    /// two: the beliefs are the same bit for bit).
+    pub share_conflicts: bool,
 }
 
 impl TimedMeOptions {
@@ -80,6 +86,7 @@ impl TimedMeOptions {
             budget: Budget::default(),
             replay: true,
             history: HISTORY,
+            share_conflicts: true,
         }
     }
 
@@ -94,6 +101,7 @@ impl TimedMeOptions {
                 budget: self.budget,
                 ..SearchOptions::default()
             },
+            share_conflicts: self.share_conflicts,
         }
     }
 }

@@ -22,6 +22,7 @@ use priority_queue::PriorityQueue;
 
 use super::ocsp::{Cut, Meter, Ocsp, SearchOptions, SearchStats, Solution};
 use super::search::{ComponentSearch, Cost, FxBuildHasher, PartialSolution, Priority};
+use super::shared::ConflictStore;
 use super::theory::{Consistency, Literal, Theory};
 
 struct Stream {
@@ -38,12 +39,14 @@ impl Stream {
         ocsp: &Ocsp,
         theory: &mut Theory,
         options: &SearchOptions,
+        mut shared: Option<&mut ConflictStore>,
         meter: &mut Meter,
     ) -> Result<bool, Cut> {
         while self.found.len() <= index && !self.done {
+            let shared = shared.as_deref_mut();
             match self
                 .search
-                .next(ocsp, theory, options.use_conflicts, meter)?
+                .next(ocsp, theory, options.use_conflicts, shared, meter)?
             {
                 Some(solution) => self.found.push(solution),
                 None => self.done = true,
@@ -121,8 +124,28 @@ impl<'a> Enumeration<'a> {
     /// The next solution, cheapest first; `Ok(None)` when there are no more; `Err(cut)` when the
     /// budget ran out (call [`Enumeration::renew_budget`] to go on).
     pub fn next(&mut self, theory: &mut Theory) -> Result<Option<Solution>, Cut> {
+        self.advance(theory, None)
+    }
+
+    /// [`Enumeration::next`], reading and extending `shared` with conflicts when it is a store
+    /// for this OCSP's assumptions (and conflicts are on); otherwise it is left alone. The same
+    /// solutions come out in the same order either way (`shared.rs`, "Why sharing is exact").
+    pub fn next_sharing(
+        &mut self,
+        theory: &mut Theory,
+        shared: &mut ConflictStore,
+    ) -> Result<Option<Solution>, Cut> {
+        let applies = self.options.use_conflicts && shared.assumptions() == self.ocsp.assumptions();
+        self.advance(theory, applies.then_some(shared))
+    }
+
+    fn advance(
+        &mut self,
+        theory: &mut Theory,
+        mut shared: Option<&mut ConflictStore>,
+    ) -> Result<Option<Solution>, Cut> {
         if self.state == State::NotStarted {
-            self.start(theory)?;
+            self.start(theory, shared.as_deref_mut())?;
         }
         if self.state == State::Exhausted {
             return Ok(None);
@@ -144,6 +167,7 @@ impl<'a> Enumeration<'a> {
                         self.ocsp,
                         theory,
                         &self.options,
+                        shared.as_deref_mut(),
                         &mut self.meter,
                     );
                     match fetched {
@@ -161,14 +185,20 @@ impl<'a> Enumeration<'a> {
         }
     }
 
-    fn start(&mut self, theory: &mut Theory) -> Result<(), Cut> {
+    fn start(
+        &mut self,
+        theory: &mut Theory,
+        mut shared: Option<&mut ConflictStore>,
+    ) -> Result<(), Cut> {
         self.meter.stats.consistency_checks += 1;
         if let Consistency::Conflict(_) = theory.consistent(self.ocsp.assumptions()) {
             self.state = State::Exhausted;
             return Ok(());
         }
         for j in 0..self.streams.len() {
-            if !self.streams[j].ensure(0, self.ocsp, theory, &self.options, &mut self.meter)? {
+            let shared = shared.as_deref_mut();
+            let stream = &mut self.streams[j];
+            if !stream.ensure(0, self.ocsp, theory, &self.options, shared, &mut self.meter)? {
                 self.state = State::Exhausted;
                 return Ok(());
             }

@@ -20,6 +20,7 @@ mod ocsp;
 mod propagate;
 mod sat;
 mod search;
+mod shared;
 mod theory;
 
 pub use merge::Enumeration;
@@ -27,6 +28,7 @@ pub use ocsp::{
     Budget, Choice, Cut, Decision, Ocsp, OcspError, SearchOptions, SearchStats, Solution, Solutions,
 };
 pub use sat::SatBackend;
+pub use shared::ConflictStore;
 pub use theory::{
     Consistency, Definition, Literal, Theory, TheoryError, TheoryOptions, TheoryStats,
 };

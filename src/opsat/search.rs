@@ -22,15 +22,48 @@
 //! cheapest remaining ones, which is why `From(i)` (a prefix excluded) suffices.
 //!
 //! Each node is popped at its exact least cost, so solutions come out cheapest first; a conflict
-//! prunes every assignment containing it without testing them one by one.
+//! prunes every assignment containing it without testing them one by one. A conflict of a
+//! single pair refutes that choice on its own: it is skipped in every node at once (a `From`
+//! slot moves past it) instead of being split off one node at a time.
+//!
+//! # Order
+//! Assignments are ordered by cost, then by their choice indices compared colexicographically
+//! (the last member first), and the frontier pops the node whose best completion is first in
+//! that order. That best completion is the node's first assignment: every other one takes, in
+//! each slot, a choice at or after the slot's index, so it costs at least as much (choices are
+//! sorted by cost, and a floating-point sum in a fixed order is monotone in each term) and, at
+//! equal cost, comes later in any order that compares indices position by position. The
+//! frontier's nodes partition the assignments not yet returned or refuted, so each pop is at
+//! the first of those, and the feasible ones come out in exactly this order: the sequence of
+//! solutions is a function of the OCSP alone — not of which conflicts are known, which core the
+//! SAT solver returned or what it had learned before. Conflicts shared between searches
+//! (`shared.rs`), conflicts read off unit propagation (`Theory::search_conflict`) and choices
+//! refuted on their own (skipped, which only removes infeasible assignments and re-queues a
+//! node at a cost no lower than it was popped at) rely on this.
+//!
+//! When every cost is non-negative (estimation's −ln p), a child enters the frontier at a lower
+//! bound: its own partial sum through the member it raises (the rest only adds non-negative
+//! terms, and a floating-point sum never decreases by adding one). Its cost is summed when it
+//! reaches the front, and it re-enters at that cost; a node popped at its exact cost is still
+//! first, since every other node's exact place is at or after its queued one. Most children of
+//! a solution's split raise a member to a fault far dearer than the front and are never summed.
+//!
+//! Ties used to follow node creation order, which depends on the conflict tree. Colexicographic
+//! is the order a split creates its children in (child `j` raises the `j`-th free member of the
+//! conflict, leaving the later ones at their indices), so it is the order ties came out in on
+//! the Mars EDL: its beliefs and traces are byte-identical to those of the creation order
+//! (BENCHMARKS.md, "conflicts shared across sources"). Where a cut falls inside a group of
+//! ties, another member of the group may now be returned (`kairos solve` on the full adder
+//! with `-k 5`, ARCHITECTURE.md).
 
 use std::cmp::{Ordering, Reverse};
+use std::collections::BinaryHeap;
 use std::hash::BuildHasherDefault;
 
-use priority_queue::PriorityQueue;
 use rustc_hash::{FxHashMap, FxHasher};
 
 use super::ocsp::{Cut, Meter, Ocsp};
+use super::shared::ConflictStore;
 use super::theory::{Consistency, Literal, Theory};
 use crate::logic::VarId;
 
@@ -52,14 +85,14 @@ impl Ord for Cost {
     }
 }
 
-/// Frontier priority: cheapest first, then first created (deterministic ties).
+/// The merge frontier's priority: cheapest first, then first created (deterministic ties).
 pub(crate) type Priority = Reverse<(Cost, u64)>;
 
-/// The frontiers' hasher: nodes are hashed on every push and pop, and SipHash was a tenth of a
-/// busy estimation step on a breaker tree (the order of pops does not depend on it).
+/// The merge frontier's hasher: entries are hashed on every push and pop, and SipHash was a
+/// tenth of a busy estimation step on a breaker tree (the order of pops does not depend on it).
 pub(crate) type FxBuildHasher = BuildHasherDefault<FxHasher>;
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Slot {
     Fixed(u32),
     From(u32),
@@ -74,8 +107,59 @@ impl Slot {
 }
 
 /// A set of assignments (see the module documentation).
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone)]
 struct Node(Box<[Slot]>);
+
+/// A node in the frontier with the cost of its best completion, ordered so that the heap's
+/// greatest is the first in the search's order (see "Order" in the module documentation).
+#[derive(Debug)]
+struct Queued {
+    /// The cost of the node's best completion when `exact`; otherwise a lower bound on it
+    /// (see "Order").
+    cost: Cost,
+    exact: bool,
+    /// One past the last member whose best-completion choice is not its cheapest (0 if none):
+    /// most ties between nodes are told apart by it alone, without scanning both completions.
+    last: usize,
+    node: Node,
+}
+
+impl Queued {
+    /// Colexicographic comparison of the two nodes' best completions. Past `last` a completion
+    /// is all zeros, so the one whose `last` is greater is the later; at equal `last` the
+    /// choices below it decide, compared from the back.
+    fn colex(&self, other: &Self) -> Ordering {
+        self.last
+            .cmp(&other.last)
+            .then_with(|| self.below_last().cmp(other.below_last()))
+    }
+
+    /// The best completion's choices below `last`, from the back.
+    fn below_last(&self) -> impl Iterator<Item = u32> + '_ {
+        self.node.0[..self.last].iter().rev().map(|s| s.choice())
+    }
+}
+
+impl Ord for Queued {
+    fn cmp(&self, other: &Self) -> Ordering {
+        // Reversed: the cheapest, then colexicographically first, is the greatest.
+        other.cost.cmp(&self.cost).then_with(|| other.colex(self))
+    }
+}
+
+impl PartialOrd for Queued {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for Queued {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Queued {}
 
 /// A conflict over this sub-problem: (member position, choice index) pairs, sorted.
 type Conflict = Vec<(usize, u32)>;
@@ -92,15 +176,28 @@ pub(crate) struct ComponentSearch {
     /// Indices into the OCSP's decisions.
     members: Vec<usize>,
     position: FxHashMap<VarId, usize>,
-    frontier: PriorityQueue<Node, Priority, FxBuildHasher>,
-    created: u64,
+    frontier: BinaryHeap<Queued>,
+    /// Conflicts of two or more pairs.
     conflicts: Vec<Conflict>,
+    /// Per member, per choice: refuted on its own (a conflict of one pair). Such choices are
+    /// skipped outright ([`ComponentSearch::skip_refuted`]) rather than split off one pop at a
+    /// time: most conflicts a breaker tree's observation gives are of this kind.
+    refuted: Vec<Vec<bool>>,
+    /// How many of the shared store's conflicts this search has read (see [`ConflictStore`]).
+    read: usize,
+    /// Every choice of every member costs at least zero (true of estimation's −ln p), so a
+    /// partial sum bounds every completion of it from below (see "Order").
+    nonnegative: bool,
 }
 
 impl ComponentSearch {
     /// A search over the decisions `members` of `ocsp`, starting from the node of all
     /// assignments.
     pub(crate) fn new(ocsp: &Ocsp, members: Vec<usize>) -> Self {
+        let refuted = vec![Vec::new(); members.len()];
+        let nonnegative = members
+            .iter()
+            .all(|&d| ocsp.decisions()[d].choices.iter().all(|c| c.cost >= 0.0));
         let position = members
             .iter()
             .enumerate()
@@ -109,12 +206,22 @@ impl ComponentSearch {
         let mut search = ComponentSearch {
             members,
             position,
-            frontier: PriorityQueue::with_default_hasher(),
-            created: 0,
+            frontier: BinaryHeap::new(),
             conflicts: Vec::new(),
+            refuted,
+            read: 0,
+            nonnegative,
         };
         let root = Node(vec![Slot::From(0); search.members.len()].into_boxed_slice());
-        search.push(ocsp, root);
+        let cheapest = std::iter::repeat(0);
+        if let Some(cost) = search.sum_from(ocsp, 0, 0.0, cheapest) {
+            search.frontier.push(Queued {
+                cost: Cost(cost),
+                exact: true,
+                last: 0,
+                node: root,
+            });
+        }
         search
     }
 
@@ -124,35 +231,53 @@ impl ComponentSearch {
     }
 
     /// The next solution, cheapest first; `Ok(None)` when there are no more; `Err` when the
-    /// budget ran out (the search can be resumed with a new meter).
+    /// budget ran out (the search can be resumed with a new meter). With `shared` (a store for
+    /// the OCSP's own assumptions, used only with `use_conflicts`), the search reads the
+    /// conflicts other searches learned there and adds its own.
     pub(crate) fn next(
         &mut self,
         ocsp: &Ocsp,
         theory: &mut Theory,
         use_conflicts: bool,
+        mut shared: Option<&mut ConflictStore>,
         meter: &mut Meter,
     ) -> Result<Option<PartialSolution>, Cut> {
         loop {
-            if self.frontier.is_empty() {
+            let Some(front) = self.frontier.peek() else {
                 return Ok(None);
+            };
+            if !front.exact {
+                self.cost_front(ocsp);
+                continue;
             }
             meter.charge_node()?;
-            let Some((node, Reverse((cost, _)))) = self.frontier.pop() else {
+            if let Some(store) = shared.as_deref_mut() {
+                self.read_shared(ocsp, store);
+            }
+            let Some(Queued {
+                cost, last, node, ..
+            }) = self.frontier.pop()
+            else {
                 return Ok(None);
             };
             let candidate: Vec<u32> = node.0.iter().map(|s| s.choice()).collect();
+            if self.takes_refuted(&candidate) {
+                self.skip_refuted(ocsp, &node);
+                continue;
+            }
             if let Some(known) = self.known_conflict(&candidate) {
                 let known = known.clone();
-                self.split(ocsp, &node, &known);
+                self.split(ocsp, (&node, last), &candidate, &known);
                 continue;
             }
             meter.stats.consistency_checks += 1;
             let mut assumptions = ocsp.assumptions().to_vec();
-            assumptions.extend(self.literals(ocsp, &candidate));
-            match theory.consistent(&assumptions) {
+            let pairs = candidate.iter().copied().enumerate();
+            assumptions.extend(pairs.map(|pair| self.literal(ocsp, pair)));
+            match theory.search_conflict(&assumptions) {
                 Consistency::Consistent => {
                     let whole: Conflict = candidate.iter().copied().enumerate().collect();
-                    self.split(ocsp, &node, &whole);
+                    self.split(ocsp, (&node, last), &candidate, &whole);
                     return Ok(Some(PartialSolution {
                         choices: candidate,
                         cost: cost.0,
@@ -169,10 +294,15 @@ impl ComponentSearch {
                         self.frontier.clear();
                         return Ok(None);
                     }
-                    self.split(ocsp, &node, &conflict);
+                    self.split(ocsp, (&node, last), &candidate, &conflict);
                     if use_conflicts {
                         meter.stats.conflicts += 1;
-                        self.conflicts.push(conflict);
+                        if let Some(store) = shared.as_deref_mut() {
+                            // Read up to here at the top of this pass: only this one is new.
+                            store.learn(conflict.iter().map(|&pair| self.literal(ocsp, pair)));
+                            self.read = store.len();
+                        }
+                        self.learn(ocsp, conflict);
                     }
                 }
             }
@@ -185,15 +315,99 @@ impl ComponentSearch {
             .find(|k| k.iter().all(|&(p, c)| candidate[p] == c))
     }
 
-    fn literals<'a>(
-        &'a self,
-        ocsp: &'a Ocsp,
-        choices: &'a [u32],
-    ) -> impl Iterator<Item = Literal> + 'a {
-        self.members.iter().zip(choices).map(|(&d, &c)| {
-            let decision = &ocsp.decisions()[d];
-            Literal::Is(decision.var, decision.choices[c as usize].value)
-        })
+    /// Takes in the conflicts the store gained since the last call, each translated into this
+    /// search's (member position, choice) pairs; one naming a variable that is not a member, or
+    /// a value that is not among its choices, cannot be contained in any candidate here and is
+    /// left out.
+    fn read_shared(&mut self, ocsp: &Ocsp, store: &ConflictStore) {
+        for literals in store.since(self.read) {
+            let translated: Option<Conflict> = literals
+                .iter()
+                .map(|literal| self.pair_of(ocsp, *literal))
+                .collect();
+            if let Some(mut conflict) = translated {
+                conflict.sort_unstable();
+                conflict.dedup();
+                self.learn(ocsp, conflict);
+            }
+        }
+        self.read = store.len();
+    }
+
+    /// Remembers a conflict: a single pair as a refuted choice, a longer one in the list.
+    fn learn(&mut self, ocsp: &Ocsp, conflict: Conflict) {
+        if let [(p, c)] = conflict[..] {
+            let refuted = &mut self.refuted[p];
+            if refuted.is_empty() {
+                refuted.resize(ocsp.decisions()[self.members[p]].choices.len(), false);
+            }
+            refuted[c as usize] = true;
+        } else {
+            self.conflicts.push(conflict);
+        }
+    }
+
+    /// Whether an assignment takes a choice refuted on its own.
+    fn takes_refuted(&self, choices: &[u32]) -> bool {
+        choices
+            .iter()
+            .zip(&self.refuted)
+            .any(|(&c, refuted)| refuted.get(c as usize) == Some(&true))
+    }
+
+    /// The first choice of member `p` at or after `i` not refuted on its own (past the last
+    /// choice if none is left).
+    fn unrefuted_from(&self, p: usize, i: u32) -> u32 {
+        let refuted = &self.refuted[p];
+        (i..)
+            .find(|&j| refuted.get(j as usize) != Some(&true))
+            .unwrap_or(i)
+    }
+
+    /// Puts `node` back without the choices refuted on its own: each `From` slot moved past
+    /// them — the same assignments less infeasible ones, at its new best completion's cost
+    /// (never below the old: choices only move to dearer ones). A `Fixed` slot on a refuted
+    /// choice, or a slot with no choice left, leaves nothing.
+    fn skip_refuted(&mut self, ocsp: &Ocsp, node: &Node) {
+        let mut slots = node.0.clone();
+        for (p, slot) in slots.iter_mut().enumerate() {
+            match *slot {
+                Slot::Fixed(c) if self.refuted[p].get(c as usize) == Some(&true) => return,
+                Slot::Fixed(_) => {}
+                Slot::From(i) => *slot = Slot::From(self.unrefuted_from(p, i)),
+            }
+        }
+        let completion = slots.iter().map(|s| s.choice());
+        let Some(cost) = self.sum_from(ocsp, 0, 0.0, completion) else {
+            return;
+        };
+        let last = slots
+            .iter()
+            .rposition(|s| s.choice() > 0)
+            .map_or(0, |p| p + 1);
+        self.frontier.push(Queued {
+            cost: Cost(cost),
+            exact: true,
+            last,
+            node: Node(slots),
+        });
+    }
+
+    /// The (member position, choice) pair stating `literal`, if it is one of this search's.
+    fn pair_of(&self, ocsp: &Ocsp, literal: Literal) -> Option<(usize, u32)> {
+        let Literal::Is(var, value) = literal else {
+            return None;
+        };
+        let &p = self.position.get(&var)?;
+        let choices = &ocsp.decisions()[self.members[p]].choices;
+        let c = choices.iter().position(|c| c.value == value)?;
+        Some((p, c as u32))
+    }
+
+    /// The literal stating that member `p` takes its choice `c`.
+    fn literal(&self, ocsp: &Ocsp, (p, c): (usize, u32)) -> Literal {
+        let decision = &ocsp.decisions()[self.members[p]];
+        Literal::Is(decision.var, decision.choices[c as usize].value)
     }
 
     /// The theory's conflict restricted to the candidate's own assignments. The per-problem
@@ -208,12 +422,7 @@ impl ComponentSearch {
         let mut conflict: Conflict = literals
             .iter()
             .filter_map(|literal| {
-                let Literal::Is(var, value) = *literal else {
-                    return None;
-                };
-                let &p = self.position.get(&var)?;
-                let choices = &ocsp.decisions()[self.members[p]].choices;
-                let c = choices.iter().position(|c| c.value == value)? as u32;
+                let (p, c) = self.pair_of(ocsp, *literal)?;
                 (candidate[p] == c).then_some((p, c))
             })
             .collect();
@@ -222,31 +431,88 @@ impl ComponentSearch {
         conflict
     }
 
-    /// Replaces `node` by the children that hold its assignments not containing `conflict`
-    /// (systematic expansion over the constituent kernels; see the module documentation).
-    fn split(&mut self, ocsp: &Ocsp, node: &Node, conflict: &Conflict) {
+    /// Replaces `node` (whose best completion is `candidate`, and [`Queued::last`] `last`) by
+    /// the children that hold its assignments not containing `conflict` (systematic expansion
+    /// over the constituent kernels; see the module documentation), less choices refuted on
+    /// their own. Child `j`'s best completion is `candidate` with the `j`-th free member of the
+    /// conflict raised (to its next choice not refuted on its own), so its cost is
+    /// the candidate's members before that one, summed once for all children, then the rest:
+    /// the same additions in the same order as a sum over all members, so the same bits. With
+    /// non-negative costs only the part through the raised member is summed here, a lower
+    /// bound ([`ComponentSearch::cost_front`] finishes it if the child reaches the front).
+    fn split(
+        &mut self,
+        ocsp: &Ocsp,
+        (node, last): (&Node, usize),
+        candidate: &[u32],
+        conflict: &Conflict,
+    ) {
         let mut prefix = node.0.clone();
+        let (mut at, mut before) = (0, 0.0);
         for &(p, c) in conflict {
             if let Slot::From(_) = node.0[p] {
+                // Every choice of the candidate exists: it was a node's best completion.
+                before = self
+                    .sum_from(ocsp, at, before, candidate[at..p].iter().copied())
+                    .unwrap_or(f64::INFINITY);
+                at = p;
+                let raised = self.unrefuted_from(p, c + 1);
+                // A member with no choice left makes the child empty: it is not queued.
+                let Some(choice) = ocsp.decisions()[self.members[p]]
+                    .choices
+                    .get(raised as usize)
+                else {
+                    prefix[p] = Slot::Fixed(c);
+                    continue;
+                };
+                let (cost, exact) = if self.nonnegative {
+                    // The child's own partial sum through its raised member: the rest only
+                    // adds non-negative terms, which never lowers a floating-point sum.
+                    (before + choice.cost, false)
+                } else {
+                    let rest = std::iter::once(raised).chain(candidate[p + 1..].iter().copied());
+                    let cost = self.sum_from(ocsp, p, before, rest);
+                    (cost.unwrap_or(f64::INFINITY), true)
+                };
                 let mut child = prefix.clone();
-                child[p] = Slot::From(c + 1);
-                self.push(ocsp, Node(child));
+                child[p] = Slot::From(raised);
+                self.frontier.push(Queued {
+                    cost: Cost(cost),
+                    exact,
+                    last: last.max(p + 1),
+                    node: Node(child),
+                });
                 prefix[p] = Slot::Fixed(c);
             }
         }
     }
 
-    /// Adds a node to the frontier unless it is empty (some slot has no choice left).
-    fn push(&mut self, ocsp: &Ocsp, node: Node) {
-        let mut cost = 0.0;
-        for (&d, slot) in self.members.iter().zip(node.0.iter()) {
-            match ocsp.decisions()[d].choices.get(slot.choice() as usize) {
-                Some(choice) => cost += choice.cost,
-                None => return,
-            }
+    /// Replaces the front node, queued at a lower bound, by itself at its exact cost: its best
+    /// completion's costs summed in member order from 0.0, the sum every node's cost is.
+    fn cost_front(&mut self, ocsp: &Ocsp) {
+        if let Some(mut front) = self.frontier.pop() {
+            let completion = front.node.0.iter().map(|s| s.choice());
+            // Every slot has its choice: empty children are never queued.
+            let cost = self.sum_from(ocsp, 0, 0.0, completion);
+            front.cost = Cost(cost.unwrap_or(f64::INFINITY));
+            front.exact = true;
+            self.frontier.push(front);
         }
-        self.created += 1;
-        self.frontier
-            .push(node, Reverse((Cost(cost), self.created)));
+    }
+
+    /// `start` plus the costs of `choices` (indices) of the members from `from` on, added in
+    /// member order; `None` if a member has no such choice.
+    fn sum_from(
+        &self,
+        ocsp: &Ocsp,
+        from: usize,
+        start: f64,
+        choices: impl Iterator<Item = u32>,
+    ) -> Option<f64> {
+        let mut cost = start;
+        for (&d, c) in self.members[from..].iter().zip(choices) {
+            cost += ocsp.decisions()[d].choices.get(c as usize)?.cost;
+        }
+        Some(cost)
     }
 }

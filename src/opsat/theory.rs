@@ -54,6 +54,21 @@ fn at_most_one(solver: &mut dyn SatSolver, lits: &[SatLit]) {
     at_most_one(solver, &columns);
 }
 
+/// The assumptions (as given) whose solver literals make up `core`, a subset of
+/// `sat_assumptions` (their translation, position by position).
+fn conflict_of(
+    core: &[SatLit],
+    sat_assumptions: &[SatLit],
+    assumptions: &[Literal],
+) -> Vec<Literal> {
+    core.iter()
+        .filter_map(|c| {
+            let i = sat_assumptions.iter().position(|a| a == c)?;
+            Some(assumptions[i])
+        })
+        .collect()
+}
+
 /// A formula the theory has encoded for use in assumptions (see [`Theory::define`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Definition(u32);
@@ -281,7 +296,7 @@ impl Theory {
     /// With `minimize_conflicts` the conflict is minimal: dropping any member makes it consistent.
     pub fn consistent(&mut self, assumptions: &[Literal]) -> Consistency {
         let minimize = self.options.minimize_conflicts;
-        self.check(assumptions, minimize)
+        self.check(assumptions, minimize, false)
     }
 
     /// Whether the constraints and `assumptions` are consistent, for callers that need no
@@ -315,10 +330,26 @@ impl Theory {
     /// consistent. For explanations a person reads ("engine = standby is unreachable: engine is
     /// failed"), where every member should be to blame.
     pub fn minimal_conflict(&mut self, assumptions: &[Literal]) -> Consistency {
-        self.check(assumptions, true)
+        self.check(assumptions, true, false)
     }
 
-    fn check(&mut self, assumptions: &[Literal], minimize: bool) -> Consistency {
+    /// [`Theory::consistent`] for conflict-directed search, which may learn any conflict: one
+    /// that unit propagation reaches is read off its implication graph
+    /// ([`Propagator::conflict_assumptions`]) instead of asking the solver for its core. The
+    /// answer (consistent or not) is the solver's; the conflict may be another inconsistent
+    /// subset, which changes no search's solutions nor their order (`search.rs`, "Order").
+    /// Other callers keep the solver's core (the mission log names the observations in it).
+    pub(crate) fn search_conflict(&mut self, assumptions: &[Literal]) -> Consistency {
+        let minimize = self.options.minimize_conflicts;
+        self.check(assumptions, minimize, true)
+    }
+
+    fn check(
+        &mut self,
+        assumptions: &[Literal],
+        minimize: bool,
+        propagated_cores: bool,
+    ) -> Consistency {
         self.stats.consistency_checks += 1;
         let sat_assumptions = self.sat_literals(assumptions);
         if self.consistent_by_propagation(&sat_assumptions) {
@@ -327,19 +358,22 @@ impl Theory {
             self.scratch = sat_assumptions;
             return Consistency::Consistent;
         }
-        // A conflict goes to the solver, whose core OPSAT learns from.
-        let answer = match self.solve(&sat_assumptions) {
-            Outcome::Satisfiable => Consistency::Consistent,
-            Outcome::Unsatisfiable { core } => {
-                let core = if minimize { self.minimize(core) } else { core };
-                let conflict = core
-                    .iter()
-                    .filter_map(|c| {
-                        let i = sat_assumptions.iter().position(|a| a == c)?;
-                        Some(assumptions[i])
-                    })
-                    .collect();
-                Consistency::Conflict(conflict)
+        let propagated =
+            propagated_cores && self.propagation && self.solver.propagator.in_conflict();
+        let answer = if propagated {
+            self.stats.sat_calls += 1;
+            self.stats.propagated += 1;
+            let core = self.solver.propagator.conflict_assumptions();
+            let core = if minimize { self.minimize(core) } else { core };
+            Consistency::Conflict(conflict_of(&core, &sat_assumptions, assumptions))
+        } else {
+            // The solver's core, which OPSAT learns from and the mission log shows.
+            match self.solve(&sat_assumptions) {
+                Outcome::Satisfiable => Consistency::Consistent,
+                Outcome::Unsatisfiable { core } => {
+                    let core = if minimize { self.minimize(core) } else { core };
+                    Consistency::Conflict(conflict_of(&core, &sat_assumptions, assumptions))
+                }
             }
         };
         self.scratch = sat_assumptions;
