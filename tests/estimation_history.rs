@@ -62,6 +62,23 @@ fn run(plant: &Plant, estimator: &mut TimedMe) -> Vec<Update> {
     updates
 }
 
+/// ŝ's mode of the switch after `update`.
+fn estimate<'a>(plant: &'a Plant, update: &Update) -> &'a str {
+    mode_in(plant, &update.belief.most_likely_plant_state(), "switch")
+}
+
+/// `update` explained its observation by re-running `steps` steps of the history, and ŝ is
+/// `mode`.
+fn assert_reestimated(plant: &Plant, update: &Update, steps: usize, mode: &str) {
+    assert_eq!(
+        update.events,
+        vec![EstimationEvent::InconsistentObservation {
+            fallback: Fallback::Reestimated { steps }
+        }]
+    );
+    assert_eq!(estimate(plant, update), mode);
+}
+
 fn kappa_one(history: usize) -> TimedMe {
     TimedMe::new(TimedMeOptions {
         history,
@@ -76,24 +93,12 @@ fn a_state_truncated_within_the_window_is_found_again() {
     // Unseen, κ = 1 keeps `down` (0.98 a cycle against 0.02; 0.04 truncated in all, too little
     // to put ŝ in doubt).
     for update in &updates[1..3] {
-        assert_eq!(
-            mode_in(&plant, &update.belief.most_likely_plant_state(), "switch"),
-            "down"
-        );
+        assert_eq!(estimate(&plant, update), "down");
         assert!(update.events.is_empty());
     }
     // The lamp lit: `down` cannot show it; the three steps estimated again at 8κ = 8 hold `up`.
     let last = &updates[3];
-    assert_eq!(
-        last.events,
-        vec![EstimationEvent::InconsistentObservation {
-            fallback: Fallback::Reestimated { steps: 3 }
-        }]
-    );
-    assert_eq!(
-        mode_in(&plant, &last.belief.most_likely_plant_state(), "switch"),
-        "up"
-    );
+    assert_reestimated(&plant, last, 3, "up");
 }
 
 #[test]
@@ -106,10 +111,7 @@ fn without_the_history_the_fault_explains_it() {
             fallback: Fallback::UnconstrainedFaults
         }]
     );
-    assert_eq!(
-        mode_in(&plant, &last.belief.most_likely_plant_state(), "switch"),
-        "broken"
-    );
+    assert_eq!(estimate(&plant, last), "broken");
 }
 
 #[test]
@@ -134,24 +136,12 @@ fn an_update_from_another_belief_starts_the_window_afresh() {
             2.0,
         )
         .expect("update");
-    assert_eq!(
-        mode_in(&plant, &second.belief.most_likely_plant_state(), "switch"),
-        "down"
-    );
+    assert_eq!(estimate(&plant, &second), "down");
     let lit = Observation::new(&plant, &[value(&plant, "switch.lamp", "lit")]).expect("obs");
     let third = estimator
         .update(&plant, &mut theory, &second.belief, &idle, &lit, 3.0)
         .expect("update");
-    assert_eq!(
-        third.events,
-        vec![EstimationEvent::InconsistentObservation {
-            fallback: Fallback::Reestimated { steps: 2 }
-        }]
-    );
-    assert_eq!(
-        mode_in(&plant, &third.belief.most_likely_plant_state(), "switch"),
-        "up"
-    );
+    assert_reestimated(&plant, &third, 2, "up");
 }
 
 #[test]
@@ -165,13 +155,11 @@ fn a_truncation_that_could_decide_the_estimate_is_rerun_wider() {
     let plant = switch(0.4);
     let narrow = run(&plant, &mut kappa_one(0));
     let wide = run(&plant, &mut kappa_one(16));
-    let estimate =
-        |update: &Update| mode_in(&plant, &update.belief.most_likely_plant_state(), "switch");
-    assert_eq!(estimate(&narrow[2]), "down");
+    assert_eq!(estimate(&plant, &narrow[2]), "down");
     assert_eq!(narrow[2].stats.rerun, 0);
-    assert_eq!(estimate(&wide[2]), "up");
+    assert_eq!(estimate(&plant, &wide[2]), "up");
     assert_eq!(wide[2].stats.rerun, 2);
     assert!(wide[2].events.is_empty());
-    assert_eq!(estimate(&wide[3]), "up");
+    assert_eq!(estimate(&plant, &wide[3]), "up");
     assert_eq!(wide[3].stats.rerun, 1);
 }
