@@ -92,17 +92,34 @@ pub(crate) type Priority = Reverse<(Cost, u64)>;
 /// tenth of a busy estimation step on a breaker tree (the order of pops does not depend on it).
 pub(crate) type FxBuildHasher = BuildHasherDefault<FxHasher>;
 
+/// A decision variable's slot in a node: `Fixed(i)` (it takes its `i`-th cheapest choice) or
+/// `From(i)` (that choice or a dearer one), packed in 32 bits — the flag in the top bit, the
+/// choice below (a variable never has 2³¹ choices) — because a node holds one per member and
+/// is copied per child: on a breaker tree of 1,535 components the frontier's nodes were most of
+/// the search's memory and copying them a third of its time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Slot {
-    Fixed(u32),
-    From(u32),
-}
+struct Slot(u32);
+
+/// The top bit of a [`Slot`]: set when it is `Fixed`.
+const FIXED: u32 = 1 << 31;
 
 impl Slot {
+    /// `Fixed(choice)`.
+    fn exactly(choice: u32) -> Slot {
+        Slot(choice | FIXED)
+    }
+
+    /// `From(choice)`.
+    fn at_least(choice: u32) -> Slot {
+        Slot(choice)
+    }
+
+    fn is_fixed(self) -> bool {
+        self.0 & FIXED != 0
+    }
+
     fn choice(self) -> u32 {
-        match self {
-            Slot::Fixed(i) | Slot::From(i) => i,
-        }
+        self.0 & !FIXED
     }
 }
 
@@ -212,7 +229,7 @@ impl ComponentSearch {
             read: 0,
             nonnegative,
         };
-        let root = Node(vec![Slot::From(0); search.members.len()].into_boxed_slice());
+        let root = Node(vec![Slot::at_least(0); search.members.len()].into_boxed_slice());
         let cheapest = std::iter::repeat(0);
         if let Some(cost) = search.sum_from(ocsp, 0, 0.0, cheapest) {
             search.frontier.push(Queued {
@@ -371,10 +388,11 @@ impl ComponentSearch {
     fn skip_refuted(&mut self, ocsp: &Ocsp, node: &Node) {
         let mut slots = node.0.clone();
         for (p, slot) in slots.iter_mut().enumerate() {
-            match *slot {
-                Slot::Fixed(c) if self.refuted[p].get(c as usize) == Some(&true) => return,
-                Slot::Fixed(_) => {}
-                Slot::From(i) => *slot = Slot::From(self.unrefuted_from(p, i)),
+            let choice = slot.choice();
+            if !slot.is_fixed() {
+                *slot = Slot::at_least(self.unrefuted_from(p, choice));
+            } else if self.refuted[p].get(choice as usize) == Some(&true) {
+                return;
             }
         }
         let completion = slots.iter().map(|s| s.choice());
@@ -450,7 +468,7 @@ impl ComponentSearch {
         let mut prefix = node.0.clone();
         let (mut at, mut before) = (0, 0.0);
         for &(p, c) in conflict {
-            if let Slot::From(_) = node.0[p] {
+            if !node.0[p].is_fixed() {
                 // Every choice of the candidate exists: it was a node's best completion.
                 before = self
                     .sum_from(ocsp, at, before, candidate[at..p].iter().copied())
@@ -462,7 +480,7 @@ impl ComponentSearch {
                     .choices
                     .get(raised as usize)
                 else {
-                    prefix[p] = Slot::Fixed(c);
+                    prefix[p] = Slot::exactly(c);
                     continue;
                 };
                 let (cost, exact) = if self.nonnegative {
@@ -475,14 +493,14 @@ impl ComponentSearch {
                     (cost.unwrap_or(f64::INFINITY), true)
                 };
                 let mut child = prefix.clone();
-                child[p] = Slot::From(raised);
+                child[p] = Slot::at_least(raised);
                 self.frontier.push(Queued {
                     cost: Cost(cost),
                     exact,
                     last: last.max(p + 1),
                     node: Node(child),
                 });
-                prefix[p] = Slot::Fixed(c);
+                prefix[p] = Slot::exactly(c);
             }
         }
     }
