@@ -365,13 +365,10 @@ impl Expander {
             );
             // Uncertified: the full expansion below gives the answer.
             if let Ok(candidates) = replayed {
-                return Ok(Expansion {
-                    merged: self.buffers.merged.total,
-                    states: self.buffers.merged.heaviest(limits.kappa),
-                    candidates,
-                    cut: None,
-                    replayed: true,
-                });
+                return Ok(self
+                    .buffers
+                    .merged
+                    .expansion(limits.kappa, candidates, None, true));
             }
         }
         self.expand_in_full(
@@ -435,13 +432,10 @@ impl Expander {
         if record && cut.is_none() {
             self.replay = Replay::record(&self.solutions, sources, observation, served);
         }
-        Ok(Expansion {
-            merged: self.buffers.merged.total,
-            states: self.buffers.merged.heaviest(limits.kappa),
-            candidates,
-            cut,
-            replayed: false,
-        })
+        Ok(self
+            .buffers
+            .merged
+            .expansion(limits.kappa, candidates, cut, false))
     }
 }
 
@@ -749,6 +743,23 @@ impl Merged {
         self.index.clear();
         self.states.clear();
         self.total = 0.0;
+    }
+
+    /// The expansion that ends here: the `kappa` heaviest states and the weight of all merged.
+    fn expansion(
+        &mut self,
+        kappa: usize,
+        candidates: u64,
+        cut: Option<Cut>,
+        replayed: bool,
+    ) -> Expansion {
+        Expansion {
+            merged: self.total,
+            states: self.heaviest(kappa),
+            candidates,
+            cut,
+            replayed,
+        }
     }
 
     /// The `k` heaviest states, heaviest first (ties in order of appearance); leaves none.

@@ -274,6 +274,7 @@ impl TimedMe {
             ..self.options
         }
         .limits();
+        let mut last = None;
         for input in steps.iter().chain(std::iter::once(step)) {
             let (_, expansion) = expand_from(
                 &mut self.expander,
@@ -284,28 +285,25 @@ impl TimedMe {
                 wide,
                 false,
             )?;
-            let kept = expansion
-                .states
-                .iter()
-                .take(self.options.kappa)
-                .cloned()
-                .collect();
-            match Belief::new(plant, input.time, expansion.states) {
-                Some(next) => current = next,
-                None => return Ok(None),
-            }
-            if std::ptr::eq(input, step) {
-                return Ok(Some(Rerun {
-                    expansion: Expansion {
-                        states: kept,
-                        ..expansion
-                    },
-                    steps: steps.len() + 1,
-                    wide: current,
-                }));
-            }
+            // Only the last step's κ heaviest are the answer.
+            let kept = std::ptr::eq(input, step).then(|| {
+                let kappa = self.options.kappa.min(expansion.states.len());
+                expansion.states[..kappa].to_vec()
+            });
+            let Some(next) = Belief::new(plant, input.time, expansion.states) else {
+                return Ok(None);
+            };
+            current = next;
+            last = kept.map(|states| Expansion {
+                states,
+                ..expansion
+            });
         }
-        Ok(None)
+        Ok(last.map(|expansion| Rerun {
+            expansion,
+            steps: steps.len() + 1,
+            wide: current,
+        }))
     }
 }
 
