@@ -48,7 +48,8 @@ use super::{EstimationError, WeightedState};
 use crate::logic::ValueId;
 use crate::opsat::{Cut, Ocsp, SearchOptions, Theory};
 use crate::plant::{
-    Commands, Observation, Plant, SystemState, component_distribution, enabled_transitions,
+    Commands, Component, Observation, Plant, SystemState, component_distribution,
+    enabled_transitions,
 };
 
 /// Past this many entries a cache starts afresh.
@@ -153,6 +154,8 @@ pub(crate) struct Limits {
 pub(crate) struct Expander {
     enabled: FxHashMap<Vec<u32>, Rc<Vec<Vec<usize>>>>,
     memo: StepMemo,
+    /// The sources of the last step and of this one, with their choices ([`Recents`]).
+    recent: Recents,
     solutions: SolutionCache,
     pub(crate) observe: ObservationModel,
     scratch: Vec<u32>,
@@ -222,6 +225,146 @@ impl StepMemo {
     }
 }
 
+/// A component's distribution with a clock `reading` in the current step, from the step's memo
+/// when a source already asked for it ([`StepMemo`]).
+fn timed(
+    memos: &mut Vec<Memo>,
+    component: &Component,
+    c: usize,
+    mode: ValueId,
+    enabled: &Rc<Vec<Vec<usize>>>,
+    reading: f64,
+    step: f64,
+) -> Rc<[NextMode]> {
+    let bits = Some(reading.to_bits());
+    let known = memos.iter().find(|m| {
+        m.mode == mode
+            && m.clock == bits
+            && (Rc::ptr_eq(&m.enabled, enabled) || m.enabled[c] == enabled[c])
+    });
+    if let Some(memo) = known {
+        return Rc::clone(&memo.next);
+    }
+    let next = next_modes(component_distribution(
+        component,
+        mode,
+        &enabled[c],
+        Some(reading),
+        step,
+    ));
+    memos.push(Memo {
+        mode,
+        enabled: Rc::clone(enabled),
+        clock: bits,
+        next: Rc::clone(&next),
+    });
+    next
+}
+
+/// Whether two distributions are the same bit for bit (`NextMode`'s `==` would call −0.0 and
+/// 0.0 equal).
+fn same_bits(a: &[NextMode], b: &[NextMode]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.mode == y.mode
+                && x.probability.to_bits() == y.probability.to_bits()
+                && x.cost.to_bits() == y.cost.to_bits()
+        })
+}
+
+/// The sources whose choices were computed in recent steps (issue 15: a quiet step's sources
+/// are mostly the last steps' states). Certified like [`StepMemo`]: a source's choices are a
+/// function of its modes, its clock starts, μ (through the enabled transitions, a function of
+/// the modes and μ), the step's length and its start (through the clock readings) and nothing
+/// else. A source equal to a recent one (modes and clock starts bit for bit), under the same μ
+/// and step length (bit for bit: a cycle's length jitters in its last bits, so a few lengths
+/// alternate and each has its own entries), therefore has that source's distributions wherever
+/// a component has no clock; a component whose clock runs is computed again (through the memo)
+/// unless its reading is the same bit for bit, and the recent distribution is kept when the new
+/// one equals it bit for bit. When no component changed, the source gets the very same
+/// `Rc<Choices>` as before, which lets the replay reuse what it prepared from it (`replay.rs`).
+#[derive(Default)]
+struct Recents {
+    /// The step (`from`, `to`) asked last, as bits.
+    step: (u64, u64),
+    /// Steps started, as a clock for [`Recent::used`].
+    steps: u64,
+    /// The entries, in no particular order.
+    pool: Vec<Recent>,
+}
+
+/// Entries not used for this many steps are dropped (a few step lengths alternate).
+const RECENT_STEPS: u64 = 8;
+
+/// One source state's choices, with what they are a function of.
+struct Recent {
+    state: SystemState,
+    commands: Commands,
+    /// The step's length, as bits.
+    step: u64,
+    /// The start of the step it was last used in.
+    from: f64,
+    /// [`Recents::steps`] when it was last used.
+    used: u64,
+    /// The enabled transitions of `state` under `commands`.
+    enabled: Rc<Vec<Vec<usize>>>,
+    choices: Rc<Choices>,
+}
+
+impl Recents {
+    /// Starts the step `from`–`to` unless it is the current one, dropping the entries not used
+    /// for [`RECENT_STEPS`].
+    fn start(&mut self, from: f64, to: f64) {
+        let step = (from.to_bits(), to.to_bits());
+        if self.step != step {
+            self.step = step;
+            self.steps += 1;
+            let now = self.steps;
+            self.pool.retain(|r| now - r.used <= RECENT_STEPS);
+        }
+    }
+
+    /// The entry of a source equal to `state` under `commands` and a step of length `step`.
+    fn find(&mut self, state: &SystemState, commands: &Commands, step: f64) -> Option<&mut Recent> {
+        let bits = step.to_bits();
+        self.pool
+            .iter_mut()
+            .find(|r| r.step == bits && r.state == *state && r.commands == *commands)
+    }
+}
+
+impl Recent {
+    /// Moves these choices to a step starting at `from` (same length): components with a
+    /// running clock are computed again where their reading moved ([`Recents`]).
+    fn advance(
+        &mut self,
+        plant: &Plant,
+        memos: &mut [Vec<Memo>],
+        state: &SystemState,
+        from: f64,
+        step: f64,
+    ) {
+        let mut changed: Option<Choices> = None;
+        let components = plant.components().iter().zip(memos);
+        for (c, ((component, memos), start)) in components.zip(&state.clock_starts).enumerate() {
+            let Some(start) = start else { continue };
+            let reading = from - start;
+            if reading.to_bits() == (self.from - start).to_bits() {
+                continue;
+            }
+            let mode = state.modes[c];
+            let next = timed(memos, component, c, mode, &self.enabled, reading, step);
+            if !same_bits(&next, &self.choices[c]) {
+                changed.get_or_insert_with(|| self.choices.as_ref().clone())[c] = next;
+            }
+        }
+        self.from = from;
+        if let Some(choices) = changed {
+            self.choices = Rc::new(choices);
+        }
+    }
+}
+
 impl Expander {
     /// Each component's next modes from `state` in the step `from`–`to` (Figure 6-10's
     /// "identify enabled transitions" and §6.2.2's probabilities). The enabled transitions are
@@ -237,55 +380,54 @@ impl Expander {
         from: f64,
         to: f64,
     ) -> Result<Rc<Choices>, EstimationError> {
-        let enabled = self.enabled(plant, theory, state, commands)?;
         self.memo.start(plant, from, to);
+        self.recent.start(from, to);
         let step = to - from;
+        let now = self.recent.steps;
+        if let Some(source) = self.recent.find(state, commands, step) {
+            source.advance(plant, &mut self.memo.timed, state, from, step);
+            source.used = now;
+            return Ok(Rc::clone(&source.choices));
+        }
+        let enabled = self.enabled(plant, theory, state, commands)?;
         let key = (Rc::as_ptr(&enabled) as usize, step.to_bits());
         let untimed = self.memo.untimed.entry(key).or_insert_with(|| Untimed {
             _enabled: Rc::clone(&enabled),
             next: vec![None; plant.components().len()],
         });
-        let choices = plant
-            .component_ids()
-            .zip(&state.modes)
-            .zip(&mut self.memo.timed)
-            .zip(&mut untimed.next)
-            .enumerate()
-            .map(|(c, ((((id, component), &mode), memos), untimed))| {
-                let compute = |clock| {
-                    next_modes(component_distribution(
-                        component,
-                        mode,
-                        &enabled[c],
-                        clock,
-                        step,
-                    ))
-                };
-                let Some(reading) = state.clock(id, from) else {
-                    return Rc::clone(untimed.get_or_insert_with(|| compute(None)));
-                };
-                let bits = Some(reading.to_bits());
-                let known = memos.iter().find(|m| {
-                    m.mode == mode
-                        && m.clock == bits
-                        && (Rc::ptr_eq(&m.enabled, &enabled) || m.enabled[c] == enabled[c])
-                });
-                match known {
-                    Some(memo) => Rc::clone(&memo.next),
-                    None => {
-                        let next = compute(Some(reading));
-                        memos.push(Memo {
-                            mode,
-                            enabled: Rc::clone(&enabled),
-                            clock: bits,
-                            next: Rc::clone(&next),
-                        });
-                        next
+        let choices: Rc<Choices> = Rc::new(
+            plant
+                .component_ids()
+                .zip(&state.modes)
+                .zip(&mut self.memo.timed)
+                .zip(&mut untimed.next)
+                .enumerate()
+                .map(|(c, ((((id, component), &mode), memos), untimed))| {
+                    match state.clock(id, from) {
+                        None => Rc::clone(untimed.get_or_insert_with(|| {
+                            next_modes(component_distribution(
+                                component,
+                                mode,
+                                &enabled[c],
+                                None,
+                                step,
+                            ))
+                        })),
+                        Some(reading) => timed(memos, component, c, mode, &enabled, reading, step),
                     }
-                }
-            })
-            .collect();
-        Ok(Rc::new(choices))
+                })
+                .collect(),
+        );
+        self.recent.pool.push(Recent {
+            state: state.clone(),
+            commands: commands.clone(),
+            step: step.to_bits(),
+            from,
+            used: now,
+            enabled,
+            choices: Rc::clone(&choices),
+        });
+        Ok(choices)
     }
 
     /// The enabled transitions from `state` under μ, cached per (modes, μ).

@@ -97,7 +97,7 @@ pub(crate) struct Replay {
     /// The recorded shapes, one per slot.
     shapes: Vec<Shape>,
     /// This step, per source: what it is served from.
-    sources: Vec<Prepared>,
+    sources: Vec<Variants>,
     /// The cache's answers about possible modes, as the drift asks them.
     decided: Decided,
 }
@@ -139,8 +139,58 @@ struct Shape {
     factors: Vec<f64>,
 }
 
+/// How many preparations a source keeps: one per step length that recurs (a cycle's length
+/// jitters in its last bits, so a few lengths alternate, each with its own choices).
+const VARIANTS: usize = 4;
+
+/// One source's recent preparations, the current one first to be looked at.
+#[derive(Default)]
+struct Variants {
+    prepared: Vec<Prepared>,
+    /// The one this step is served from.
+    current: usize,
+    /// The one to replace next when all [`VARIANTS`] are taken.
+    next: usize,
+}
+
+impl Variants {
+    /// The preparation this step is served from.
+    fn current(&self) -> &Prepared {
+        &self.prepared[self.current]
+    }
+
+    /// Selects the preparation made from `choices` if there is one (true), else an entry to
+    /// prepare, emptied (false).
+    fn select(&mut self, choices: &Rc<Choices>) -> bool {
+        let made = self
+            .prepared
+            .iter()
+            .position(|p| p.choices.as_ref().is_some_and(|c| Rc::ptr_eq(c, choices)));
+        if let Some(at) = made {
+            self.current = at;
+            return true;
+        }
+        // The shape found last is where the search for the new one starts.
+        let shape = self.prepared.get(self.current).map_or(0, |p| p.shape);
+        if self.prepared.len() < VARIANTS {
+            self.current = self.prepared.len();
+            self.prepared.push(Prepared::default());
+        } else {
+            self.current = self.next;
+            self.next = (self.next + 1) % VARIANTS;
+        }
+        let prepared = &mut self.prepared[self.current];
+        prepared.choices = None;
+        prepared.shape = shape;
+        false
+    }
+}
+
 /// One source of this step, prepared.
 struct Prepared {
+    /// The choices it was prepared from: everything below is a function of them while the
+    /// record lives, so a source with the very same choices (`Rc::ptr_eq`) is prepared already.
+    choices: Option<Rc<Choices>>,
     /// Index of its shape in [`Replay::shapes`].
     shape: usize,
     /// R's solutions with their costs under this step's choices, dearest first (served from
@@ -288,8 +338,12 @@ impl Replay {
         if self.observation != *observation || cache.is_full() {
             return Err(Uncertified);
         }
-        self.sources.resize_with(sources.len(), Prepared::default);
-        for (k, (prepared, source)) in self.sources.iter_mut().zip(sources).enumerate() {
+        self.sources.resize_with(sources.len(), Variants::default);
+        for (k, (variants, source)) in self.sources.iter_mut().zip(sources).enumerate() {
+            if variants.select(&source.choices) {
+                continue;
+            }
+            let prepared = &mut variants.prepared[variants.current];
             // The shape of this source in the last step first (the belief's order seldom
             // changes), then the others from the source's own index on.
             let shape = std::iter::once(prepared.shape)
@@ -309,6 +363,7 @@ impl Replay {
                 shape,
                 &source.choices,
             )?;
+            prepared.choices = Some(Rc::clone(&source.choices));
         }
         Ok(())
     }
@@ -330,6 +385,7 @@ impl Replay {
 impl Default for Prepared {
     fn default() -> Prepared {
         Prepared {
+            choices: None,
             shape: 0,
             order: Vec::new(),
             certified: f64::NEG_INFINITY,
@@ -389,7 +445,7 @@ pub(crate) struct Replaying<'a> {
 
 impl Replaying<'_> {
     fn known(&self, k: usize) -> Result<&Known, Uncertified> {
-        let shape = &self.replay.shapes[self.replay.sources[k].shape];
+        let shape = &self.replay.shapes[self.replay.sources[k].current().shape];
         self.cache.known(shape.slot).ok_or(Uncertified)
     }
 }
@@ -398,7 +454,7 @@ impl Serve for Replaying<'_> {
     type Error = Uncertified;
 
     fn cost(&mut self, k: usize, i: usize, _: &mut Theory) -> Result<Option<f64>, Uncertified> {
-        let source = &self.replay.sources[k];
+        let source = self.replay.sources[k].current();
         match source.order.len().checked_sub(i + 1) {
             Some(at) => {
                 let cost = source.order[at].1;
@@ -420,7 +476,7 @@ impl Serve for Replaying<'_> {
     }
 
     fn modes(&self, k: usize, i: usize) -> Vec<ValueId> {
-        let source = &self.replay.sources[k];
+        let source = self.replay.sources[k].current();
         let index = source
             .order
             .len()
@@ -443,7 +499,7 @@ impl Serve for Replaying<'_> {
         (k, i): (usize, usize),
         modes: &[ValueId],
     ) -> Result<f64, Uncertified> {
-        let source = &self.replay.sources[k];
+        let source = self.replay.sources[k].current();
         let at = source.order.len().checked_sub(i + 1).ok_or(Uncertified)?;
         let index = source.order[at].0;
         let shape = &mut self.replay.shapes[source.shape];
