@@ -49,7 +49,7 @@ use crate::logic::ValueId;
 use crate::opsat::{Cut, Ocsp, SearchOptions, Theory};
 use crate::plant::{
     Commands, Component, Observation, Plant, SystemState, component_distribution,
-    enabled_transitions,
+    enabled_transitions, successor,
 };
 
 /// Past this many entries a cache starts afresh.
@@ -484,18 +484,18 @@ impl Expander {
         &mut self,
         plant: &Plant,
         theory: &mut Theory,
-        sources: &[SourceChoices],
-        observation: &Observation,
+        (sources, states): (&[SourceChoices], &[WeightedState]),
+        (observation, time): (&Observation, f64),
         limits: Limits,
-        successor: impl Fn(usize, Vec<ValueId>) -> SystemState,
         replay: bool,
     ) -> Result<Expansion, EstimationError> {
+        let successor = successor_from(plant, states, time);
         if let Some(recorded) = self.replay.as_mut().filter(|_| replay)
             && recorded
                 .prepare(&self.solutions, sources, observation)
                 .is_ok()
         {
-            let mut serve = recorded.serve(&self.solutions, sources);
+            let mut serve = recorded.serve(&self.solutions, sources, states);
             let replayed = merge(
                 &mut self.observe,
                 &mut self.buffers,
@@ -581,6 +581,17 @@ impl Expander {
     }
 }
 
+/// The system state source `k` of `states` reaches at `time` with next modes `modes` (Figure
+/// 6-11 step 5: clocks restart where the mode changed; the clocks that cannot matter are
+/// forgotten).
+pub(crate) fn successor_from<'a>(
+    plant: &'a Plant,
+    states: &'a [WeightedState],
+    time: f64,
+) -> impl Fn(usize, Vec<ValueId>) -> SystemState + 'a {
+    move |k, modes| successor(&states[k].state, modes, time).forget_idle_clocks(plant)
+}
+
 /// Where the merge gets each source's solutions, cheapest first, and their observation factors:
 /// the streams of a full expansion ([`Live`]), or the replay of the last one
 /// ([`super::replay::Replaying`]), which answers only what it can certify.
@@ -594,21 +605,31 @@ pub(crate) trait Serve {
     fn cost(&mut self, k: usize, i: usize, theory: &mut Theory)
     -> Result<Option<f64>, Self::Error>;
 
-    /// The next modes of solution `i` of source `k`, whose cost was asked for.
-    fn modes(&self, k: usize, i: usize) -> Vec<ValueId>;
+    /// What the merge needs of a candidate it examines.
+    type Candidate;
+
+    /// Solution `i` of source `k`, whose cost was asked for.
+    fn candidate(&self, k: usize, i: usize) -> Self::Candidate;
 
     /// See [`Streams::possible_mass`].
     fn possible_mass(&mut self, k: usize, theory: &mut Theory) -> Result<f64, Self::Error>;
 
-    /// P_O(o | modes) for the expansion's observation, `modes` being solution `i` of source
-    /// `k`.
+    /// P_O(o | modes) for the expansion's observation and the candidate's next modes.
     fn factor(
         &mut self,
         observe: &mut ObservationModel,
         theory: &mut Theory,
-        candidate: (usize, usize),
-        modes: &[ValueId],
+        candidate: &Self::Candidate,
     ) -> Result<f64, Self::Error>;
+
+    /// Adds the candidate's successor (as `successor` builds it) to `merged` with `weight`.
+    fn merge(
+        &mut self,
+        merged: &mut Merged,
+        candidate: Self::Candidate,
+        weight: f64,
+        successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+    );
 }
 
 /// The streams of a full expansion, with what they are asked about.
@@ -633,8 +654,10 @@ impl Serve for Live<'_, '_, '_> {
             .cost(k, i, self.plant, self.sources, self.observation, theory))
     }
 
-    fn modes(&self, k: usize, i: usize) -> Vec<ValueId> {
-        self.streams.modes(k, i)
+    type Candidate = (usize, Vec<ValueId>);
+
+    fn candidate(&self, k: usize, i: usize) -> (usize, Vec<ValueId>) {
+        (k, self.streams.modes(k, i))
     }
 
     fn possible_mass(&mut self, k: usize, theory: &mut Theory) -> Result<f64, Self::Error> {
@@ -645,10 +668,19 @@ impl Serve for Live<'_, '_, '_> {
         &mut self,
         observe: &mut ObservationModel,
         theory: &mut Theory,
-        _: (usize, usize),
-        modes: &[ValueId],
+        (_, modes): &(usize, Vec<ValueId>),
     ) -> Result<f64, Self::Error> {
         Ok(observe.factor(self.plant, theory, modes, self.observation)?)
+    }
+
+    fn merge(
+        &mut self,
+        merged: &mut Merged,
+        (k, modes): (usize, Vec<ValueId>),
+        weight: f64,
+        successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+    ) {
+        merged.add(successor(k, modes), weight);
     }
 }
 
@@ -705,15 +737,15 @@ fn merge<S: Serve>(
         let best = *best.get_or_insert(cost);
         candidates += 1;
         unseen.served(k, cost);
-        let modes = serve.modes(k, i);
+        let candidate = serve.candidate(k, i);
         match serve.cost(k, i + 1, theory)? {
             Some(next) => frontier.push(Reverse((order(source_cost[k] + next), k, i + 1))),
             None => unseen.exhausted(k),
         }
-        let factor = serve.factor(observe, theory, (k, i), &modes)?;
+        let factor = serve.factor(observe, theory, &candidate)?;
         let weight = (best - cost).exp() * factor;
         if weight > 0.0 {
-            merged.add(successor(k, modes), weight);
+            serve.merge(merged, candidate, weight, successor);
         }
         if candidates as usize >= limits.max_candidates {
             break;
@@ -833,10 +865,17 @@ impl Unseen {
     }
 }
 
+/// The hash [`Merged`] indexes a state by.
+pub(crate) fn state_hash(state: &SystemState) -> u64 {
+    let mut hasher = FxHasher::default();
+    state.hash(&mut hasher);
+    hasher.finish()
+}
+
 /// Next system states with summed weights, in order of first appearance. Indexed by hash, so a
 /// new state is stored once (hash collisions fall back to comparing states).
 #[derive(Default)]
-struct Merged {
+pub(crate) struct Merged {
     index: FxHashMap<u64, usize>,
     states: Vec<WeightedState>,
     /// The sum of the weights.
@@ -846,25 +885,44 @@ struct Merged {
 
 impl Merged {
     fn add(&mut self, state: SystemState, weight: f64) {
+        let hash = state_hash(&state);
+        self.add_hashed(state, hash, weight);
+    }
+
+    /// [`Merged::add`] of `state`, whose hash ([`state_hash`]) is `hash`.
+    pub(crate) fn add_hashed(&mut self, state: SystemState, hash: u64, weight: f64) {
         self.total += weight;
-        let mut hasher = FxHasher::default();
-        state.hash(&mut hasher);
-        let hash = hasher.finish();
-        let found = match self.index.get(&hash) {
-            Some(&i) if self.states[i].state == state => Some(i),
-            Some(_) => self.states.iter().position(|w| w.state == state),
-            None => None,
-        };
-        match found {
+        match self.find(hash, &state) {
             Some(i) => self.states[i].probability += weight,
-            None => {
-                self.index.entry(hash).or_insert(self.states.len());
-                self.states.push(WeightedState {
-                    state,
-                    probability: weight,
-                });
-            }
+            None => self.push(hash, state, weight),
         }
+    }
+
+    /// [`Merged::add`] of a copy of `state`, whose hash ([`state_hash`]) is `hash`, copied only
+    /// if it is new.
+    pub(crate) fn add_known(&mut self, state: &SystemState, hash: u64, weight: f64) {
+        self.total += weight;
+        match self.find(hash, state) {
+            Some(i) => self.states[i].probability += weight,
+            None => self.push(hash, state.clone(), weight),
+        }
+    }
+
+    /// The index of `state` (of hash `hash`) among the states merged, if it is one.
+    fn find(&self, hash: u64, state: &SystemState) -> Option<usize> {
+        match self.index.get(&hash) {
+            Some(&i) if self.states[i].state == *state => Some(i),
+            Some(_) => self.states.iter().position(|w| w.state == *state),
+            None => None,
+        }
+    }
+
+    fn push(&mut self, hash: u64, state: SystemState, weight: f64) {
+        self.index.entry(hash).or_insert(self.states.len());
+        self.states.push(WeightedState {
+            state,
+            probability: weight,
+        });
     }
 
     /// The `k`-th largest weight, or 0 with fewer than `k` states.
@@ -908,7 +966,11 @@ impl Merged {
     fn heaviest(&mut self, k: usize) -> Vec<WeightedState> {
         self.states
             .sort_by(|a, b| b.probability.total_cmp(&a.probability));
-        self.states.truncate(k);
-        std::mem::take(&mut self.states)
+        // Drained rather than taken, so that the merge keeps its capacity for the next step.
+        let kept = k.min(self.states.len());
+        let mut heaviest = Vec::with_capacity(kept);
+        heaviest.extend(self.states.drain(..kept));
+        self.states.clear();
+        heaviest
     }
 }
