@@ -289,8 +289,10 @@ struct Recents {
     step: (u64, u64),
     /// Steps started, as a clock for [`Recent::used`].
     steps: u64,
-    /// The entries, in no particular order.
+    /// The entries, in the order they were made.
     pool: Vec<Recent>,
+    /// Where [`Recents::find`] looks first.
+    next: usize,
 }
 
 /// Entries not used for this many steps are dropped (a few step lengths alternate).
@@ -321,15 +323,23 @@ impl Recents {
             self.steps += 1;
             let now = self.steps;
             self.pool.retain(|r| now - r.used <= RECENT_STEPS);
+            self.next = 0;
         }
     }
 
-    /// The entry of a source equal to `state` under `commands` and a step of length `step`.
+    /// The entry of a source equal to `state` under `commands` and a step of length `step`:
+    /// the one after the entry found last first (a step's sources come in the order they came
+    /// in when their entries were made), then every one.
     fn find(&mut self, state: &SystemState, commands: &Commands, step: f64) -> Option<&mut Recent> {
         let bits = step.to_bits();
-        self.pool
-            .iter_mut()
-            .find(|r| r.step == bits && r.state == *state && r.commands == *commands)
+        let matches = |r: &Recent| r.step == bits && r.state == *state && r.commands == *commands;
+        let found = if self.pool.get(self.next).is_some_and(matches) {
+            Some(self.next)
+        } else {
+            self.pool.iter().position(matches)
+        };
+        self.next = found.map_or(0, |at| at + 1);
+        found.map(|at| &mut self.pool[at])
     }
 }
 
