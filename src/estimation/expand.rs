@@ -301,6 +301,8 @@ const RECENT_STEPS: u64 = 8;
 /// One source state's choices, with what they are a function of.
 struct Recent {
     state: SystemState,
+    /// The components whose clock `state` knows (runs), by index.
+    running: Vec<usize>,
     commands: Commands,
     /// The step's length, as bits.
     step: u64,
@@ -355,15 +357,24 @@ impl Recent {
         step: f64,
     ) {
         let mut changed: Option<Choices> = None;
-        let components = plant.components().iter().zip(memos);
-        for (c, ((component, memos), start)) in components.zip(&state.clock_starts).enumerate() {
-            let Some(start) = start else { continue };
+        for &c in &self.running {
+            let Some(start) = state.clock_starts[c] else {
+                continue;
+            };
             let reading = from - start;
             if reading.to_bits() == (self.from - start).to_bits() {
                 continue;
             }
-            let mode = state.modes[c];
-            let next = timed(memos, component, c, mode, &self.enabled, reading, step);
+            let (component, mode) = (&plant.components()[c], state.modes[c]);
+            let next = timed(
+                &mut memos[c],
+                component,
+                c,
+                mode,
+                &self.enabled,
+                reading,
+                step,
+            );
             if !same_bits(&next, &self.choices[c]) {
                 changed.get_or_insert_with(|| self.choices.as_ref().clone())[c] = next;
             }
@@ -430,6 +441,9 @@ impl Expander {
         );
         self.recent.pool.push(Recent {
             state: state.clone(),
+            running: (state.clock_starts.iter().enumerate())
+                .filter_map(|(c, start)| start.map(|_| c))
+                .collect(),
             commands: commands.clone(),
             step: step.to_bits(),
             from,
