@@ -283,6 +283,9 @@ fn same_bits(a: &[NextMode], b: &[NextMode]) -> bool {
 /// unless its reading is the same bit for bit, and the recent distribution is kept when the new
 /// one equals it bit for bit. When no component changed, the source gets the very same
 /// `Rc<Choices>` as before, which lets the replay reuse what it prepared from it (`replay.rs`).
+/// Every `Rc<Choices>` [`Expander::choices`] hands out is made for one entry and handed out
+/// again only for states equal to that entry's (modes and clock starts bit for bit): the
+/// replay takes the address, while it holds the `Rc`, as naming that state.
 #[derive(Default)]
 struct Recents {
     /// The step (`from`, `to`) asked last, as bits.

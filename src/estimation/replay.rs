@@ -66,7 +66,11 @@
 //!    keeps s's clock start (forgotten or not by its mode alone), one that changed mode would
 //!    restart its clock at t but has it forgotten, by its new mode alone, whatever t. So the
 //!    copy equals what the full step builds, bit for bit, and it is merged under the same hash
-//!    (`expand::state_hash` of an equal state) by the same `Merged` code.
+//!    (`expand::state_hash` of an equal state) by the same `Merged` code. "Equal to s" is
+//!    checked by comparing the states, or by the source's `Rc<Choices>` being one already seen
+//!    with the state compared: `Expander::choices` hands an `Rc<Choices>` out only for states
+//!    equal (modes and clock starts bit for bit) to the one it was made for (`expand.rs`,
+//!    `Recents`), and the record holds the `Rc`, so its address names that state.
 //!
 //! Under 1–7 the merge — the same function in both cases (`expand::merge`) — sees the same
 //! costs, modes, factors and masses in the same order as in the full step, so it examines the
@@ -176,23 +180,55 @@ struct Variants {
 struct Successors {
     /// The source state and the shape (its index in [`Replay::shapes`]) they were built from.
     from: Option<(SystemState, usize)>,
+    /// Choices handed out for that state (at most [`VARIANTS`], one per step length).
+    seen: Vec<Rc<Choices>>,
     /// Per known solution of the shape.
     built: Vec<Option<(SystemState, u64)>>,
 }
 
 impl Successors {
     /// Keeps what was built if it was built from `source` of shape `shape`, else starts afresh
-    /// for a shape of `solutions` known solutions.
-    fn keep_for(&mut self, source: &SystemState, shape: usize, solutions: usize) {
-        let same = self
-            .from
-            .as_ref()
-            .is_some_and(|(state, at)| *at == shape && state == source);
-        if !same {
-            self.from = Some((source.clone(), shape));
-            self.built.clear();
-            self.built.resize(solutions, None);
+    /// for a shape of `solutions` known solutions. `choices` are `source`'s: `Expander::choices`
+    /// hands an `Rc<Choices>` out again only for a state equal to the one it was made for
+    /// (`expand.rs`, `Recents`), so choices already seen with the state built from (and held
+    /// here, so that the address is not reused) spare comparing the states.
+    fn keep_for(
+        &mut self,
+        source: &SystemState,
+        choices: &Rc<Choices>,
+        shape: usize,
+        solutions: usize,
+    ) {
+        let Some((state, at)) = &self.from else {
+            return self.start(source, choices, shape, solutions);
+        };
+        if *at != shape {
+            return self.start(source, choices, shape, solutions);
         }
+        if self.seen.iter().any(|seen| Rc::ptr_eq(seen, choices)) {
+            return;
+        }
+        if state != source {
+            return self.start(source, choices, shape, solutions);
+        }
+        if self.seen.len() >= VARIANTS {
+            self.seen.remove(0);
+        }
+        self.seen.push(Rc::clone(choices));
+    }
+
+    fn start(
+        &mut self,
+        source: &SystemState,
+        choices: &Rc<Choices>,
+        shape: usize,
+        solutions: usize,
+    ) {
+        self.from = Some((source.clone(), shape));
+        self.seen.clear();
+        self.seen.push(Rc::clone(choices));
+        self.built.clear();
+        self.built.resize(solutions, None);
     }
 }
 
@@ -419,12 +455,12 @@ impl Replay {
         sources: &'a [SourceChoices],
         states: &'a [WeightedState],
     ) -> Replaying<'a> {
-        for (variants, weighted) in self.sources.iter_mut().zip(states) {
+        for ((variants, weighted), source) in self.sources.iter_mut().zip(states).zip(sources) {
             let shape = variants.current().shape;
             let solutions = self.shapes[shape].factors.len();
             variants
                 .successors
-                .keep_for(&weighted.state, shape, solutions);
+                .keep_for(&weighted.state, &source.choices, shape, solutions);
         }
         Replaying {
             replay: self,
