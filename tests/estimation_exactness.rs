@@ -12,7 +12,10 @@
 //! A replayed step serves the last step's solutions re-costed only where it certifies that the
 //! full expansion would give the same answer; so TimedME with replay on and off
 //! (`TimedMeOptions::replay`) must give bit-for-bit the same beliefs too, and quiet cycles must
-//! actually be replayed (`UpdateStats::replayed`).
+//! actually be replayed (`UpdateStats::replayed`). A warm TimedME must step quiet cycles as a
+//! clone with empty caches does (the sources' choices kept across steps, the replay's kept
+//! preparations and successors), and a replayed step must restart the clock of a candidate
+//! that changes into a timed mode at the step's end, never copy an earlier step's successor.
 //!
 //! Conflicts learned by one source's OPSAT search are shared with the other sources' searches
 //! under the same observation (issue 15 direction 2; `src/opsat/shared.rs`): they prune only
@@ -223,4 +226,100 @@ proptest! {
             }
         }
     }
+}
+
+/// A warm TimedME and a clone of it (`TimedMe::clone`: the history copied, every cache
+/// empty) take each step of `records` from `from` s on from the same belief: the warm one's
+/// caches — the sources' choices kept from recent steps (`expand.rs`, `Recents`), the replay's
+/// preparations and successors (`replay.rs`, conditions 1–7) — must change no bit of any
+/// belief. (Before `from`, on the EDL's 600 s grid, a cold clone does not always agree with
+/// the warm estimator bit for bit, on main as well; the quiet cycles are what this checks.)
+fn warm_steps_as_cold(plant: &Plant, records: &[LogRecord], from: f64) -> Option<usize> {
+    let mut theory = plant.theory().expect("theory");
+    let mut warm = estimator(10, REFERENCE);
+    let first = records.first().expect("a record");
+    let mut belief = warm
+        .initial(plant, &mut theory, first.time, &first.observation)
+        .expect("initial")
+        .belief;
+    records.windows(2).position(|pair| {
+        let (before, now) = (&pair[0], &pair[1]);
+        let mut step = |estimator: &mut TimedMe| {
+            let update = estimator.update(
+                plant,
+                &mut theory,
+                &belief,
+                &before.commands,
+                &now.observation,
+                now.time,
+            );
+            update.expect("update").belief
+        };
+        let fresh = (now.time >= from).then(|| step(&mut warm.clone()));
+        let hot = step(&mut warm);
+        let differ = fresh.is_some_and(|fresh| exactly(&hot) != exactly(&fresh));
+        belief = hot;
+        differ
+    })
+}
+
+#[test]
+fn a_warm_estimator_steps_quiet_mars_edl_cycles_as_a_cold_one() {
+    // Issue 15 (a quiet step replayed and its sources' choices kept across steps): the cruise
+    // with the entry clock running and the cycle's length jittering in its last bits, and the
+    // heating window with its end (§7.2.2's EDL at the executive's 0.1 s cycle).
+    let plant = model("mars_lander");
+    for (from, steps) in [(1000.0, 120), (40.0, 60)] {
+        let records = quiet_window(&plant, from, steps);
+        assert_eq!(
+            warm_steps_as_cold(&plant, &records, from),
+            None,
+            "window from {from} s"
+        );
+    }
+}
+
+/// A heater that degrades (1 % per cycle) into a mode whose clock matters (it burns out within
+/// 5 s), observed hot throughout: every quiet step's candidate "starts degrading now" restarts
+/// a clock at the step's end, so its successor must never be copied from an earlier step
+/// (`replay.rs`, condition 7).
+const DEGRADING_HEATER: &str = r#"Plant(
+    name: "degrading_heater",
+    components: [
+        Component(
+            name: "heater",
+            attributes: { "temp": ["low", "high"] },
+            modes: [
+                Mode(name: "ok", constraint: "heater.temp = high", reward: 0),
+                Mode(name: "degrading", kind: Fault, constraint: "true", reward: -5),
+                Mode(name: "burnt", kind: Fault, constraint: "heater.temp = low", reward: -10),
+            ],
+            initial: { "ok": 1.0 },
+            transitions: [
+                (from: "ok", to: "degrading", probability: 0.01),
+                (from: "degrading", to: "burnt", after: Uniform(0.0, 5.0), probability: 1.0),
+            ],
+        ),
+    ],
+    controls: {},
+    observables: ["heater.temp"],
+    connections: [],
+)"#;
+
+#[test]
+fn a_replayed_step_restarts_the_clocks_of_its_candidates_successors() {
+    // Figure 6-11 step 5: a component that changes mode restarts its clock at t(i+1).
+    let plant = Plant::load(&Source::new("degrading_heater.ron", DEGRADING_HEATER)).expect("loads");
+    let log: String = (0..200)
+        .map(|k| {
+            format!(
+                "{{\"time\": {}, \"observations\": {{\"heater.temp\": \"high\"}}}}\n",
+                1000.0 + k as f64 * 0.1
+            )
+        })
+        .collect();
+    let records = parse_log(&Source::new("heater.jsonl", log), &plant).expect("parses");
+    let (_, replayed) = beliefs(&plant, &records, REFERENCE);
+    assert!(replayed > 100, "{replayed} of 199 steps replayed");
+    assert_eq!(first_difference(&plant, &records, NO_REPLAY), None);
 }

@@ -48,7 +48,8 @@ use super::{EstimationError, WeightedState};
 use crate::logic::ValueId;
 use crate::opsat::{Cut, Ocsp, SearchOptions, Theory};
 use crate::plant::{
-    Commands, Observation, Plant, SystemState, component_distribution, enabled_transitions,
+    Commands, Component, Observation, Plant, SystemState, component_distribution,
+    enabled_transitions, successor,
 };
 
 /// Past this many entries a cache starts afresh.
@@ -153,6 +154,8 @@ pub(crate) struct Limits {
 pub(crate) struct Expander {
     enabled: FxHashMap<Vec<u32>, Rc<Vec<Vec<usize>>>>,
     memo: StepMemo,
+    /// The sources of the last step and of this one, with their choices ([`Recents`]).
+    recent: Recents,
     solutions: SolutionCache,
     pub(crate) observe: ObservationModel,
     scratch: Vec<u32>,
@@ -222,6 +225,170 @@ impl StepMemo {
     }
 }
 
+/// A component's distribution with a clock `reading` in the current step, from the step's memo
+/// when a source already asked for it ([`StepMemo`]).
+fn timed(
+    memos: &mut Vec<Memo>,
+    component: &Component,
+    c: usize,
+    mode: ValueId,
+    enabled: &Rc<Vec<Vec<usize>>>,
+    reading: f64,
+    step: f64,
+) -> Rc<[NextMode]> {
+    let bits = Some(reading.to_bits());
+    let known = memos.iter().find(|m| {
+        m.mode == mode
+            && m.clock == bits
+            && (Rc::ptr_eq(&m.enabled, enabled) || m.enabled[c] == enabled[c])
+    });
+    if let Some(memo) = known {
+        return Rc::clone(&memo.next);
+    }
+    let next = next_modes(component_distribution(
+        component,
+        mode,
+        &enabled[c],
+        Some(reading),
+        step,
+    ));
+    memos.push(Memo {
+        mode,
+        enabled: Rc::clone(enabled),
+        clock: bits,
+        next: Rc::clone(&next),
+    });
+    next
+}
+
+/// Whether two distributions are the same bit for bit (`NextMode`'s `==` would call −0.0 and
+/// 0.0 equal).
+fn same_bits(a: &[NextMode], b: &[NextMode]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(x, y)| {
+            x.mode == y.mode
+                && x.probability.to_bits() == y.probability.to_bits()
+                && x.cost.to_bits() == y.cost.to_bits()
+        })
+}
+
+/// The sources whose choices were computed in recent steps (issue 15: a quiet step's sources
+/// are mostly the last steps' states). Certified like [`StepMemo`]: a source's choices are a
+/// function of its modes, its clock starts, μ (through the enabled transitions, a function of
+/// the modes and μ), the step's length and its start (through the clock readings) and nothing
+/// else. A source equal to a recent one (modes and clock starts bit for bit), under the same μ
+/// and step length (bit for bit: a cycle's length jitters in its last bits, so a few lengths
+/// alternate and each has its own entries), therefore has that source's distributions wherever
+/// a component has no clock; a component whose clock runs is computed again (through the memo)
+/// unless its reading is the same bit for bit, and the recent distribution is kept when the new
+/// one equals it bit for bit. When no component changed, the source gets the very same
+/// `Rc<Choices>` as before, which lets the replay reuse what it prepared from it (`replay.rs`).
+/// Every `Rc<Choices>` [`Expander::choices`] hands out is made for one entry and handed out
+/// again only for states equal to that entry's (modes and clock starts bit for bit): the
+/// replay takes the address, while it holds the `Rc`, as naming that state.
+#[derive(Default)]
+struct Recents {
+    /// The step (`from`, `to`) asked last, as bits.
+    step: (u64, u64),
+    /// Steps started, as a clock for [`Recent::used`].
+    steps: u64,
+    /// The entries, in the order they were made.
+    pool: Vec<Recent>,
+    /// Where [`Recents::find`] looks first.
+    next: usize,
+}
+
+/// Entries not used for this many steps are dropped (a few step lengths alternate).
+const RECENT_STEPS: u64 = 8;
+
+/// One source state's choices, with what they are a function of.
+struct Recent {
+    state: SystemState,
+    /// The components whose clock `state` knows (runs), by index.
+    running: Vec<usize>,
+    commands: Commands,
+    /// The step's length, as bits.
+    step: u64,
+    /// The start of the step it was last used in.
+    from: f64,
+    /// [`Recents::steps`] when it was last used.
+    used: u64,
+    /// The enabled transitions of `state` under `commands`.
+    enabled: Rc<Vec<Vec<usize>>>,
+    choices: Rc<Choices>,
+}
+
+impl Recents {
+    /// Starts the step `from`–`to` unless it is the current one, dropping the entries not used
+    /// for [`RECENT_STEPS`].
+    fn start(&mut self, from: f64, to: f64) {
+        let step = (from.to_bits(), to.to_bits());
+        if self.step != step {
+            self.step = step;
+            self.steps += 1;
+            let now = self.steps;
+            self.pool.retain(|r| now - r.used <= RECENT_STEPS);
+            self.next = 0;
+        }
+    }
+
+    /// The entry of a source equal to `state` under `commands` and a step of length `step`:
+    /// the one after the entry found last first (a step's sources come in the order they came
+    /// in when their entries were made), then every one.
+    fn find(&mut self, state: &SystemState, commands: &Commands, step: f64) -> Option<&mut Recent> {
+        let bits = step.to_bits();
+        let matches = |r: &Recent| r.step == bits && r.state == *state && r.commands == *commands;
+        let found = if self.pool.get(self.next).is_some_and(matches) {
+            Some(self.next)
+        } else {
+            self.pool.iter().position(matches)
+        };
+        self.next = found.map_or(0, |at| at + 1);
+        found.map(|at| &mut self.pool[at])
+    }
+}
+
+impl Recent {
+    /// Moves these choices to a step starting at `from` (same length): components with a
+    /// running clock are computed again where their reading moved ([`Recents`]).
+    fn advance(
+        &mut self,
+        plant: &Plant,
+        memos: &mut [Vec<Memo>],
+        state: &SystemState,
+        from: f64,
+        step: f64,
+    ) {
+        let mut changed: Option<Choices> = None;
+        for &c in &self.running {
+            let Some(start) = state.clock_starts[c] else {
+                continue;
+            };
+            let reading = from - start;
+            if reading.to_bits() == (self.from - start).to_bits() {
+                continue;
+            }
+            let (component, mode) = (&plant.components()[c], state.modes[c]);
+            let next = timed(
+                &mut memos[c],
+                component,
+                c,
+                mode,
+                &self.enabled,
+                reading,
+                step,
+            );
+            if !same_bits(&next, &self.choices[c]) {
+                changed.get_or_insert_with(|| self.choices.as_ref().clone())[c] = next;
+            }
+        }
+        self.from = from;
+        if let Some(choices) = changed {
+            self.choices = Rc::new(choices);
+        }
+    }
+}
+
 impl Expander {
     /// Each component's next modes from `state` in the step `from`–`to` (Figure 6-10's
     /// "identify enabled transitions" and §6.2.2's probabilities). The enabled transitions are
@@ -237,55 +404,57 @@ impl Expander {
         from: f64,
         to: f64,
     ) -> Result<Rc<Choices>, EstimationError> {
-        let enabled = self.enabled(plant, theory, state, commands)?;
         self.memo.start(plant, from, to);
+        self.recent.start(from, to);
         let step = to - from;
+        let now = self.recent.steps;
+        if let Some(source) = self.recent.find(state, commands, step) {
+            source.advance(plant, &mut self.memo.timed, state, from, step);
+            source.used = now;
+            return Ok(Rc::clone(&source.choices));
+        }
+        let enabled = self.enabled(plant, theory, state, commands)?;
         let key = (Rc::as_ptr(&enabled) as usize, step.to_bits());
         let untimed = self.memo.untimed.entry(key).or_insert_with(|| Untimed {
             _enabled: Rc::clone(&enabled),
             next: vec![None; plant.components().len()],
         });
-        let choices = plant
-            .component_ids()
-            .zip(&state.modes)
-            .zip(&mut self.memo.timed)
-            .zip(&mut untimed.next)
-            .enumerate()
-            .map(|(c, ((((id, component), &mode), memos), untimed))| {
-                let compute = |clock| {
-                    next_modes(component_distribution(
-                        component,
-                        mode,
-                        &enabled[c],
-                        clock,
-                        step,
-                    ))
-                };
-                let Some(reading) = state.clock(id, from) else {
-                    return Rc::clone(untimed.get_or_insert_with(|| compute(None)));
-                };
-                let bits = Some(reading.to_bits());
-                let known = memos.iter().find(|m| {
-                    m.mode == mode
-                        && m.clock == bits
-                        && (Rc::ptr_eq(&m.enabled, &enabled) || m.enabled[c] == enabled[c])
-                });
-                match known {
-                    Some(memo) => Rc::clone(&memo.next),
-                    None => {
-                        let next = compute(Some(reading));
-                        memos.push(Memo {
-                            mode,
-                            enabled: Rc::clone(&enabled),
-                            clock: bits,
-                            next: Rc::clone(&next),
-                        });
-                        next
+        let choices: Rc<Choices> = Rc::new(
+            plant
+                .component_ids()
+                .zip(&state.modes)
+                .zip(&mut self.memo.timed)
+                .zip(&mut untimed.next)
+                .enumerate()
+                .map(|(c, ((((id, component), &mode), memos), untimed))| {
+                    match state.clock(id, from) {
+                        None => Rc::clone(untimed.get_or_insert_with(|| {
+                            next_modes(component_distribution(
+                                component,
+                                mode,
+                                &enabled[c],
+                                None,
+                                step,
+                            ))
+                        })),
+                        Some(reading) => timed(memos, component, c, mode, &enabled, reading, step),
                     }
-                }
-            })
-            .collect();
-        Ok(Rc::new(choices))
+                })
+                .collect(),
+        );
+        self.recent.pool.push(Recent {
+            state: state.clone(),
+            running: (state.clock_starts.iter().enumerate())
+                .filter_map(|(c, start)| start.map(|_| c))
+                .collect(),
+            commands: commands.clone(),
+            step: step.to_bits(),
+            from,
+            used: now,
+            enabled,
+            choices: Rc::clone(&choices),
+        });
+        Ok(choices)
     }
 
     /// The enabled transitions from `state` under μ, cached per (modes, μ).
@@ -342,18 +511,18 @@ impl Expander {
         &mut self,
         plant: &Plant,
         theory: &mut Theory,
-        sources: &[SourceChoices],
-        observation: &Observation,
+        (sources, states): (&[SourceChoices], &[WeightedState]),
+        (observation, time): (&Observation, f64),
         limits: Limits,
-        successor: impl Fn(usize, Vec<ValueId>) -> SystemState,
         replay: bool,
     ) -> Result<Expansion, EstimationError> {
+        let successor = successor_from(plant, states, time);
         if let Some(recorded) = self.replay.as_mut().filter(|_| replay)
             && recorded
                 .prepare(&self.solutions, sources, observation)
                 .is_ok()
         {
-            let mut serve = recorded.serve(&self.solutions, sources);
+            let mut serve = recorded.serve(&self.solutions, sources, states);
             let replayed = merge(
                 &mut self.observe,
                 &mut self.buffers,
@@ -439,6 +608,17 @@ impl Expander {
     }
 }
 
+/// The system state source `k` of `states` reaches at `time` with next modes `modes` (Figure
+/// 6-11 step 5: clocks restart where the mode changed; the clocks that cannot matter are
+/// forgotten).
+pub(crate) fn successor_from<'a>(
+    plant: &'a Plant,
+    states: &'a [WeightedState],
+    time: f64,
+) -> impl Fn(usize, Vec<ValueId>) -> SystemState + 'a {
+    move |k, modes| successor(&states[k].state, modes, time).forget_idle_clocks(plant)
+}
+
 /// Where the merge gets each source's solutions, cheapest first, and their observation factors:
 /// the streams of a full expansion ([`Live`]), or the replay of the last one
 /// ([`super::replay::Replaying`]), which answers only what it can certify.
@@ -452,21 +632,31 @@ pub(crate) trait Serve {
     fn cost(&mut self, k: usize, i: usize, theory: &mut Theory)
     -> Result<Option<f64>, Self::Error>;
 
-    /// The next modes of solution `i` of source `k`, whose cost was asked for.
-    fn modes(&self, k: usize, i: usize) -> Vec<ValueId>;
+    /// What the merge needs of a candidate it examines.
+    type Candidate;
+
+    /// Solution `i` of source `k`, whose cost was asked for.
+    fn candidate(&self, k: usize, i: usize) -> Self::Candidate;
 
     /// See [`Streams::possible_mass`].
     fn possible_mass(&mut self, k: usize, theory: &mut Theory) -> Result<f64, Self::Error>;
 
-    /// P_O(o | modes) for the expansion's observation, `modes` being solution `i` of source
-    /// `k`.
+    /// P_O(o | modes) for the expansion's observation and the candidate's next modes.
     fn factor(
         &mut self,
         observe: &mut ObservationModel,
         theory: &mut Theory,
-        candidate: (usize, usize),
-        modes: &[ValueId],
+        candidate: &Self::Candidate,
     ) -> Result<f64, Self::Error>;
+
+    /// Adds the candidate's successor (as `successor` builds it) to `merged` with `weight`.
+    fn merge(
+        &mut self,
+        merged: &mut Merged,
+        candidate: Self::Candidate,
+        weight: f64,
+        successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+    );
 }
 
 /// The streams of a full expansion, with what they are asked about.
@@ -491,8 +681,10 @@ impl Serve for Live<'_, '_, '_> {
             .cost(k, i, self.plant, self.sources, self.observation, theory))
     }
 
-    fn modes(&self, k: usize, i: usize) -> Vec<ValueId> {
-        self.streams.modes(k, i)
+    type Candidate = (usize, Vec<ValueId>);
+
+    fn candidate(&self, k: usize, i: usize) -> (usize, Vec<ValueId>) {
+        (k, self.streams.modes(k, i))
     }
 
     fn possible_mass(&mut self, k: usize, theory: &mut Theory) -> Result<f64, Self::Error> {
@@ -503,10 +695,19 @@ impl Serve for Live<'_, '_, '_> {
         &mut self,
         observe: &mut ObservationModel,
         theory: &mut Theory,
-        _: (usize, usize),
-        modes: &[ValueId],
+        (_, modes): &(usize, Vec<ValueId>),
     ) -> Result<f64, Self::Error> {
         Ok(observe.factor(self.plant, theory, modes, self.observation)?)
+    }
+
+    fn merge(
+        &mut self,
+        merged: &mut Merged,
+        (k, modes): (usize, Vec<ValueId>),
+        weight: f64,
+        successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+    ) {
+        merged.add(successor(k, modes), weight);
     }
 }
 
@@ -563,15 +764,15 @@ fn merge<S: Serve>(
         let best = *best.get_or_insert(cost);
         candidates += 1;
         unseen.served(k, cost);
-        let modes = serve.modes(k, i);
+        let candidate = serve.candidate(k, i);
         match serve.cost(k, i + 1, theory)? {
             Some(next) => frontier.push(Reverse((order(source_cost[k] + next), k, i + 1))),
             None => unseen.exhausted(k),
         }
-        let factor = serve.factor(observe, theory, (k, i), &modes)?;
+        let factor = serve.factor(observe, theory, &candidate)?;
         let weight = (best - cost).exp() * factor;
         if weight > 0.0 {
-            merged.add(successor(k, modes), weight);
+            serve.merge(merged, candidate, weight, successor);
         }
         if candidates as usize >= limits.max_candidates {
             break;
@@ -691,10 +892,17 @@ impl Unseen {
     }
 }
 
+/// The hash [`Merged`] indexes a state by.
+pub(crate) fn state_hash(state: &SystemState) -> u64 {
+    let mut hasher = FxHasher::default();
+    state.hash(&mut hasher);
+    hasher.finish()
+}
+
 /// Next system states with summed weights, in order of first appearance. Indexed by hash, so a
 /// new state is stored once (hash collisions fall back to comparing states).
 #[derive(Default)]
-struct Merged {
+pub(crate) struct Merged {
     index: FxHashMap<u64, usize>,
     states: Vec<WeightedState>,
     /// The sum of the weights.
@@ -704,25 +912,44 @@ struct Merged {
 
 impl Merged {
     fn add(&mut self, state: SystemState, weight: f64) {
+        let hash = state_hash(&state);
+        self.add_hashed(state, hash, weight);
+    }
+
+    /// [`Merged::add`] of `state`, whose hash ([`state_hash`]) is `hash`.
+    pub(crate) fn add_hashed(&mut self, state: SystemState, hash: u64, weight: f64) {
         self.total += weight;
-        let mut hasher = FxHasher::default();
-        state.hash(&mut hasher);
-        let hash = hasher.finish();
-        let found = match self.index.get(&hash) {
-            Some(&i) if self.states[i].state == state => Some(i),
-            Some(_) => self.states.iter().position(|w| w.state == state),
-            None => None,
-        };
-        match found {
+        match self.find(hash, &state) {
             Some(i) => self.states[i].probability += weight,
-            None => {
-                self.index.entry(hash).or_insert(self.states.len());
-                self.states.push(WeightedState {
-                    state,
-                    probability: weight,
-                });
-            }
+            None => self.push(hash, state, weight),
         }
+    }
+
+    /// [`Merged::add`] of a copy of `state`, whose hash ([`state_hash`]) is `hash`, copied only
+    /// if it is new.
+    pub(crate) fn add_known(&mut self, state: &SystemState, hash: u64, weight: f64) {
+        self.total += weight;
+        match self.find(hash, state) {
+            Some(i) => self.states[i].probability += weight,
+            None => self.push(hash, state.clone(), weight),
+        }
+    }
+
+    /// The index of `state` (of hash `hash`) among the states merged, if it is one.
+    fn find(&self, hash: u64, state: &SystemState) -> Option<usize> {
+        match self.index.get(&hash) {
+            Some(&i) if self.states[i].state == *state => Some(i),
+            Some(_) => self.states.iter().position(|w| w.state == *state),
+            None => None,
+        }
+    }
+
+    fn push(&mut self, hash: u64, state: SystemState, weight: f64) {
+        self.index.entry(hash).or_insert(self.states.len());
+        self.states.push(WeightedState {
+            state,
+            probability: weight,
+        });
     }
 
     /// The `k`-th largest weight, or 0 with fewer than `k` states.
@@ -766,7 +993,11 @@ impl Merged {
     fn heaviest(&mut self, k: usize) -> Vec<WeightedState> {
         self.states
             .sort_by(|a, b| b.probability.total_cmp(&a.probability));
-        self.states.truncate(k);
-        std::mem::take(&mut self.states)
+        // Drained rather than taken, so that the merge keeps its capacity for the next step.
+        let kept = k.min(self.states.len());
+        let mut heaviest = Vec::with_capacity(kept);
+        heaviest.extend(self.states.drain(..kept));
+        self.states.clear();
+        heaviest
     }
 }

@@ -57,9 +57,22 @@
 //! 6. a factor is served only from the observation model's cache (remembered per known solution
 //!    for the record's life: that cache only grows or starts afresh in a full step, which
 //!    replaces the record), a possible mass only from the shape's cached mask, with the function
-//!    the full step uses.
+//!    the full step uses;
+//! 7. a candidate's successor (source state s, next modes m) is the one `Expander::step` builds,
+//!    `successor(s, m, t).forget_idle_clocks(plant)`, or a copy of one built in an earlier step
+//!    of the record's life from a source state equal to s (modes and clock starts bit for bit)
+//!    with the same known solution m, kept only if every component that changed mode had its
+//!    clock forgotten. That successor depends on s and m alone: a component that kept its mode
+//!    keeps s's clock start (forgotten or not by its mode alone), one that changed mode would
+//!    restart its clock at t but has it forgotten, by its new mode alone, whatever t. So the
+//!    copy equals what the full step builds, bit for bit, and it is merged under the same hash
+//!    (`expand::state_hash` of an equal state) by the same `Merged` code. "Equal to s" is
+//!    checked by comparing the states, or by the source's `Rc<Choices>` being one already seen
+//!    with the state compared: `Expander::choices` hands an `Rc<Choices>` out only for states
+//!    equal (modes and clock starts bit for bit) to the one it was made for (`expand.rs`,
+//!    `Recents`), and the record holds the `Rc`, so its address names that state.
 //!
-//! Under 1–6 the merge — the same function in both cases (`expand::merge`) — sees the same
+//! Under 1–7 the merge — the same function in both cases (`expand::merge`) — sees the same
 //! costs, modes, factors and masses in the same order as in the full step, so it examines the
 //! same candidates, builds the same successors, sums the same weights in the same order and
 //! stops at the same point: the answer is bit for bit the full step's. And the full step would
@@ -69,16 +82,22 @@
 //! scratch, and the step is expanded in full (and recorded afresh).
 //!
 //! The record's bound on the other solutions is computed once per record (it costs a pass over
-//! the shape's known solutions, what `take` does every step), at the first replay.
+//! the shape's known solutions, what `take` does every step), at the first replay. A source's
+//! preparation (its shape, L, O and its R ordered) is a function of its choices while the
+//! record lives, so it is kept per source for the last few distinct `Rc<Choices>` (a quiet
+//! source keeps its very `Rc` from step to step, `expand.rs` `Recents`) and a source whose
+//! choices are one of those allocations (`Rc::ptr_eq`; the preparation holds the `Rc`, so the
+//! address cannot be reused) is not prepared again.
 
 use std::rc::Rc;
 
-use super::expand::{Choices, Serve, SourceChoices};
+use super::WeightedState;
+use super::expand::{Choices, Merged, Serve, SourceChoices, state_hash};
 use super::observe::ObservationModel;
 use super::streams::{Known, SolutionCache, cost_at, drift, possible_mass_under};
 use crate::logic::ValueId;
 use crate::opsat::Theory;
-use crate::plant::Observation;
+use crate::plant::{Observation, SystemState};
 
 /// The rounding margin of condition 4 (module documentation), relative to the costs compared.
 const ROUNDING: f64 = 1e-9;
@@ -97,7 +116,7 @@ pub(crate) struct Replay {
     /// The recorded shapes, one per slot.
     shapes: Vec<Shape>,
     /// This step, per source: what it is served from.
-    sources: Vec<Prepared>,
+    sources: Vec<Variants>,
     /// The cache's answers about possible modes, as the drift asks them.
     decided: Decided,
 }
@@ -139,8 +158,118 @@ struct Shape {
     factors: Vec<f64>,
 }
 
+/// How many preparations a source keeps: one per step length that recurs (a cycle's length
+/// jitters in its last bits, so a few lengths alternate, each with its own choices).
+const VARIANTS: usize = 4;
+
+/// One source's recent preparations, the current one first to be looked at.
+#[derive(Default)]
+struct Variants {
+    prepared: Vec<Prepared>,
+    /// The successors built from this source (condition 7 of the module documentation).
+    successors: Successors,
+    /// The one this step is served from.
+    current: usize,
+    /// The one to replace next when all [`VARIANTS`] are taken.
+    next: usize,
+}
+
+/// The successors built from one source state, by known solution, with their hashes: kept only
+/// where no clock restarted (condition 7 of the module documentation).
+#[derive(Default)]
+struct Successors {
+    /// The source state and the shape (its index in [`Replay::shapes`]) they were built from.
+    from: Option<(SystemState, usize)>,
+    /// Choices handed out for that state (at most [`VARIANTS`], one per step length).
+    seen: Vec<Rc<Choices>>,
+    /// Per known solution of the shape.
+    built: Vec<Option<(SystemState, u64)>>,
+}
+
+impl Successors {
+    /// Keeps what was built if it was built from `source` of shape `shape`, else starts afresh
+    /// for a shape of `solutions` known solutions. `choices` are `source`'s: `Expander::choices`
+    /// hands an `Rc<Choices>` out again only for a state equal to the one it was made for
+    /// (`expand.rs`, `Recents`), so choices already seen with the state built from (and held
+    /// here, so that the address is not reused) spare comparing the states.
+    fn keep_for(
+        &mut self,
+        source: &SystemState,
+        choices: &Rc<Choices>,
+        shape: usize,
+        solutions: usize,
+    ) {
+        let Some((state, at)) = &self.from else {
+            return self.start(source, choices, shape, solutions);
+        };
+        if *at != shape {
+            return self.start(source, choices, shape, solutions);
+        }
+        if self.seen.iter().any(|seen| Rc::ptr_eq(seen, choices)) {
+            return;
+        }
+        if state != source {
+            return self.start(source, choices, shape, solutions);
+        }
+        if self.seen.len() >= VARIANTS {
+            self.seen.remove(0);
+        }
+        self.seen.push(Rc::clone(choices));
+    }
+
+    fn start(
+        &mut self,
+        source: &SystemState,
+        choices: &Rc<Choices>,
+        shape: usize,
+        solutions: usize,
+    ) {
+        self.from = Some((source.clone(), shape));
+        self.seen.clear();
+        self.seen.push(Rc::clone(choices));
+        self.built.clear();
+        self.built.resize(solutions, None);
+    }
+}
+
+impl Variants {
+    /// The preparation this step is served from.
+    fn current(&self) -> &Prepared {
+        &self.prepared[self.current]
+    }
+
+    /// Selects the preparation made from `choices` if there is one (true), else an entry to
+    /// prepare, emptied (false).
+    fn select(&mut self, choices: &Rc<Choices>) -> bool {
+        let made = self
+            .prepared
+            .iter()
+            .position(|p| p.choices.as_ref().is_some_and(|c| Rc::ptr_eq(c, choices)));
+        if let Some(at) = made {
+            self.current = at;
+            return true;
+        }
+        // The shape found last is where the search for the new one starts.
+        let shape = self.prepared.get(self.current).map_or(0, |p| p.shape);
+        if self.prepared.len() < VARIANTS {
+            self.current = self.prepared.len();
+            self.prepared.push(Prepared::default());
+        } else {
+            self.current = self.next;
+            self.next = (self.next + 1) % VARIANTS;
+        }
+        let prepared = &mut self.prepared[self.current];
+        prepared.choices = None;
+        prepared.shape = shape;
+        false
+    }
+}
+
 /// One source of this step, prepared.
 struct Prepared {
+    /// The choices it was prepared from: everything below is a function of them while the
+    /// record lives, so a source with the very same choices (`Rc::ptr_eq`) is prepared already.
+    choices: Option<Rc<Choices>>,
     /// Index of its shape in [`Replay::shapes`].
     shape: usize,
     /// R's solutions with their costs under this step's choices, dearest first (served from
@@ -288,8 +417,12 @@ impl Replay {
         if self.observation != *observation || cache.is_full() {
             return Err(Uncertified);
         }
-        self.sources.resize_with(sources.len(), Prepared::default);
-        for (k, (prepared, source)) in self.sources.iter_mut().zip(sources).enumerate() {
+        self.sources.resize_with(sources.len(), Variants::default);
+        for (k, (variants, source)) in self.sources.iter_mut().zip(sources).enumerate() {
+            if variants.select(&source.choices) {
+                continue;
+            }
+            let prepared = &mut variants.prepared[variants.current];
             // The shape of this source in the last step first (the belief's order seldom
             // changes), then the others from the source's own index on.
             let shape = std::iter::once(prepared.shape)
@@ -309,20 +442,31 @@ impl Replay {
                 shape,
                 &source.choices,
             )?;
+            prepared.choices = Some(Rc::clone(&source.choices));
         }
         Ok(())
     }
 
     /// The merge's view of this step (after [`Replay::prepare`]).
+    /// `states` are the sources' states, from which `Expander::step` builds the successors.
     pub(crate) fn serve<'a>(
         &'a mut self,
         cache: &'a SolutionCache,
         sources: &'a [SourceChoices],
+        states: &'a [WeightedState],
     ) -> Replaying<'a> {
+        for ((variants, weighted), source) in self.sources.iter_mut().zip(states).zip(sources) {
+            let shape = variants.current().shape;
+            let solutions = self.shapes[shape].factors.len();
+            variants
+                .successors
+                .keep_for(&weighted.state, &source.choices, shape, solutions);
+        }
         Replaying {
             replay: self,
             cache,
             sources,
+            states,
         }
     }
 }
@@ -330,6 +474,7 @@ impl Replay {
 impl Default for Prepared {
     fn default() -> Prepared {
         Prepared {
+            choices: None,
             shape: 0,
             order: Vec::new(),
             certified: f64::NEG_INFINITY,
@@ -385,11 +530,13 @@ pub(crate) struct Replaying<'a> {
     replay: &'a mut Replay,
     cache: &'a SolutionCache,
     sources: &'a [SourceChoices],
+    /// The source states, as the successors are built from them.
+    states: &'a [WeightedState],
 }
 
 impl Replaying<'_> {
     fn known(&self, k: usize) -> Result<&Known, Uncertified> {
-        let shape = &self.replay.shapes[self.replay.sources[k].shape];
+        let shape = &self.replay.shapes[self.replay.sources[k].current().shape];
         self.cache.known(shape.slot).ok_or(Uncertified)
     }
 }
@@ -398,7 +545,7 @@ impl Serve for Replaying<'_> {
     type Error = Uncertified;
 
     fn cost(&mut self, k: usize, i: usize, _: &mut Theory) -> Result<Option<f64>, Uncertified> {
-        let source = &self.replay.sources[k];
+        let source = self.replay.sources[k].current();
         match source.order.len().checked_sub(i + 1) {
             Some(at) => {
                 let cost = source.order[at].1;
@@ -419,16 +566,14 @@ impl Serve for Replaying<'_> {
         }
     }
 
-    fn modes(&self, k: usize, i: usize) -> Vec<ValueId> {
-        let source = &self.replay.sources[k];
-        let index = source
-            .order
-            .len()
-            .checked_sub(i + 1)
-            .map(|at| source.order[at].0);
-        index
-            .and_then(|index| Some(self.known(k).ok()?.solutions[index].clone()))
-            .unwrap_or_default()
+    /// Source `k` and the index of its `i`-th solution among the shape's known ones
+    /// (`usize::MAX`, which no factor is remembered for, if there is none).
+    type Candidate = (usize, usize);
+
+    fn candidate(&self, k: usize, i: usize) -> (usize, usize) {
+        let source = self.replay.sources[k].current();
+        let at = source.order.len().checked_sub(i + 1);
+        (k, at.map_or(usize::MAX, |at| source.order[at].0))
     }
 
     fn possible_mass(&mut self, k: usize, _: &mut Theory) -> Result<f64, Uncertified> {
@@ -440,19 +585,57 @@ impl Serve for Replaying<'_> {
         &mut self,
         observe: &mut ObservationModel,
         _: &mut Theory,
-        (k, i): (usize, usize),
-        modes: &[ValueId],
+        &(k, index): &(usize, usize),
     ) -> Result<f64, Uncertified> {
-        let source = &self.replay.sources[k];
-        let at = source.order.len().checked_sub(i + 1).ok_or(Uncertified)?;
-        let index = source.order[at].0;
-        let shape = &mut self.replay.shapes[source.shape];
+        let shape = &mut self.replay.shapes[self.replay.sources[k].current().shape];
         let known = shape.factors.get_mut(index).ok_or(Uncertified)?;
         if known.is_nan() {
+            let solutions = &self.cache.known(shape.slot).ok_or(Uncertified)?.solutions;
+            let modes = solutions.get(index).ok_or(Uncertified)?;
             *known = observe
                 .cached(modes, &self.replay.observation)
                 .ok_or(Uncertified)?;
         }
         Ok(*known)
     }
+
+    fn merge(
+        &mut self,
+        merged: &mut Merged,
+        (k, index): (usize, usize),
+        weight: f64,
+        successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+    ) {
+        if let Some(Some((state, hash))) = self.replay.sources[k].successors.built.get(index) {
+            merged.add_known(state, *hash, weight);
+            return;
+        }
+        let modes = self
+            .known(k)
+            .ok()
+            .and_then(|known| known.solutions.get(index))
+            .cloned()
+            .unwrap_or_default();
+        let state = successor(k, modes);
+        let hash = state_hash(&state);
+        let source = &self.states[k].state;
+        if restarts_no_clock(source, &state)
+            && let Some(slot) = self.replay.sources[k].successors.built.get_mut(index)
+        {
+            *slot = Some((state.clone(), hash));
+        }
+        merged.add_hashed(state, hash, weight);
+    }
+}
+
+/// Whether `next`, a successor of `source`, restarted no clock: every component that changed
+/// mode has its clock forgotten, so that `next` does not depend on the step's end (condition 7
+/// of the module documentation).
+fn restarts_no_clock(source: &SystemState, next: &SystemState) -> bool {
+    source
+        .modes
+        .iter()
+        .zip(&next.modes)
+        .zip(&next.clock_starts)
+        .all(|((before, after), start)| before == after || start.is_none())
 }

@@ -19,7 +19,9 @@
 
 use std::rc::Rc;
 
-use super::expand::{Expander, Expansion, Limits, NextMode, SourceChoices, choices_from};
+use super::expand::{
+    Expander, Expansion, Limits, NextMode, SourceChoices, choices_from, successor_from,
+};
 use super::history::{History, Input, Step, WIDEN};
 use super::{
     Belief, EstimationError, EstimationEvent, Fallback, ModeEstimator, Update, UpdateStats,
@@ -27,7 +29,7 @@ use super::{
 };
 use crate::logic::ValueId;
 use crate::opsat::{Budget, SearchOptions, Theory};
-use crate::plant::{Commands, Observation, Plant, SystemState, successor};
+use crate::plant::{Commands, Observation, Plant, SystemState};
 
 /// The prior of an unexplained jump into an unconstrained fault mode, per component, in the
 /// fallback. Only its smallness matters: explanations with fewer jumps come first.
@@ -221,7 +223,7 @@ impl ModeEstimator for TimedMe {
                     &sources,
                     observation,
                     limits,
-                    successor_from(plant, belief, time),
+                    successor_from(plant, belief.states(), time),
                 )?;
                 outcome.fall_back(expansion, belief.states());
                 jumped = true;
@@ -363,22 +365,12 @@ fn expand_from(
     let expansion = expander.step(
         plant,
         theory,
-        &sources,
-        step.observation,
+        (&sources, belief.states()),
+        (step.observation, step.time),
         limits,
-        successor_from(plant, belief, step.time),
         replay,
     )?;
     Ok((sources, expansion))
-}
-
-/// The system state source `k` of `belief` reaches at `time` with next modes `modes`.
-fn successor_from<'a>(
-    plant: &'a Plant,
-    belief: &'a Belief,
-    time: f64,
-) -> impl Fn(usize, Vec<ValueId>) -> SystemState + 'a {
-    move |k, modes| successor(&belief.states()[k].state, modes, time).forget_idle_clocks(plant)
 }
 
 /// The initial belief (shared with the exact update, which passes unbounded limits): the
