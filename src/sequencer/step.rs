@@ -176,6 +176,26 @@ pub struct Sequencer {
     /// or more, never iterated).
     consistency: FxHashMap<Vec<FormulaId>, bool>,
     completed: bool,
+    /// The half cycles' working storage, kept from one cycle to the next.
+    scratch: Scratch,
+}
+
+/// Working storage of the half cycles (issue 15: a quiet cycle allocates none of it). Holds no
+/// state: every buffer is overwritten before it is read.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    /// The evaluator's answers per formula.
+    entailed: Vec<Option<bool>>,
+    /// Step 2: locations inside a violated composite.
+    inside_violated: Vec<bool>,
+    /// Steps 7–8: composites with something inside still marked or moving.
+    busy: Vec<bool>,
+    /// Step 8: the enabled transitions.
+    enabled: Vec<(LocationId, usize)>,
+    /// The marking m(i) once m(i+1) replaced it, and an open cycle's vectors once it closed.
+    marking: Vec<bool>,
+    clocks: Vec<Option<f64>>,
+    violated: Vec<bool>,
 }
 
 /// Hashes optional times by their bits.
@@ -214,6 +234,7 @@ impl Sequencer {
             open: None,
             consistency: FxHashMap::default(),
             completed,
+            scratch: Scratch::default(),
         }
     }
 
@@ -277,14 +298,29 @@ impl Sequencer {
         }
         self.check_time(time)?;
         // Step 1: update active clocks, x = t_abs − t_init.
-        let clocks: Vec<Option<f64>> = self
-            .clock_started
-            .iter()
-            .map(|start| start.map(|t0| time - t0))
-            .collect();
+        let mut clocks = std::mem::take(&mut self.scratch.clocks);
+        clocks.clear();
+        clocks.extend(
+            self.clock_started
+                .iter()
+                .map(|start| start.map(|t0| time - t0)),
+        );
         let mut events = Vec::new();
-        let mut evaluator = Evaluator::new(&self.thca, &clocks, current, oracle);
-        let violated = check_maintenance(&self.thca, &mut self.marked, &mut evaluator, &mut events);
+        let mut evaluator = Evaluator::new(
+            &self.thca,
+            &clocks,
+            current,
+            oracle,
+            &mut self.scratch.entailed,
+        );
+        let mut violated = std::mem::take(&mut self.scratch.violated);
+        check_maintenance(
+            &self.thca,
+            &mut self.marked,
+            &mut evaluator,
+            &mut events,
+            (&mut violated, &mut self.scratch.inside_violated),
+        );
         let started = self.assert_clock_inits(time, &mut events);
         let conjuncts = self.goal_conjuncts(&violated);
         let goal = self.configuration_goal(conjuncts, oracle, &mut events);
@@ -313,11 +349,24 @@ impl Sequencer {
     ) -> Result<CycleEnd, SequencerError> {
         let open = self.open.take().ok_or(SequencerError::NoCycleOpen)?;
         let mut events = Vec::new();
-        let mut evaluator = Evaluator::new(&self.thca, &open.clocks, next, oracle);
-        let (mut marking, enabled) = self.enabled_transitions(&mut evaluator, &open, &mut events);
+        let mut scratch = std::mem::take(&mut self.scratch);
+        let mut evaluator = Evaluator::new(
+            &self.thca,
+            &open.clocks,
+            next,
+            oracle,
+            &mut scratch.entailed,
+        );
+        let mut marking = std::mem::take(&mut scratch.marking);
+        self.enabled_transitions(
+            &mut evaluator,
+            &open,
+            &mut events,
+            (&mut marking, &mut scratch.busy, &mut scratch.enabled),
+        );
         // Step 9: mark (with m_F) the targets of every enabled transition, then re-mark the
         // composites that contain marked locations.
-        for (location, transition) in enabled {
+        for &(location, transition) in &scratch.enabled {
             let targets = &self.thca.location(location).transitions[transition].targets;
             for &target in targets {
                 mark_full(&self.thca, target, &mut marking);
@@ -329,10 +378,13 @@ impl Sequencer {
             }
         }
         // Step 10: t^init(i+1) keeps every reference of t^init(i) and adds step 3's.
-        for (clock, time) in open.started {
+        for &(clock, time) in &open.started {
             self.clock_started[clock.index()] = Some(time);
         }
-        self.marked = marking;
+        scratch.marking = std::mem::replace(&mut self.marked, marking);
+        scratch.clocks = open.clocks;
+        scratch.violated = open.violated;
+        self.scratch = scratch;
         let was_complete = self.completed;
         self.completed = !self.marked.contains(&true);
         if self.completed && !was_complete {
@@ -495,12 +547,17 @@ impl Sequencer {
         evaluator: &mut Evaluator<'_, E>,
         open: &OpenCycle,
         events: &mut Vec<Event>,
-    ) -> (Vec<bool>, Vec<(LocationId, usize)>) {
+        (next, busy, enabled): (
+            &mut Vec<bool>,
+            &mut Vec<bool>,
+            &mut Vec<(LocationId, usize)>,
+        ),
+    ) {
         let count = self.marked.len();
-        let mut next = vec![false; count];
+        refill(next, count);
         // A composite is busy while something inside it stays marked or moves on.
-        let mut busy = vec![false; count];
-        let mut enabled = Vec::new();
+        refill(busy, count);
+        enabled.clear();
         for location in self.thca.locations().iter().rev() {
             let i = location.id.index();
             let ready = self.marked[i]
@@ -535,22 +592,29 @@ impl Sequencer {
                 busy[parent.index()] |= busy[i] || next[i] || moves;
             }
         }
-        (next, enabled)
     }
+}
+
+/// Empties `flags` and makes it `count` times false, keeping its capacity.
+fn refill(flags: &mut Vec<bool>, count: usize) {
+    flags.clear();
+    flags.resize(count, false);
 }
 
 /// Step 2: unmark everything inside a marked composite whose maintenance constraint
 /// ŝ(i) ∧ ω(i) violates. Primitive locations' own maintenance is checked in the same pass
-/// (steps 4, 7 and 8a need it). Returns the violated locations.
+/// (steps 4, 7 and 8a need it). Fills `violated` with the violated locations
+/// (`inside_violated` is scratch).
 fn check_maintenance<E: Entailment>(
     thca: &Thca,
     marked: &mut [bool],
     evaluator: &mut Evaluator<'_, E>,
     events: &mut Vec<Event>,
-) -> Vec<bool> {
+    (violated, inside_violated): (&mut Vec<bool>, &mut Vec<bool>),
+) {
     let count = marked.len();
-    let mut violated = vec![false; count];
-    let mut inside_violated = vec![false; count];
+    refill(violated, count);
+    refill(inside_violated, count);
     for location in thca.locations() {
         let i = location.id.index();
         inside_violated[i] = location
@@ -585,7 +649,6 @@ fn check_maintenance<E: Entailment>(
             });
         }
     }
-    violated
 }
 
 /// m_F: marks a location and, if it is a composite, its start locations, recursively.
@@ -605,7 +668,8 @@ struct Evaluator<'a, E: Entailment> {
     clocks: &'a [Option<f64>],
     estimate: &'a E::Estimate,
     oracle: &'a mut E,
-    entailed: Vec<Option<bool>>,
+    /// Per formula, its answer once asked (the sequencer's buffer, reset here).
+    entailed: &'a mut Vec<Option<bool>>,
 }
 
 impl<'a, E: Entailment> Evaluator<'a, E> {
@@ -614,13 +678,16 @@ impl<'a, E: Entailment> Evaluator<'a, E> {
         clocks: &'a [Option<f64>],
         estimate: &'a E::Estimate,
         oracle: &'a mut E,
+        entailed: &'a mut Vec<Option<bool>>,
     ) -> Self {
+        entailed.clear();
+        entailed.resize(thca.formula_count(), None);
         Evaluator {
             thca,
             clocks,
             estimate,
             oracle,
-            entailed: vec![None; thca.formula_count()],
+            entailed,
         }
     }
 
