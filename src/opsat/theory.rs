@@ -16,7 +16,7 @@
 use petgraph::unionfind::UnionFind;
 use rustc_hash::FxHashMap;
 
-use super::propagate::{Propagator, Solver, Value};
+use super::propagate::{Solver, Value};
 use super::sat::{Outcome, RecordedSolver, SatBackend, SatLit, SatSolver};
 use crate::logic::{Atom, Formula, ValueId, VarId, VarTable};
 
@@ -199,10 +199,7 @@ impl Theory {
         constraints: &[Formula],
         options: TheoryOptions,
     ) -> Result<Theory, TheoryError> {
-        let mut solver = Solver {
-            sat: RecordedSolver::new(options.backend),
-            propagator: Propagator::default(),
-        };
+        let mut solver = Solver::new(RecordedSolver::new(options.backend));
         let constant_true = solver.new_var();
         solver.add_clause(&[constant_true]);
         let mut value_lits = Vec::with_capacity(table.len());
@@ -309,7 +306,7 @@ impl Theory {
             None
         } else if !self.solver.propagator.closure_of(&sat_assumptions) {
             Some(false)
-        } else if self.consistent_by_propagation(&sat_assumptions) {
+        } else if self.consistent_by_propagation(&sat_assumptions, false) {
             Some(true)
         } else {
             None
@@ -352,18 +349,17 @@ impl Theory {
     ) -> Consistency {
         self.stats.consistency_checks += 1;
         let sat_assumptions = self.sat_literals(assumptions);
-        if self.consistent_by_propagation(&sat_assumptions) {
+        if self.consistent_by_propagation(&sat_assumptions, propagated_cores) {
             self.stats.sat_calls += 1;
             self.stats.propagated += 1;
             self.scratch = sat_assumptions;
             return Consistency::Consistent;
         }
-        let propagated =
-            propagated_cores && self.propagation && self.solver.propagator.in_conflict();
+        let propagated = propagated_cores && self.propagation && self.solver.search.in_conflict();
         let answer = if propagated {
             self.stats.sat_calls += 1;
             self.stats.propagated += 1;
-            let core = self.solver.propagator.conflict_assumptions();
+            let core = self.solver.search.conflict_assumptions();
             let core = if minimize { self.minimize(core) } else { core };
             Consistency::Conflict(conflict_of(&core, &sat_assumptions, assumptions))
         } else {
@@ -391,10 +387,11 @@ impl Theory {
 
     /// Whether propagation proves `assumptions` consistent: its closure has no conflict and,
     /// completed by the last model, satisfies every clause ([`Propagator::completes_to_model`]).
-    fn consistent_by_propagation(&mut self, assumptions: &[SatLit]) -> bool {
+    fn consistent_by_propagation(&mut self, assumptions: &[SatLit], search: bool) -> bool {
+        let propagator = self.solver.for_search(search);
         let proved = self.propagation
-            && self.solver.propagator.closure_of(assumptions)
-            && self.solver.propagator.completes_to_model();
+            && propagator.closure_of(assumptions)
+            && propagator.completes_to_model();
         if proved {
             self.consistent_with.clear();
             self.consistent_with.extend_from_slice(assumptions);
