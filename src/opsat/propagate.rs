@@ -31,7 +31,10 @@
 //! implication graph, [`Propagator::retract`]); the rest stays, since the closure of a set does
 //! not depend on the order of its members. Only yes/no answers come out of this closure (a
 //! conflict for the caller's core goes to the SAT solver), and those are the same whatever the
-//! order.
+//! order. For the same reason this closure may also *decide* a few literals to complete the
+//! stored model ([`Propagator::completes_by_deciding`]) before a "consistent?" goes to the
+//! solver: estimation asks one such question per mode the observation might refute, and the
+//! solver answered each by assigning the whole theory.
 
 use super::sat::{Outcome, RecordedSolver, SatLit, SatSolver};
 
@@ -500,8 +503,42 @@ impl Propagator {
     /// true can be falsified by the switch, so only those are checked: the cost is the
     /// assignment's length and the occurrences of what it changed, not the theory's size.
     pub(crate) fn completes_to_model(&mut self) -> bool {
+        self.repair().is_ok()
+    }
+
+    /// [`Propagator::completes_to_model`], and while it fails, up to `decisions` times: an open
+    /// literal of a clause the completion falsifies is assumed and propagated, and the
+    /// completion checked again. What is decided is taken back (the assignment is the closure
+    /// again); a completion found is a model of the clauses and every assumption, so the
+    /// answer "consistent" is exact, and it becomes the stored model. Without a completion the
+    /// caller asks the SAT solver, as before. The questions this is for ask a mode or an
+    /// observed value that the stored model contradicts (estimation's `Possible`, one question
+    /// per mode): the clauses it falsifies are the few around that component, each a
+    /// propagation away from a model, where the solver assigned the whole theory.
+    pub(crate) fn completes_by_deciding(&mut self, decisions: usize) -> bool {
+        let mark = self.trail.len();
+        let mut completed = false;
+        for _ in 0..=decisions {
+            match self.repair() {
+                Ok(()) => {
+                    completed = true;
+                    break;
+                }
+                Err(Some(open)) if self.extend(open) => {}
+                Err(_) => break,
+            }
+        }
+        self.undo(mark);
+        completed
+    }
+
+    /// Checks the assignment completed by the stored model (see
+    /// [`Propagator::completes_to_model`]); when it is a model it becomes the stored one.
+    /// Otherwise `Err` with an open literal of the first clause it falsifies (`None` if the
+    /// model is missing or the clause has none).
+    fn repair(&mut self) -> Result<(), Option<SatLit>> {
         let Some(model) = &self.model else {
-            return false;
+            return Err(None);
         };
         let mut flipped = std::mem::take(&mut self.flipped);
         flipped.clear();
@@ -515,22 +552,37 @@ impl Propagator {
             Value::False => false,
             Value::Unassigned => model.get(lit.var() as usize).copied() == Some(lit.is_positive()),
         };
-        let satisfied = flipped.iter().all(|&lit| {
+        let open = |lit: &SatLit| self.value(*lit) == Value::Unassigned;
+        let mut falsified_clause = None;
+        for &lit in &flipped {
             let falsified = !lit;
-            self.implied[falsified.code()].iter().all(|&m| holds(m))
-                && self.occurs[falsified.code()].iter().all(|&id| {
-                    let span = self.long[id as usize];
-                    let (start, end) = (span.start as usize, (span.start + span.len) as usize);
-                    self.literals[start..end].iter().any(|&m| holds(m))
-                })
-        });
-        if satisfied && let Some(model) = &mut self.model {
-            for lit in &flipped {
-                model[lit.var() as usize] = lit.is_positive();
+            if let Some(&m) = self.implied[falsified.code()].iter().find(|&&m| !holds(m)) {
+                falsified_clause = Some([m].into_iter().find(open));
+                break;
+            }
+            let long = self.occurs[falsified.code()].iter().find(|&&id| {
+                let span = self.long[id as usize];
+                let (start, end) = (span.start as usize, (span.start + span.len) as usize);
+                !self.literals[start..end].iter().any(|&m| holds(m))
+            });
+            if let Some(&id) = long {
+                falsified_clause = Some(self.clause(id).iter().copied().find(open));
+                break;
             }
         }
+        let answer = match falsified_clause {
+            Some(open) => Err(open),
+            None => {
+                if let Some(model) = &mut self.model {
+                    for lit in &flipped {
+                        model[lit.var() as usize] = lit.is_positive();
+                    }
+                }
+                Ok(())
+            }
+        };
         self.flipped = flipped;
-        satisfied
+        answer
     }
 
     /// The current trail length, to undo to with [`Propagator::undo`].
@@ -786,6 +838,60 @@ mod tests {
             conflicts > 100 && consistent > 100,
             "{conflicts} / {consistent}"
         );
+    }
+
+    /// A completion found by deciding is a model: the stored model afterwards satisfies every
+    /// clause and holds every literal of the closure, and the closure is as it was. Random
+    /// clauses satisfied by a planted assignment (the first stored model), random assumptions.
+    #[test]
+    fn a_completion_found_by_deciding_is_a_model_of_the_assumptions() {
+        const VARS: u32 = 40;
+        let mut rng = Xorshift(0x2545_f491_4f6c_dd1d);
+        let planted: Vec<bool> = (0..VARS).map(|_| rng.below(2) == 0).collect();
+        let mut clauses = Vec::new();
+        while clauses.len() < 90 {
+            let len = 2 + rng.below(3) as usize;
+            let clause: Vec<SatLit> = (0..len)
+                .map(|_| lit(rng.below(VARS as u64) as u32, rng.below(2) == 0))
+                .collect();
+            if clause
+                .iter()
+                .any(|l| planted[l.var() as usize] == l.is_positive())
+            {
+                clauses.push(clause);
+            }
+        }
+        let mut p = Propagator {
+            as_set: true,
+            ..Propagator::default()
+        };
+        for clause in &clauses {
+            p.add_clause(clause);
+        }
+        p.model = Some(planted);
+        let mut completed = 0;
+        for _ in 0..2000 {
+            let assumptions: Vec<SatLit> = (0..1 + rng.below(4))
+                .map(|_| lit(rng.below(VARS as u64) as u32, rng.below(2) == 0))
+                .collect();
+            if !p.closure_of(&assumptions) {
+                continue;
+            }
+            let before: Vec<Value> = (0..VARS).map(|v| p.value(lit(v, true))).collect();
+            if p.completes_by_deciding(16) {
+                completed += 1;
+                let model = p.model.clone().unwrap_or_default();
+                let holds = |l: &SatLit| model[l.var() as usize] == l.is_positive();
+                assert!(
+                    clauses.iter().all(|c| c.iter().any(holds)),
+                    "{assumptions:?}"
+                );
+                assert!(assumptions.iter().all(holds), "{assumptions:?}");
+            }
+            let after: Vec<Value> = (0..VARS).map(|v| p.value(lit(v, true))).collect();
+            assert_eq!(before, after, "deciding leaves the closure as it was");
+        }
+        assert!(completed > 100, "{completed}");
     }
 
     #[test]

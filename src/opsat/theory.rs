@@ -20,6 +20,11 @@ use super::propagate::{Solver, Value};
 use super::sat::{Outcome, RecordedSolver, SatBackend, SatLit, SatSolver};
 use crate::logic::{Atom, Formula, ValueId, VarId, VarTable};
 
+/// How many literals unit propagation may decide, one at a time, to complete the stored model
+/// into one of a question's assumptions before the SAT solver is asked instead
+/// ([`Propagator::completes_by_deciding`]).
+const DECISIONS: usize = 16;
+
 /// Above this many values, "at most one" is the product encoding rather than one clause per
 /// pair: a control with 5,000 values made 12.5 million clauses and 917 MB (issue 12).
 const PAIRWISE_AT_MOST_ONE: usize = 8;
@@ -409,7 +414,13 @@ impl Theory {
         let propagator = self.solver.for_search(search);
         let proved = self.propagation
             && propagator.closure_of(assumptions)
-            && propagator.completes_to_model();
+            && if search {
+                // Deciding would move the search closure's watches, and with them the
+                // conflicts it reads off later (see "Two closures, kept apart").
+                propagator.completes_to_model()
+            } else {
+                propagator.completes_by_deciding(DECISIONS)
+            };
         if proved {
             self.consistent_with.clear();
             self.consistent_with.extend_from_slice(assumptions);
