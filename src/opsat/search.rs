@@ -174,14 +174,6 @@ impl Pending {
         }
     }
 
-    /// How many members the node has.
-    fn len(&self) -> usize {
-        match self {
-            Pending::Whole(node) => node.0.len(),
-            Pending::Child { split, .. } => split.candidate.len(),
-        }
-    }
-
     /// The node written out.
     fn into_node(self) -> Node {
         match self {
@@ -223,7 +215,53 @@ impl Queued {
     fn colex(&self, other: &Self) -> Ordering {
         self.last
             .cmp(&other.last)
-            .then_with(|| self.below_last().cmp(other.below_last()))
+            .then_with(|| self.colex_below_last(other))
+    }
+
+    /// [`Queued::colex`] at equal `last`. Two children (most of the frontier) are compared as
+    /// their splits' completions, each with one member changed, slice by slice — siblings
+    /// at the changed members alone — rather than member by member through [`Pending`].
+    fn colex_below_last(&self, other: &Self) -> Ordering {
+        let (
+            Pending::Child {
+                split: a,
+                member: ma,
+                raised: ra,
+            },
+            Pending::Child {
+                split: b,
+                member: mb,
+                raised: rb,
+            },
+        ) = (&self.node, &other.node)
+        else {
+            return self.below_last().cmp(other.below_last());
+        };
+        let last = self.last;
+        let (a, b) = (&a.candidate[..last], &b.candidate[..last]);
+        let siblings = std::ptr::eq(a, b);
+        let (ma, mb) = (*ma as usize, *mb as usize);
+        let choice_a = |p: usize| if p == ma { *ra } else { a[p] };
+        let choice_b = |p: usize| if p == mb { *rb } else { b[p] };
+        // From the back: the bases above the higher changed member, that member, the bases
+        // between, the lower one, the bases below (equal bases need no scan).
+        let bases = |range: std::ops::Range<usize>| {
+            if siblings {
+                Ordering::Equal
+            } else {
+                a[range.clone()].iter().rev().cmp(b[range].iter().rev())
+            }
+        };
+        let (low, high) = (ma.min(mb), ma.max(mb));
+        bases(high + 1..last)
+            .then_with(|| choice_a(high).cmp(&choice_b(high)))
+            .then_with(|| {
+                if low == high {
+                    return Ordering::Equal;
+                }
+                bases(low + 1..high).then_with(|| choice_a(low).cmp(&choice_b(low)))
+            })
+            .then_with(|| bases(0..low))
     }
 
     /// The best completion's choices below `last`, from the back.
@@ -590,12 +628,28 @@ impl ComponentSearch {
     }
 
     /// Replaces the front node, queued at a lower bound, by itself at its exact cost: its best
-    /// completion's costs summed in member order from 0.0, the sum every node's cost is.
+    /// completion's costs summed in member order from 0.0, the sum every node's cost is. Only
+    /// a split's children are queued at a lower bound (the root and re-queued nodes are
+    /// exact).
     fn cost_front(&mut self, ocsp: &Ocsp) {
         if let Some(mut front) = self.frontier.pop() {
-            let completion = (0..front.node.len()).map(|p| front.node.choice(p));
             // Every slot has its choice: empty children are never queued.
-            let cost = self.sum_from(ocsp, 0, 0.0, completion);
+            let cost = match &front.node {
+                // Queued at its partial sum through the member it raises (`split`): the rest
+                // continues that sum — the same additions in the same order as from 0.0.
+                Pending::Child { split, member, .. } => {
+                    let rest = &split.candidate[*member as usize + 1..];
+                    self.sum_from(
+                        ocsp,
+                        *member as usize + 1,
+                        front.cost.0,
+                        rest.iter().copied(),
+                    )
+                }
+                Pending::Whole(node) => {
+                    self.sum_from(ocsp, 0, 0.0, node.0.iter().map(|s| s.choice()))
+                }
+            };
             front.cost = Cost(cost.unwrap_or(f64::INFINITY));
             front.exact = true;
             self.frontier.push(front);
