@@ -15,16 +15,63 @@
 //! clauses and the assumptions, and a conflict it reaches means there is no model — so the
 //! answers it gives are exactly the solver's; what it cannot decide goes to the solver
 //! ([`super::theory`] decides which).
+//!
+//! # Two closures, kept apart (issue 15, evidence locality)
+//! OPSAT's candidate checks and everyone else's questions (estimation's guards and observed
+//! values, yes/no consistency) interleave, and their assumption lists have nothing in order in
+//! common: one closure for both was rebuilt from scratch at almost every switch. So [`Solver`]
+//! keeps two. The search's keeps what a new list shares with the last as a *prefix* (a
+//! conflict's assumptions are read off its implication graph, and must stay those the search
+//! always learned — see `search.rs`, "Order"). The other one is kept *as a set*
+//! ([`Propagator::closure_of`] with `as_set`): estimation's successive stores (the modes of one
+//! candidate, then of the next) differ in the one or two components whose mode changed, which
+//! sat anywhere in the list, and undoing to the first of them re-propagated half the trail —
+//! at 1,023 breakers ≈ 1,450 such questions a busy step, 7,700 literals each. As a set, only
+//! the literals derived from an assumption no longer asked are retracted (its cone in the
+//! implication graph, [`Propagator::retract`]); the rest stays, since the closure of a set does
+//! not depend on the order of its members. Only yes/no answers come out of this closure (a
+//! conflict for the caller's core goes to the SAT solver), and those are the same whatever the
+//! order. For the same reason this closure may also *decide* a few literals to complete the
+//! stored model ([`Propagator::completes_by_deciding`]) before a "consistent?" goes to the
+//! solver: estimation asks one such question per mode the observation might refute, and the
+//! solver answered each by assigning the whole theory.
 
 use super::sat::{Outcome, RecordedSolver, SatLit, SatSolver};
 
-/// The SAT solver and a [`Propagator`] that is given every clause the solver is.
+/// The SAT solver and two [`Propagator`]s (see "Two closures, kept apart"), each given every
+/// clause the solver is.
 #[derive(Clone)]
 pub(crate) struct Solver {
     /// The complete backstop.
     pub(crate) sat: RecordedSolver,
-    /// The fast path.
+    /// The fast path for the questions of callers outside OPSAT's search (entailments, yes/no
+    /// consistency).
     pub(crate) propagator: Propagator,
+    /// The fast path for OPSAT's candidate checks ([`Solver::for_search`]).
+    pub(crate) search: Propagator,
+}
+
+impl Solver {
+    /// A solver with no clauses.
+    pub(crate) fn new(sat: RecordedSolver) -> Self {
+        Solver {
+            sat,
+            propagator: Propagator {
+                as_set: true,
+                ..Propagator::default()
+            },
+            search: Propagator::default(),
+        }
+    }
+
+    /// The propagator for OPSAT's candidate checks (`search`) or for everything else.
+    pub(crate) fn for_search(&mut self, search: bool) -> &mut Propagator {
+        if search {
+            &mut self.search
+        } else {
+            &mut self.propagator
+        }
+    }
 }
 
 impl SatSolver for Solver {
@@ -35,12 +82,15 @@ impl SatSolver for Solver {
     fn add_clause(&mut self, clause: &[SatLit]) {
         self.sat.add_clause(clause);
         self.propagator.add_clause(clause);
+        self.search.add_clause(clause);
     }
 
     fn solve(&mut self, assumptions: &[SatLit]) -> Outcome {
         let outcome = self.sat.solve(assumptions);
         if let Outcome::Satisfiable = outcome {
-            self.propagator.model = Some(self.sat.model());
+            let model = self.sat.model();
+            self.search.model = Some(model.clone());
+            self.propagator.model = Some(model);
         }
         outcome
     }
@@ -104,6 +154,15 @@ pub(crate) struct Propagator {
     closure_falsified: Option<Falsified>,
     /// Scratch for [`Propagator::conflict_assumptions`]: variables visited.
     visited: Vec<bool>,
+    /// Whether a closure keeps the previous one's assumptions that the new list holds anywhere
+    /// (see [`Propagator::closure_of`]) rather than only a shared prefix.
+    as_set: bool,
+    /// Scratch for [`Propagator::closure_of_set`]: per literal code, in the list asked about.
+    in_query: Vec<bool>,
+    /// Scratch for [`Propagator::retract`]: the literals retracted.
+    gone: Vec<SatLit>,
+    /// With `as_set`: the assumptions last asked about, as given (the closure is theirs).
+    last_query: Vec<SatLit>,
 }
 
 /// Why a variable has its value: what the implication graph records for reading a conflict's
@@ -138,16 +197,23 @@ pub(crate) enum Value {
 
 impl Propagator {
     /// Makes room for the variable of `lit`.
+    #[inline]
     fn grow(&mut self, lit: SatLit) {
         let vars = lit.var() as usize + 1;
         if self.value.len() < vars {
-            self.value.resize(vars, 0);
-            self.reasons.resize(vars, Reason::Unit);
-            self.visited.resize(vars, false);
-            self.watches.resize_with(2 * vars, Vec::new);
-            self.occurs.resize_with(2 * vars, Vec::new);
-            self.implied.resize_with(2 * vars, Vec::new);
+            self.grow_to(vars);
         }
+    }
+
+    /// Makes room for `vars` variables.
+    fn grow_to(&mut self, vars: usize) {
+        self.value.resize(vars, 0);
+        self.reasons.resize(vars, Reason::Unit);
+        self.visited.resize(vars, false);
+        self.watches.resize_with(2 * vars, Vec::new);
+        self.occurs.resize_with(2 * vars, Vec::new);
+        self.implied.resize_with(2 * vars, Vec::new);
+        self.in_query.resize(2 * vars, false);
     }
 
     /// Records a clause (the solver gets the same one). Forgets the current assignment: a new
@@ -195,11 +261,13 @@ impl Propagator {
     /// closure's assumptions share as a prefix with these is kept — a caller asks several
     /// questions of one set in a row (kept whole), and OPSAT's successive candidates share
     /// their first assumptions (the observation, the components before the first one changed).
+    /// With `as_set`, what they share as a set is kept ([`Propagator::closure_of_set`]).
     pub(crate) fn closure_of(&mut self, assumptions: &[SatLit]) -> bool {
         if !self.started {
             self.clear();
             self.started = true;
             self.closure_assumptions.clear();
+            self.last_query.clear();
             self.levels.clear();
             let units = std::mem::take(&mut self.units);
             self.conflict = self.empty
@@ -208,6 +276,9 @@ impl Propagator {
             // A conflict among the units involves no assumption.
             self.closure_falsified = None;
             self.levels.push(self.trail.len());
+        }
+        if self.as_set {
+            return self.closure_of_set(assumptions);
         }
         let common = self
             .closure_assumptions
@@ -224,10 +295,20 @@ impl Propagator {
         self.levels.truncate(common + 1);
         self.closure_assumptions.truncate(common);
         self.conflict = false;
-        for &lit in &assumptions[common..] {
+        self.assume_all(&assumptions[common..])
+    }
+
+    /// Assumes each of `assumptions` in turn on top of the current closure, each propagated
+    /// to a fixpoint and listed with its level; false at the first conflict. With `as_set`, a
+    /// literal the closure already holds is not listed: what holds it is.
+    fn assume_all(&mut self, assumptions: &[SatLit]) -> bool {
+        for &lit in assumptions {
+            if self.as_set && self.value(lit) == Value::True {
+                continue;
+            }
+            self.grow(lit);
             self.closure_assumptions.push(lit);
             let head = self.trail.len();
-            self.grow(lit);
             let holds = if self.assign(lit, Reason::Assumed) {
                 self.propagate(head)
             } else {
@@ -244,6 +325,161 @@ impl Propagator {
         true
     }
 
+    /// [`Propagator::closure_of`] with `as_set`: the previous closure's assumptions that are
+    /// not among `assumptions` are retracted with what was derived from them (and only that:
+    /// [`Propagator::retract`]), then the new ones are assumed. The closure of a set does not
+    /// depend on the order its members are propagated in, so this is the closure of
+    /// `assumptions` — at a cost in the retracted assumptions' consequences, not in the
+    /// assumptions listed after them.
+    fn closure_of_set(&mut self, assumptions: &[SatLit]) -> bool {
+        if self.last_query == assumptions {
+            // Asked again (a guard or an observed value after another under the same store).
+            return !self.conflict;
+        }
+        self.last_query.clear();
+        self.last_query.extend_from_slice(assumptions);
+        for &lit in assumptions {
+            self.grow(lit);
+            self.in_query[lit.code()] = true;
+        }
+        let listed = self.closure_assumptions.len();
+        let first_gone = self
+            .closure_assumptions
+            .iter()
+            .position(|lit| !self.in_query[lit.code()]);
+        let holds = match first_gone {
+            // Every assumption of a conflicting closure is asked again: still a conflict.
+            None if self.conflict => false,
+            None => true,
+            Some(first) => {
+                if self.conflict {
+                    // Back to the fixpoint before the assumption that conflicted.
+                    self.undo(self.levels[listed - 1]);
+                    self.closure_assumptions.pop();
+                    self.levels.truncate(listed);
+                    self.conflict = false;
+                }
+                first >= self.closure_assumptions.len() || self.retract(first)
+            }
+        };
+        for &lit in assumptions {
+            self.in_query[lit.code()] = false;
+        }
+        if first_gone.is_some() && !holds {
+            // The retraction failed (see `retract`): the closure from scratch.
+            self.clear();
+            return self.closure_of(assumptions);
+        }
+        holds && self.assume_all(assumptions)
+    }
+
+    /// Retracts the listed assumptions from the `first`-th on that are not marked in
+    /// `in_query`, and every literal whose reason leads back to one of them; the rest of the
+    /// trail stays, in order, with its reasons. What is left is sound but may miss literals
+    /// that the retracted ones had derived first and the rest still implies: each clause that
+    /// held such a literal true while another of its watches was false is visited again, and
+    /// the literal re-derived and propagated. No conflict can arise (the closure before held
+    /// every literal derived here, without one): false if one did all the same, and then the
+    /// assignment is to be cleared.
+    fn retract(&mut self, first: usize) -> bool {
+        let start = self.levels[first];
+        let mut gone = std::mem::take(&mut self.gone);
+        gone.clear();
+        // Marks the retracted: an assumption no longer asked, or a literal one of whose
+        // antecedents is retracted (antecedents come earlier on the trail).
+        for at in start..self.trail.len() {
+            let lit = self.trail[at];
+            let var = lit.var();
+            let retracted = match self.reasons[var as usize] {
+                Reason::Unit => false,
+                Reason::Assumed => !self.in_query[lit.code()],
+                Reason::Binary(falsified) => self.visited[falsified.var() as usize],
+                Reason::Long(id) => self
+                    .clause(id)
+                    .iter()
+                    .any(|m| m.var() != var && self.visited[m.var() as usize]),
+            };
+            if retracted {
+                self.visited[var as usize] = true;
+                gone.push(lit);
+            }
+        }
+        // Compacts the trail, and the listed assumptions with their levels.
+        let mut kept = start;
+        let mut listed = first;
+        let mut next_level = first;
+        for at in start..self.trail.len() {
+            let lit = self.trail[at];
+            if next_level < self.closure_assumptions.len() && at == self.levels[next_level] {
+                if !self.visited[lit.var() as usize] {
+                    self.closure_assumptions[listed] = lit;
+                    self.levels[listed] = kept;
+                    listed += 1;
+                }
+                next_level += 1;
+            }
+            if !self.visited[lit.var() as usize] {
+                self.trail[kept] = lit;
+                kept += 1;
+            }
+        }
+        self.trail.truncate(kept);
+        self.closure_assumptions.truncate(listed);
+        self.levels.truncate(listed);
+        for &lit in &gone {
+            self.visited[lit.var() as usize] = false;
+            self.value[lit.var() as usize] = 0;
+        }
+        let head = self.trail.len();
+        for &lit in &gone {
+            self.rederive(lit);
+        }
+        let consistent = self.propagate(head);
+        self.levels.push(self.trail.len());
+        self.gone = gone;
+        consistent
+    }
+
+    /// After `lit` (true before) was retracted: assigns it again if a clause still forces it —
+    /// a binary clause whose other literal is false, or a long one watching it whose other
+    /// watch is false and that has no other literal left to watch — and otherwise moves the
+    /// false watch of each clause watching it to a literal that is not false.
+    fn rederive(&mut self, lit: SatLit) {
+        for i in 0..self.implied[lit.code()].len() {
+            let other = self.implied[lit.code()][i];
+            if self.value(other) == Value::False {
+                self.assign(lit, Reason::Binary(other));
+                return;
+            }
+        }
+        let watching = std::mem::take(&mut self.watches[lit.code()]);
+        for &id in &watching {
+            let span = self.long[id as usize];
+            let (start, end) = (span.start as usize, (span.start + span.len) as usize);
+            if self.literals[start] != lit {
+                self.literals.swap(start, start + 1);
+            }
+            // `lit` is at `start`, the other watch at `start + 1`.
+            let other = self.literals[start + 1];
+            if self.value(other) != Value::False || self.value(lit) == Value::True {
+                continue;
+            }
+            let replacement =
+                (start + 2..end).find(|&j| self.value(self.literals[j]) != Value::False);
+            match replacement {
+                Some(j) => {
+                    self.literals.swap(start + 1, j);
+                    let watch = self.literals[start + 1];
+                    self.watches[other.code()].retain(|&w| w != id);
+                    self.watches[watch.code()].push(id);
+                }
+                None => {
+                    self.assign(lit, Reason::Long(id));
+                }
+            }
+        }
+        self.watches[lit.code()] = watching;
+    }
     /// Unassigns everything.
     fn clear(&mut self) {
         self.started = false;
@@ -267,8 +503,42 @@ impl Propagator {
     /// true can be falsified by the switch, so only those are checked: the cost is the
     /// assignment's length and the occurrences of what it changed, not the theory's size.
     pub(crate) fn completes_to_model(&mut self) -> bool {
+        self.repair().is_ok()
+    }
+
+    /// [`Propagator::completes_to_model`], and while it fails, up to `decisions` times: an open
+    /// literal of a clause the completion falsifies is assumed and propagated, and the
+    /// completion checked again. What is decided is taken back (the assignment is the closure
+    /// again); a completion found is a model of the clauses and every assumption, so the
+    /// answer "consistent" is exact, and it becomes the stored model. Without a completion the
+    /// caller asks the SAT solver, as before. The questions this is for ask a mode or an
+    /// observed value that the stored model contradicts (estimation's `Possible`, one question
+    /// per mode): the clauses it falsifies are the few around that component, each a
+    /// propagation away from a model, where the solver assigned the whole theory.
+    pub(crate) fn completes_by_deciding(&mut self, decisions: usize) -> bool {
+        let mark = self.trail.len();
+        let mut completed = false;
+        for _ in 0..=decisions {
+            match self.repair() {
+                Ok(()) => {
+                    completed = true;
+                    break;
+                }
+                Err(Some(open)) if self.extend(open) => {}
+                Err(_) => break,
+            }
+        }
+        self.undo(mark);
+        completed
+    }
+
+    /// Checks the assignment completed by the stored model (see
+    /// [`Propagator::completes_to_model`]); when it is a model it becomes the stored one.
+    /// Otherwise `Err` with an open literal of the first clause it falsifies (`None` if the
+    /// model is missing or the clause has none).
+    fn repair(&mut self) -> Result<(), Option<SatLit>> {
         let Some(model) = &self.model else {
-            return false;
+            return Err(None);
         };
         let mut flipped = std::mem::take(&mut self.flipped);
         flipped.clear();
@@ -282,22 +552,37 @@ impl Propagator {
             Value::False => false,
             Value::Unassigned => model.get(lit.var() as usize).copied() == Some(lit.is_positive()),
         };
-        let satisfied = flipped.iter().all(|&lit| {
+        let open = |lit: &SatLit| self.value(*lit) == Value::Unassigned;
+        let mut falsified_clause = None;
+        for &lit in &flipped {
             let falsified = !lit;
-            self.implied[falsified.code()].iter().all(|&m| holds(m))
-                && self.occurs[falsified.code()].iter().all(|&id| {
-                    let span = self.long[id as usize];
-                    let (start, end) = (span.start as usize, (span.start + span.len) as usize);
-                    self.literals[start..end].iter().any(|&m| holds(m))
-                })
-        });
-        if satisfied && let Some(model) = &mut self.model {
-            for lit in &flipped {
-                model[lit.var() as usize] = lit.is_positive();
+            if let Some(&m) = self.implied[falsified.code()].iter().find(|&&m| !holds(m)) {
+                falsified_clause = Some([m].into_iter().find(open));
+                break;
+            }
+            let long = self.occurs[falsified.code()].iter().find(|&&id| {
+                let span = self.long[id as usize];
+                let (start, end) = (span.start as usize, (span.start + span.len) as usize);
+                !self.literals[start..end].iter().any(|&m| holds(m))
+            });
+            if let Some(&id) = long {
+                falsified_clause = Some(self.clause(id).iter().copied().find(open));
+                break;
             }
         }
+        let answer = match falsified_clause {
+            Some(open) => Err(open),
+            None => {
+                if let Some(model) = &mut self.model {
+                    for lit in &flipped {
+                        model[lit.var() as usize] = lit.is_positive();
+                    }
+                }
+                Ok(())
+            }
+        };
         self.flipped = flipped;
-        satisfied
+        answer
     }
 
     /// The current trail length, to undo to with [`Propagator::undo`].
@@ -465,6 +750,148 @@ mod tests {
 
     fn lit(var: u32, positive: bool) -> SatLit {
         SatLit::new(var, positive)
+    }
+
+    /// A fixed-seed xorshift: the same "random" clauses and questions on every run.
+    struct Xorshift(u64);
+
+    impl Xorshift {
+        fn below(&mut self, n: u64) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0 % n
+        }
+    }
+
+    /// The closure kept as a set (retracting what a dropped assumption derived) is the closure
+    /// from scratch: the same conflict or no conflict, and then the same value of every
+    /// variable — over a long run of overlapping assumption sets on random clauses, each
+    /// differing from the last by a few literals ("Two closures, kept apart").
+    #[test]
+    fn a_closure_kept_as_a_set_is_the_closure_from_scratch() {
+        const VARS: u32 = 40;
+        let mut rng = Xorshift(0x9e37_79b9_7f4a_7c15);
+        let mut clauses = Vec::new();
+        for _ in 0..70 {
+            let len = 2 + rng.below(3) as usize;
+            let clause: Vec<SatLit> = (0..len)
+                .map(|_| lit(rng.below(VARS as u64) as u32, rng.below(2) == 0))
+                .collect();
+            clauses.push(clause);
+        }
+        let mut kept = Propagator {
+            as_set: true,
+            ..Propagator::default()
+        };
+        for clause in &clauses {
+            kept.add_clause(clause);
+        }
+        let mut assumptions: Vec<SatLit> = Vec::new();
+        let (mut conflicts, mut consistent) = (0, 0);
+        for _ in 0..3000 {
+            // Drop, add or flip a few assumptions; sometimes ask the same list again.
+            for _ in 0..rng.below(4) {
+                match rng.below(3) {
+                    0 if !assumptions.is_empty() => {
+                        let at = rng.below(assumptions.len() as u64) as usize;
+                        assumptions.remove(at);
+                    }
+                    1 if !assumptions.is_empty() => {
+                        let at = rng.below(assumptions.len() as u64) as usize;
+                        assumptions[at] = !assumptions[at];
+                    }
+                    _ if assumptions.len() < 12 => {
+                        let at = rng.below(assumptions.len() as u64 + 1) as usize;
+                        let var = rng.below(VARS as u64) as u32;
+                        assumptions.insert(at, lit(var, rng.below(2) == 0));
+                    }
+                    _ => {}
+                }
+            }
+            let mut fresh = Propagator::default();
+            for clause in &clauses {
+                fresh.add_clause(clause);
+            }
+            let expected = fresh.closure_of(&assumptions);
+            assert_eq!(kept.closure_of(&assumptions), expected, "{assumptions:?}");
+            if expected {
+                consistent += 1;
+                for var in 0..VARS {
+                    let x = lit(var, true);
+                    assert_eq!(
+                        kept.value(x),
+                        fresh.value(x),
+                        "x{var} under {assumptions:?}"
+                    );
+                }
+                // An extension taken back leaves the closure as it was.
+                let mark = kept.mark();
+                kept.extend(lit(rng.below(VARS as u64) as u32, true));
+                kept.undo(mark);
+            } else {
+                conflicts += 1;
+            }
+        }
+        // Both kinds of answer were exercised.
+        assert!(
+            conflicts > 100 && consistent > 100,
+            "{conflicts} / {consistent}"
+        );
+    }
+
+    /// A completion found by deciding is a model: the stored model afterwards satisfies every
+    /// clause and holds every literal of the closure, and the closure is as it was. Random
+    /// clauses satisfied by a planted assignment (the first stored model), random assumptions.
+    #[test]
+    fn a_completion_found_by_deciding_is_a_model_of_the_assumptions() {
+        const VARS: u32 = 40;
+        let mut rng = Xorshift(0x2545_f491_4f6c_dd1d);
+        let planted: Vec<bool> = (0..VARS).map(|_| rng.below(2) == 0).collect();
+        let mut clauses = Vec::new();
+        while clauses.len() < 90 {
+            let len = 2 + rng.below(3) as usize;
+            let clause: Vec<SatLit> = (0..len)
+                .map(|_| lit(rng.below(VARS as u64) as u32, rng.below(2) == 0))
+                .collect();
+            if clause
+                .iter()
+                .any(|l| planted[l.var() as usize] == l.is_positive())
+            {
+                clauses.push(clause);
+            }
+        }
+        let mut p = Propagator {
+            as_set: true,
+            ..Propagator::default()
+        };
+        for clause in &clauses {
+            p.add_clause(clause);
+        }
+        p.model = Some(planted);
+        let mut completed = 0;
+        for _ in 0..2000 {
+            let assumptions: Vec<SatLit> = (0..1 + rng.below(4))
+                .map(|_| lit(rng.below(VARS as u64) as u32, rng.below(2) == 0))
+                .collect();
+            if !p.closure_of(&assumptions) {
+                continue;
+            }
+            let before: Vec<Value> = (0..VARS).map(|v| p.value(lit(v, true))).collect();
+            if p.completes_by_deciding(16) {
+                completed += 1;
+                let model = p.model.clone().unwrap_or_default();
+                let holds = |l: &SatLit| model[l.var() as usize] == l.is_positive();
+                assert!(
+                    clauses.iter().all(|c| c.iter().any(holds)),
+                    "{assumptions:?}"
+                );
+                assert!(assumptions.iter().all(holds), "{assumptions:?}");
+            }
+            let after: Vec<Value> = (0..VARS).map(|v| p.value(lit(v, true))).collect();
+            assert_eq!(before, after, "deciding leaves the closure as it was");
+        }
+        assert!(completed > 100, "{completed}");
     }
 
     #[test]

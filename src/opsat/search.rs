@@ -59,6 +59,7 @@
 use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
 use std::hash::BuildHasherDefault;
+use std::rc::Rc;
 
 use rustc_hash::{FxHashMap, FxHasher};
 
@@ -127,6 +128,72 @@ impl Slot {
 #[derive(Debug, Clone)]
 struct Node(Box<[Slot]>);
 
+/// What the children of one split share: the popped node and its best completion. A child
+/// is this node with the conflict's free members before its own fixed to their choices in
+/// the completion and its own raised; it is written out in full only when it is popped. A
+/// split of a solution queues up to one child per member, most never popped: written out,
+/// they were a member-long slot vector each — on a 1,023-breaker tree a third of a busy step
+/// (allocation and page faults) and nearly all of its 1.9 GB.
+#[derive(Debug)]
+struct Split {
+    node: Node,
+    candidate: Box<[u32]>,
+    /// The conflict's members free in `node` (`From` slots), ascending.
+    free: Box<[u32]>,
+}
+
+/// A frontier node: whole, or a child of a split not written out yet.
+#[derive(Debug)]
+enum Pending {
+    Whole(Node),
+    Child {
+        split: Rc<Split>,
+        /// The member the child raises…
+        member: u32,
+        /// …to this choice (`From`).
+        raised: u32,
+    },
+}
+
+impl Pending {
+    /// Member `p`'s choice in the node's best completion.
+    fn choice(&self, p: usize) -> u32 {
+        match self {
+            Pending::Whole(node) => node.0[p].choice(),
+            Pending::Child {
+                split,
+                member,
+                raised,
+            } => {
+                if p == *member as usize {
+                    *raised
+                } else {
+                    split.candidate[p]
+                }
+            }
+        }
+    }
+
+    /// The node written out.
+    fn into_node(self) -> Node {
+        match self {
+            Pending::Whole(node) => node,
+            Pending::Child {
+                split,
+                member,
+                raised,
+            } => {
+                let mut slots = split.node.0.clone();
+                for &p in split.free.iter().take_while(|&&p| p < member) {
+                    slots[p as usize] = Slot::exactly(split.candidate[p as usize]);
+                }
+                slots[member as usize] = Slot::at_least(raised);
+                Node(slots)
+            }
+        }
+    }
+}
+
 /// A node in the frontier with the cost of its best completion, ordered so that the heap's
 /// greatest is the first in the search's order (see "Order" in the module documentation).
 #[derive(Debug)]
@@ -138,7 +205,7 @@ struct Queued {
     /// One past the last member whose best-completion choice is not its cheapest (0 if none):
     /// most ties between nodes are told apart by it alone, without scanning both completions.
     last: usize,
-    node: Node,
+    node: Pending,
 }
 
 impl Queued {
@@ -148,12 +215,58 @@ impl Queued {
     fn colex(&self, other: &Self) -> Ordering {
         self.last
             .cmp(&other.last)
-            .then_with(|| self.below_last().cmp(other.below_last()))
+            .then_with(|| self.colex_below_last(other))
+    }
+
+    /// [`Queued::colex`] at equal `last`. Two children (most of the frontier) are compared as
+    /// their splits' completions, each with one member changed, slice by slice — siblings
+    /// at the changed members alone — rather than member by member through [`Pending`].
+    fn colex_below_last(&self, other: &Self) -> Ordering {
+        let (
+            Pending::Child {
+                split: a,
+                member: ma,
+                raised: ra,
+            },
+            Pending::Child {
+                split: b,
+                member: mb,
+                raised: rb,
+            },
+        ) = (&self.node, &other.node)
+        else {
+            return self.below_last().cmp(other.below_last());
+        };
+        let last = self.last;
+        let (a, b) = (&a.candidate[..last], &b.candidate[..last]);
+        let siblings = std::ptr::eq(a, b);
+        let (ma, mb) = (*ma as usize, *mb as usize);
+        let choice_a = |p: usize| if p == ma { *ra } else { a[p] };
+        let choice_b = |p: usize| if p == mb { *rb } else { b[p] };
+        // From the back: the bases above the higher changed member, that member, the bases
+        // between, the lower one, the bases below (equal bases need no scan).
+        let bases = |range: std::ops::Range<usize>| {
+            if siblings {
+                Ordering::Equal
+            } else {
+                a[range.clone()].iter().rev().cmp(b[range].iter().rev())
+            }
+        };
+        let (low, high) = (ma.min(mb), ma.max(mb));
+        bases(high + 1..last)
+            .then_with(|| choice_a(high).cmp(&choice_b(high)))
+            .then_with(|| {
+                if low == high {
+                    return Ordering::Equal;
+                }
+                bases(low + 1..high).then_with(|| choice_a(low).cmp(&choice_b(low)))
+            })
+            .then_with(|| bases(0..low))
     }
 
     /// The best completion's choices below `last`, from the back.
     fn below_last(&self) -> impl Iterator<Item = u32> + '_ {
-        self.node.0[..self.last].iter().rev().map(|s| s.choice())
+        (0..self.last).rev().map(|p| self.node.choice(p))
     }
 }
 
@@ -236,7 +349,7 @@ impl ComponentSearch {
                 cost: Cost(cost),
                 exact: true,
                 last: 0,
-                node: root,
+                node: Pending::Whole(root),
             });
         }
         search
@@ -277,6 +390,7 @@ impl ComponentSearch {
             else {
                 return Ok(None);
             };
+            let node = node.into_node();
             let candidate: Vec<u32> = node.0.iter().map(|s| s.choice()).collect();
             if self.takes_refuted(&candidate) {
                 self.skip_refuted(ocsp, &node);
@@ -284,7 +398,7 @@ impl ComponentSearch {
             }
             if let Some(known) = self.known_conflict(&candidate) {
                 let known = known.clone();
-                self.split(ocsp, (&node, last), &candidate, &known);
+                self.split(ocsp, (node, last), &candidate, &known);
                 continue;
             }
             meter.stats.consistency_checks += 1;
@@ -294,7 +408,7 @@ impl ComponentSearch {
             match theory.search_conflict(&assumptions) {
                 Consistency::Consistent => {
                     let whole: Conflict = candidate.iter().copied().enumerate().collect();
-                    self.split(ocsp, (&node, last), &candidate, &whole);
+                    self.split(ocsp, (node, last), &candidate, &whole);
                     return Ok(Some(PartialSolution {
                         choices: candidate,
                         cost: cost.0,
@@ -311,7 +425,7 @@ impl ComponentSearch {
                         self.frontier.clear();
                         return Ok(None);
                     }
-                    self.split(ocsp, (&node, last), &candidate, &conflict);
+                    self.split(ocsp, (node, last), &candidate, &conflict);
                     if use_conflicts {
                         meter.stats.conflicts += 1;
                         if let Some(store) = shared.as_deref_mut() {
@@ -407,7 +521,7 @@ impl ComponentSearch {
             cost: Cost(cost),
             exact: true,
             last,
-            node: Node(slots),
+            node: Pending::Whole(Node(slots)),
         });
     }
 
@@ -461,57 +575,81 @@ impl ComponentSearch {
     fn split(
         &mut self,
         ocsp: &Ocsp,
-        (node, last): (&Node, usize),
+        (node, last): (Node, usize),
         candidate: &[u32],
         conflict: &Conflict,
     ) {
-        let mut prefix = node.0.clone();
+        let free = conflict
+            .iter()
+            .filter(|&&(p, _)| !node.0[p].is_fixed())
+            .map(|&(p, _)| p as u32)
+            .collect();
+        let split = Rc::new(Split {
+            node,
+            candidate: candidate.into(),
+            free,
+        });
         let (mut at, mut before) = (0, 0.0);
-        for &(p, c) in conflict {
-            if !node.0[p].is_fixed() {
-                // Every choice of the candidate exists: it was a node's best completion.
-                before = self
-                    .sum_from(ocsp, at, before, candidate[at..p].iter().copied())
-                    .unwrap_or(f64::INFINITY);
-                at = p;
-                let raised = self.unrefuted_from(p, c + 1);
-                // A member with no choice left makes the child empty: it is not queued.
-                let Some(choice) = ocsp.decisions()[self.members[p]]
-                    .choices
-                    .get(raised as usize)
-                else {
-                    prefix[p] = Slot::exactly(c);
-                    continue;
-                };
-                let (cost, exact) = if self.nonnegative {
-                    // The child's own partial sum through its raised member: the rest only
-                    // adds non-negative terms, which never lowers a floating-point sum.
-                    (before + choice.cost, false)
-                } else {
-                    let rest = std::iter::once(raised).chain(candidate[p + 1..].iter().copied());
-                    let cost = self.sum_from(ocsp, p, before, rest);
-                    (cost.unwrap_or(f64::INFINITY), true)
-                };
-                let mut child = prefix.clone();
-                child[p] = Slot::at_least(raised);
-                self.frontier.push(Queued {
-                    cost: Cost(cost),
-                    exact,
-                    last: last.max(p + 1),
-                    node: Node(child),
-                });
-                prefix[p] = Slot::exactly(c);
-            }
+        for &member in split.free.iter() {
+            let p = member as usize;
+            // Every choice of the candidate exists: it was a node's best completion.
+            before = self
+                .sum_from(ocsp, at, before, candidate[at..p].iter().copied())
+                .unwrap_or(f64::INFINITY);
+            at = p;
+            let raised = self.unrefuted_from(p, candidate[p] + 1);
+            // A member with no choice left makes the child empty: it is not queued.
+            let Some(choice) = ocsp.decisions()[self.members[p]]
+                .choices
+                .get(raised as usize)
+            else {
+                continue;
+            };
+            let (cost, exact) = if self.nonnegative {
+                // The child's own partial sum through its raised member: the rest only
+                // adds non-negative terms, which never lowers a floating-point sum.
+                (before + choice.cost, false)
+            } else {
+                let rest = std::iter::once(raised).chain(candidate[p + 1..].iter().copied());
+                let cost = self.sum_from(ocsp, p, before, rest);
+                (cost.unwrap_or(f64::INFINITY), true)
+            };
+            self.frontier.push(Queued {
+                cost: Cost(cost),
+                exact,
+                last: last.max(p + 1),
+                node: Pending::Child {
+                    split: Rc::clone(&split),
+                    member,
+                    raised,
+                },
+            });
         }
     }
 
     /// Replaces the front node, queued at a lower bound, by itself at its exact cost: its best
-    /// completion's costs summed in member order from 0.0, the sum every node's cost is.
+    /// completion's costs summed in member order from 0.0, the sum every node's cost is. Only
+    /// a split's children are queued at a lower bound (the root and re-queued nodes are
+    /// exact).
     fn cost_front(&mut self, ocsp: &Ocsp) {
         if let Some(mut front) = self.frontier.pop() {
-            let completion = front.node.0.iter().map(|s| s.choice());
             // Every slot has its choice: empty children are never queued.
-            let cost = self.sum_from(ocsp, 0, 0.0, completion);
+            let cost = match &front.node {
+                // Queued at its partial sum through the member it raises (`split`): the rest
+                // continues that sum — the same additions in the same order as from 0.0.
+                Pending::Child { split, member, .. } => {
+                    let rest = &split.candidate[*member as usize + 1..];
+                    self.sum_from(
+                        ocsp,
+                        *member as usize + 1,
+                        front.cost.0,
+                        rest.iter().copied(),
+                    )
+                }
+                Pending::Whole(node) => {
+                    self.sum_from(ocsp, 0, 0.0, node.0.iter().map(|s| s.choice()))
+                }
+            };
             front.cost = Cost(cost.unwrap_or(f64::INFINITY));
             front.exact = true;
             self.frontier.push(front);
