@@ -56,10 +56,7 @@ impl Solver {
     pub(crate) fn new(sat: RecordedSolver) -> Self {
         Solver {
             sat,
-            propagator: Propagator {
-                as_set: true,
-                ..Propagator::default()
-            },
+            propagator: Propagator::kept_as_set(),
             search: Propagator::default(),
         }
     }
@@ -196,6 +193,15 @@ pub(crate) enum Value {
 }
 
 impl Propagator {
+    /// A propagator whose closure is kept as a set ([`Propagator::closure_of`] with `as_set`),
+    /// for every question but OPSAT's candidate checks.
+    pub(crate) fn kept_as_set() -> Propagator {
+        Propagator {
+            as_set: true,
+            ..Propagator::default()
+        }
+    }
+
     /// Makes room for the variable of `lit`.
     #[inline]
     fn grow(&mut self, lit: SatLit) {
@@ -752,6 +758,15 @@ mod tests {
         SatLit::new(var, positive)
     }
 
+    /// A set-kept propagator given `clauses`.
+    fn kept_as_set_with(clauses: &[Vec<SatLit>]) -> Propagator {
+        let mut propagator = Propagator::kept_as_set();
+        for clause in clauses {
+            propagator.add_clause(clause);
+        }
+        propagator
+    }
+
     /// A fixed-seed xorshift: the same "random" clauses and questions on every run.
     struct Xorshift(u64);
 
@@ -780,13 +795,7 @@ mod tests {
                 .collect();
             clauses.push(clause);
         }
-        let mut kept = Propagator {
-            as_set: true,
-            ..Propagator::default()
-        };
-        for clause in &clauses {
-            kept.add_clause(clause);
-        }
+        let mut kept = kept_as_set_with(&clauses);
         let mut assumptions: Vec<SatLit> = Vec::new();
         let (mut conflicts, mut consistent) = (0, 0);
         for _ in 0..3000 {
@@ -861,13 +870,7 @@ mod tests {
                 clauses.push(clause);
             }
         }
-        let mut p = Propagator {
-            as_set: true,
-            ..Propagator::default()
-        };
-        for clause in &clauses {
-            p.add_clause(clause);
-        }
+        let mut p = kept_as_set_with(&clauses);
         p.model = Some(planted);
         let mut completed = 0;
         for _ in 0..2000 {
