@@ -486,6 +486,7 @@ impl Propagator {
         }
         self.watches[lit.code()] = watching;
     }
+
     /// Unassigns everything.
     fn clear(&mut self) {
         self.started = false;
