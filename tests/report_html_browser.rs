@@ -1,12 +1,14 @@
-//! The interactive run report end to end in a real browser (issue 19 item 6): `kairos run
+//! The interactive run report end to end in a real browser: `kairos run
 //! --report` on the Mars EDL's primary pyro misfire (thesis §7.2.5), opened in headless
 //! Chromium at the first diagnosis by the same key the reader presses (`f`, played from the URL
 //! fragment `#keys=f`), and the panel read back from the DOM: the diagnosed component and mode
 //! with its probability, the schematic and the marginals agreeing. A screenshot goes to the
 //! test's output directory for a person to look at.
 //!
-//! Chromium is Debian's `chromium` (`.ci/run` installs it). Without it the test fails and says
-//! how to install it, unless `KAIROS_SKIP_BROWSER=1`.
+//! Chromium is Debian's `chromium` (`.ci/run` installs it). The README's test command must pass
+//! on a fresh machine with only Rust installed, so without Chromium the test prints a notice
+//! saying how to install it and passes — unless the environment variable `CI` is set, where a
+//! missing browser is a broken CI machine and the test fails loudly.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -60,18 +62,15 @@ fn element<'a>(dom: &'a str, tag: &str, id: &str) -> &'a str {
     &dom[start..end]
 }
 
-/// Issue 19 item 6: open the report, step to the diagnosis, read what the panel shows.
+/// The run report (docs/report.md): open it, step to the diagnosis, read what the panel shows.
 #[test]
 fn the_report_steps_to_the_diagnosis_in_a_headless_browser() {
     let Some(chromium) = chromium() else {
-        if std::env::var("KAIROS_SKIP_BROWSER").as_deref() == Ok("1") {
-            eprintln!("skipped: KAIROS_SKIP_BROWSER=1 and no chromium");
-            return;
-        }
-        panic!(
-            "this test needs Debian's chromium: `apt-get install -y chromium` (.ci/run installs \
-             it), or set KAIROS_SKIP_BROWSER=1 to skip it"
-        );
+        let install = "this test needs Debian's chromium: `apt-get install -y chromium` \
+                       (.ci/run installs it)";
+        assert!(std::env::var_os("CI").is_none(), "CI is set and {install}");
+        eprintln!("SKIPPED the browser test: {install}");
+        return;
     };
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report_html_browser");
     let profile = out.join("profile");
