@@ -10,7 +10,7 @@ pub(crate) mod locate;
 
 use std::fmt;
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
 
 use codespan_reporting::diagnostic::{Diagnostic as Report, Label};
 use codespan_reporting::files::SimpleFile;
@@ -154,7 +154,7 @@ impl Source {
     /// Reads a file, named by its path as given. The one reader of every file the CLI and the
     /// loaders read, so that bytes that are not UTF-8 are located like any other bad input: at the
     /// first invalid byte's line:column (and byte offset), not a bare "stream did not contain
-    /// valid UTF-8" (issue 12).
+    /// valid UTF-8".
     ///
     /// Only regular files of at most [`MAX_SOURCE_BYTES`] are read: a device (`/dev/zero`), a
     /// pipe or a directory given as a model would otherwise hang the loader or exhaust memory.
@@ -268,6 +268,61 @@ impl fmt::Display for SourceErrors {
 }
 
 impl std::error::Error for SourceErrors {}
+
+/// Why a file, and the files it names, could not be loaded (a scenario with its plant, program
+/// or mission; a mission with its plant).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LoadErrors {
+    /// The file itself cannot be read.
+    Unreadable(String),
+    /// The problems found, grouped by the file they are in.
+    Invalid(Vec<SourceErrors>),
+}
+
+impl From<ReadError> for LoadErrors {
+    /// A file that cannot be read at all is unreadable; one that is not UTF-8 is located.
+    fn from(error: ReadError) -> Self {
+        match error {
+            ReadError::NotUtf8(errors) => LoadErrors::Invalid(vec![*errors]),
+            io => LoadErrors::Unreadable(io.to_string()),
+        }
+    }
+}
+
+impl fmt::Display for LoadErrors {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LoadErrors::Unreadable(message) => f.write_str(message),
+            LoadErrors::Invalid(files) => {
+                for (i, errors) in files.iter().enumerate() {
+                    if i > 0 {
+                        writeln!(f)?;
+                    }
+                    write!(f, "{errors}")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+impl std::error::Error for LoadErrors {}
+
+/// `dir/relative` with `.` and `name/..` removed, so file names read well in messages.
+pub fn resolve_path(dir: &Path, relative: &str) -> PathBuf {
+    let joined = dir.join(relative);
+    let mut out: Vec<Component> = Vec::new();
+    for part in joined.components() {
+        match part {
+            Component::CurDir => {}
+            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out.iter().collect()
+}
 
 /// Turns a RON syntax or shape error into a located diagnostic.
 pub fn ron_error(source: &Source, error: &ron::error::SpannedError) -> Diagnostic {

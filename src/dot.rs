@@ -1,6 +1,8 @@
 //! A small Graphviz DOT writer: nested clusters, nodes with record-like labels, labelled edges.
 //! `kairos compile --dot` (THCA: composites as clusters) and `kairos graph --dot` (one cluster per
 //! component automaton) both draw through it, so quoting and layout conventions live in one place.
+//! It knows nothing of kairos's models, so it sits below every layer that draws (the sequencer's
+//! THCA drawing, the plant graph, the goal network).
 
 use std::fmt::Write;
 

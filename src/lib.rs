@@ -10,6 +10,7 @@
 
 pub mod campaign;
 pub mod diagnostic;
+pub mod dot;
 pub mod estimation;
 pub mod executive;
 pub mod exploration;

@@ -12,10 +12,11 @@ mod cli;
 use std::path::Path;
 
 use kairos::exploration::Budget;
+use kairos::exploration::protocol::{Property, ProtocolExploration, explore};
 use kairos::protocol::messages::{ConstraintId, Message, Outcome, Reason};
 use kairos::protocol::posandhead::{Command, Constraint, StateValue, coa, satisfy};
 use kairos::protocol::scenario::{self, RoverScenario};
-use kairos::protocol::{CoaController, Controller, Property, ProtocolExploration, explore};
+use kairos::protocol::{CoaController, Controller};
 
 fn rover(file: &str) -> RoverScenario {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(file);

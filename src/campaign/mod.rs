@@ -1,4 +1,4 @@
-//! Monte Carlo campaigns (issue 18; DESIGN.md §11, §17): many seeded runs of one scenario
+//! Monte Carlo campaigns (DESIGN.md §11, §17): many seeded runs of one scenario
 //! against its model-driven plant, each judged by the scenario's expectations, tabulated.
 //!
 //! Run `i` of a campaign of seed `S` plays the plant seed [`run_seed`]`(S, i)`, whatever the

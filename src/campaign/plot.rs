@@ -1,4 +1,4 @@
-//! The campaign's picture (issue 18): the pass rate with its 95 % Wilson interval, and the
+//! The campaign's picture: the pass rate with its 95 % Wilson interval, and the
 //! histogram of diagnosis latencies — an SVG drawn with the `svg` crate the timeline uses, so
 //! it needs no fonts or plotting backend (viewers render the text).
 
@@ -230,7 +230,7 @@ mod tests {
         assert_eq!(binned_span(&skewed), 4.0);
     }
 
-    /// Issue 18's picture: the far-out latencies are one labelled overflow bar, counted.
+    /// The campaign picture: the far-out latencies are one labelled overflow bar, counted.
     #[test]
     fn far_out_latencies_are_one_labelled_overflow_bar() {
         let mut latencies: Vec<f64> = (0..100).map(|i| f64::from(i % 5)).collect();

@@ -1,6 +1,6 @@
 //! `kairos campaign SCENARIO --runs N --seed S [--jobs J] [--shard i/n] [--out DIR] [--fault F]...
 //! [--noise q]`: a Monte
-//! Carlo campaign of a scenario with a model-driven plant (issue 18; `kairos::campaign`), and
+//! Carlo campaign of a scenario with a model-driven plant (`kairos::campaign`), and
 //! `kairos campaign merge DIR... [--out DIR]`, which joins the shards of one.
 //!
 //! With `--out`, the directory receives `runs.jsonl` (one [`RunRecord`] per line, by run index),

@@ -13,8 +13,9 @@ use std::path::Path;
 
 use kairos::diagnostic::Source;
 use kairos::exploration::Budget;
+use kairos::exploration::protocol::{Property, ProtocolExploration, explore};
+use kairos::protocol::CoaController;
 use kairos::protocol::scenario::{self, RoverScenario};
-use kairos::protocol::{CoaController, Property, ProtocolExploration, explore};
 
 use super::Failure;
 use super::explore::ExploreArgs;

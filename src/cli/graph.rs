@@ -5,9 +5,9 @@
 
 use std::path::Path;
 
+use kairos::dot::{Cluster, Edge, Graph, Node, Shape};
 use kairos::logic::Formula;
 use kairos::plant::{Component, ModeKind, Plant, Transition, TransitionSource};
-use kairos::report::dot::{Cluster, Edge, Graph, Node, Shape};
 
 use super::Failure;
 use super::load_plant;

@@ -67,7 +67,7 @@ pub fn load_plant(path: &Path) -> Result<kairos::plant::Plant, Failure> {
 pub const LARGE_PLANT_VARIABLES: usize = 1_000;
 
 /// Says on standard error, before a long computation on a large plant starts, how large it is
-/// and that `what` grows faster than linearly with it (issue 12: a 10,000-component plant ran
+/// and that `what` grows faster than linearly with it (a 10,000-component plant ran
 /// for minutes with no output): when the plant has more than [`LARGE_PLANT_VARIABLES`], or when
 /// the caller knows its work is `large` for another reason.
 pub fn announce_large_plant(path: &Path, plant: &kairos::plant::Plant, what: &str, large: bool) {

@@ -1,4 +1,4 @@
-//! `--fault` and `--noise`, shared by `kairos run` and `kairos campaign` (issue 18): forced
+//! `--fault` and `--noise`, shared by `kairos run` and `kairos campaign`: forced
 //! faults and sensor noise for a scenario's model-driven plant, given on the command line. A
 //! campaign run with them is replayed by `kairos run` with the same options and the run's seed.
 

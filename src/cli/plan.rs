@@ -1,6 +1,6 @@
 //! `kairos plan --plant MODEL [--state "engine = off, ..."] --goal "engine = firing" [--json]`:
 //! goal interpretation from the state, then the command sequence the reactive planner produces
-//! when every command succeeds nominally (issue 5). `kairos plan --policies MODEL`: the causal
+//! when every command succeeds nominally. `kairos plan --policies MODEL`: the causal
 //! graph and every component's concurrent policy, for review like Table 6.2.
 //!
 //! `--state` lists `component = mode` (commas or `and` between them); components it leaves out

@@ -217,7 +217,7 @@ fn check_filter(scenario: &Scenario, filter: &LogFilter) -> Result<(), Failure> 
 
 /// The progress of a run, in cycles, on standard error: hidden when standard error is not a
 /// terminal (a log, a pipe, a test) or with `--quiet`, so that only a person watching sees it
-/// (issue 12: a long run showed nothing for minutes). indicatif redraws at most 20 times a
+/// (a long run showed nothing for minutes). indicatif redraws at most 20 times a
 /// second, so counting every cycle costs nothing measurable.
 fn progress_bar(scenario: &Scenario, quiet: bool) -> ProgressBar {
     if quiet || !std::io::stderr().is_terminal() {

@@ -11,6 +11,7 @@
 
 use std::path::Path;
 
+use kairos::dot::{Cluster, Edge, Graph, Node, Shape};
 use kairos::goalnet::mission::seconds;
 use kairos::goalnet::{
     EstimateView, ExecutableNetwork, GoalController, GoalId, GroundError, Projection, Provenance,
@@ -19,7 +20,6 @@ use kairos::goalnet::{
 use kairos::logic::ValueId;
 use kairos::plant::Plant;
 use kairos::reconfiguration::Reconfiguration;
-use kairos::report::dot::{Cluster, Edge, Graph, Node, Shape};
 
 use super::Failure;
 use super::output::emit;

@@ -61,7 +61,7 @@ const CACHE_LIMIT: usize = 20_000;
 /// mass merged: nothing unseen can then move a kept probability by more than that. Chosen on the
 /// Mars lander, whose dozen components failing at 1e-9/s leave ~2e-9 unseen per 0.1 s cycle
 /// that no state kept at κ = 10 could absorb, so that its quiet cycles examine as many
-/// candidates as before the rule (BENCHMARKS.md, issue 16).
+/// candidates as before the rule (BENCHMARKS.md).
 pub(crate) const MASS_TOLERANCE: f64 = 1e-8;
 
 /// One next mode of a component, with its probability and its cost (−ln p).
@@ -272,7 +272,7 @@ fn same_bits(a: &[NextMode], b: &[NextMode]) -> bool {
         })
 }
 
-/// The sources whose choices were computed in recent steps (issue 15: a quiet step's sources
+/// The sources whose choices were computed in recent steps (a quiet step's sources
 /// are mostly the last steps' states). Certified like [`StepMemo`]: a source's choices are a
 /// function of its modes, its clock starts, μ (through the enabled transitions, a function of
 /// the modes and μ), the step's length and its start (through the clock readings) and nothing

@@ -1,5 +1,5 @@
 //! The recent steps TimedME can estimate again, wider, when truncation may have cost it the
-//! truth (issue 16 item 3; beyond the thesis, after Livingstone 2's history window).
+//! truth (beyond the thesis, after Livingstone 2's history window).
 //!
 //! Truncating to κ states can drop the state the plant is really in, or enough weight to put the
 //! wrong plant state first. TimedME keeps the belief it was given `window`–`2 · window` steps

@@ -76,7 +76,7 @@ pub fn parse_log(source: &Source, plant: &Plant) -> Result<Vec<LogRecord>, Sourc
         };
         if let Some((previous, previous_line)) = last {
             // A repeated time is refused too: each line is a cycle, and a cycle of length zero
-            // would count a second estimation step at the same instant (issue 12).
+            // would count a second estimation step at the same instant.
             if parsed.time <= previous {
                 let span = reader.find("time", 0).unwrap_or(start..start + line.len());
                 let message = if parsed.time == previous {

@@ -5,7 +5,7 @@
 //! whole gets 0 even if no single value is refuted (Figure 6-7, step 7) — and so does a state
 //! whose modes are inconsistent with the model itself (its connections), observed or not: such a
 //! combination of modes is no plant state at all (DESIGN.md §8, "the targets must be consistent
-//! with o(i+1) and the model"; issue 16 item 2, where an unobserved step once kept up to 0.73
+//! with o(i+1) and the model", where an unobserved step once kept up to 0.73
 //! of the exact belief on mode combinations the connections forbid).
 //!
 //! The factor depends on the modes only, never on clocks, so it is cached per (modes,

@@ -1,4 +1,4 @@
-//! Replaying a quiet step (issue 15, direction 1): the last step's streams, re-costed, instead
+//! Replaying a quiet step: the last step's streams, re-costed, instead
 //! of streams rebuilt from the solution cache — only when that is certified to give exactly the
 //! full expansion's answer.
 //!

@@ -1,5 +1,5 @@
 //! Goals delegated to the controllers a mission declares for state variables that are not plant
-//! components (issue 17 item 3; mds-goal-networks.md §1.7, §2.9): the executive runs each
+//! components (mds-goal-networks.md §1.7, §2.9): the executive runs each
 //! controller's protocol ([`crate::protocol::Delegation`]) one cycle at a time beside the goal
 //! controller.
 //!

@@ -51,8 +51,8 @@ pub enum EventKind {
         reason: String,
     },
     /// The goal is unreachable from ŝ but reachable from another tracked plant state: the
-    /// planner's command from that state is sent, so that the next estimate decides (issue 16
-    /// item 5). A `CommandIssued` with the command follows.
+    /// planner's command from that state is sent, so that the next estimate decides. A
+    /// `CommandIssued` with the command follows.
     Retrying {
         /// The configuration goal, as text.
         goal: String,
@@ -221,7 +221,7 @@ pub enum EventKind {
         probability: f64,
     },
     /// A delegated goal's start point fired: its constraint was sent to the controller of its
-    /// state variable (issue 17 item 3; the protocol's constraint message).
+    /// state variable (the protocol's constraint message).
     ConstraintSent {
         /// The goal.
         goal: String,
@@ -379,7 +379,7 @@ impl EventKind {
 
 /// The event as the mission log words it, without the plant and program the log has: component
 /// ids stand for names, byte ranges for source lines (the wording is
-/// `report::log::describe_event`'s, shared, not copied).
+/// [`describe_event`](super::describe_event)'s, shared, not copied).
 ///
 /// ```
 /// use kairos::executive::{Event, EventKind};
@@ -415,7 +415,7 @@ impl fmt::Display for Event {
 /// [`Event`]'s `Display`.
 impl fmt::Display for EventKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (tag, text) = crate::report::log::describe_bare(self);
+        let (tag, text) = super::describe::describe_bare(self);
         write!(f, "{tag} {text}")
     }
 }

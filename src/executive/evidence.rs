@@ -1,4 +1,4 @@
-//! A diagnosis's evidence (issue 19 item 2): the observations the previous most likely state
+//! A diagnosis's evidence: the observations the previous most likely state
 //! cannot explain — Livingstone's "discrepant observations" (Williams & Nayak 1996), here
 //! against ŝ(i−1) stepped by the last command μ(i−1) along its most likely transitions (thesis
 //! §6.2.2's transition probabilities; Figure 6-6's Step_TCCA with the most probable choice per
@@ -167,7 +167,7 @@ mod tests {
         observables: ["x.a", "x.b", "x.c", "x.d"],
     )"#;
 
-    /// Issue 19 item 2: with `a = low`, `b = low`, `c = high`, `d = low` none is discrepant
+    /// With `a = low`, `b = low`, `c = high`, `d = low` none is discrepant
     /// alone; both {a, c} and {b, c} are minimal jointly inconsistent sets, {a, b, c} is not
     /// minimal. The set named is one of the two: inconsistent with `level`, consistent when any
     /// member is dropped, and without `d`.

@@ -1,4 +1,4 @@
-//! Loading an executive from files in one call (issue 19 item 1): the plant model and the
+//! Loading an executive from files in one call: the plant model and the
 //! control program, each read, validated and linked, with every error located as the CLI shows
 //! it. An embedder writes `Executive::load(plant, program)?.kappa(10).build()?` and is done.
 

@@ -1,8 +1,8 @@
 //! A goal network run as the executive's control program (DESIGN.md §15.3; mds-goal-networks.md
 //! §2.4–2.5, §2.9).
 //!
-//! Every call into the goal network is in this file, through a [`GoalController`] (issue 14:
-//! elaboration with tactics, the failure responses, promotion, safing). The controller is made
+//! Every call into the goal network is in this file, through a [`GoalController`]
+//! (elaboration with tactics, the failure responses, promotion, safing). The controller is made
 //! at the first cycle — it elaborates and schedules from ŝ, which only then exists — or at a
 //! submission before it; until then the network scheduled at load stands for it.
 //!
@@ -21,12 +21,12 @@
 
 use super::delegation::Delegations;
 use super::events::EventKind;
-use super::submit::{Submission, SubmitError};
 use crate::estimation::PlantEstimate;
 use crate::goalnet::{
     EstimateView, ExecutableNetwork, FailureReason, GoalController, GoalEvent, Mission,
     MissionEvent, ScheduleError, TimePointId, Window, XGoal, display, judge_delegated, schedule,
 };
+use crate::goalnet::{Submission, SubmitError};
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
 use crate::reconfiguration::Reconfiguration;

@@ -27,6 +27,7 @@
 pub mod adapters;
 mod control;
 mod delegation;
+mod describe;
 mod events;
 mod evidence;
 mod fingerprint;
@@ -41,14 +42,16 @@ mod timeline;
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
 
+/// Goals submitted to a running mission ([`Executive::submit`]); defined with the goal network.
+pub use crate::goalnet::{Submission, SubmitError, SubmittedConstraint, SubmittedGoal};
 pub use control::ControlProgram;
+pub use describe::describe_event;
 pub use events::{Event, EventKind, Served};
 pub use fingerprint::PROBABILITY_RESOLUTION;
 pub use load::LoadError;
 pub use mission::ScheduledMission;
 pub use named::NamedEstimate;
 pub use observations::NamedValue;
-pub use submit::{Submission, SubmitError, SubmittedConstraint, SubmittedGoal};
 pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeline, Timelines};
 
 use crate::estimation::{
@@ -77,7 +80,7 @@ pub struct ExecutiveOptions {
     /// How much state, command and observation history to keep.
     pub retention: Retention,
     /// When the goal is unreachable from ŝ: how probable another tracked plant state must be to
-    /// be acted on, and how many commands per goal may be sent on such states (issue 16 item 5).
+    /// be acted on, and how many commands per goal may be sent on such states.
     pub ambiguity: AmbiguityOptions,
 }
 
@@ -413,7 +416,7 @@ pub struct Executive {
     observed: LastObservation,
     answers: AnswerCache,
     interpretation: Option<Interpretation>,
-    /// The hypotheses other than ŝ acted on for the current goal (issue 16 item 5).
+    /// The hypotheses other than ŝ acted on for the current goal.
     ambiguity: Ambiguity,
     intended: Option<GoalState>,
     reported: Reported,
@@ -679,7 +682,7 @@ impl Executive {
     }
 
     /// The component's other modes the belief holds, most probable first: the candidates a
-    /// diagnosis of `mode` is to be read against (issue 16 item 5). At most
+    /// diagnosis of `mode` is to be read against. At most
     /// [`NEXT_DIAGNOSES`], each at least [`NEXT_DIAGNOSIS_MIN`] (a log shows two decimals).
     fn next_diagnoses(&self, component: ComponentId, mode: ValueId) -> Vec<(String, f64)> {
         let modes = self.plant.component(component).modes();
@@ -834,8 +837,8 @@ impl Executive {
     }
 
     /// The goal is unreachable from ŝ: the planner's command from another tracked plant state
-    /// that can serve it, while the retry budget lasts (`reconfiguration::Ambiguity`, issue 16
-    /// item 5), or the goal failure, naming the hypotheses tried. The intended configuration is
+    /// that can serve it, while the retry budget lasts (`reconfiguration::Ambiguity`),
+    /// or the goal failure, naming the hypotheses tried. The intended configuration is
     /// left as it was: a hypothesis is acted on, not believed.
     fn retry_or_fail(
         &mut self,

@@ -1,4 +1,4 @@
-//! What a cycle produced, by name (issue 19 item 1): a flight loop sends observations in as
+//! What a cycle produced, by name: a flight loop sends observations in as
 //! [`NamedValue`]s and gets commands, modes and diagnoses back the same way, never handling the
 //! plant's ids. Each accessor takes the plant (`executive.plant()`): a [`Step`] stays a plain
 //! value that costs nothing extra per cycle for loops that do not ask.

@@ -1,4 +1,4 @@
-//! Where a timed response with an interval may land (issue 17 item 1: "timed plant responses
+//! Where a timed response with an interval may land ("timed plant responses
 //! may land anywhere in a declared interval (discretised to the cycle)").
 
 use crate::simulation::{OpenLanding, Scenario};

@@ -48,11 +48,17 @@
 //! so a search gives the same answer for any number of workers and on any run (a time budget
 //! aside, which cuts where the clock says). A state budget is split evenly among the workers.
 //!
+//! # The controller protocol
+//! [`protocol`] is the same kind of search over the MDS controller protocol (seed 001): every
+//! interleaving of its messages for a rover scenario, the properties of mds-goal-networks.md §4.2
+//! checked on each.
+//!
 //! [`Executive`]: crate::executive::Executive
 //! [`Executive::fingerprint`]: crate::executive::Executive::fingerprint
 
 pub mod deep;
 mod landing;
+pub mod protocol;
 mod replay;
 mod search;
 

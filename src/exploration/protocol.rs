@@ -39,12 +39,13 @@ use std::time::{Duration, Instant};
 
 use rustc_hash::FxHashMap;
 
-use super::components::{StateVariable, actuator, estimator, sensor};
-use super::controller::Controller;
-use super::messages::{ConstraintId, Message};
-use super::posandhead::{Command, Pose, StateValue, coa};
-use super::scenario::{Arrival, RoverScenario};
-use crate::exploration::Budget;
+use super::Budget;
+use crate::protocol::Controller;
+use crate::protocol::RoverScenario;
+use crate::protocol::components::{StateVariable, actuator, estimator, sensor};
+use crate::protocol::messages::{ConstraintId, Message};
+use crate::protocol::posandhead::{Command, Pose, StateValue, coa};
+use crate::protocol::scenario::Arrival;
 
 /// The properties of §4.2, in the order they are reported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -328,7 +329,7 @@ fn window_missed<C: Controller>(scenario: &RoverScenario, config: &Configuration
 
 impl<C: Controller> Configuration<C> {
     /// Hands `message` to its recipient; what the recipient sends in answer.
-    fn deliver(&mut self, grid: &super::rover::Grid, message: &Message) -> Vec<Message> {
+    fn deliver(&mut self, grid: &crate::protocol::rover::Grid, message: &Message) -> Vec<Message> {
         match message {
             Message::Constraint { id, constraint } => {
                 self.controller.on_constraint(*id, *constraint)

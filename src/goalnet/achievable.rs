@@ -1,5 +1,5 @@
-//! Whether the goals delegated to a controller can be achieved (issue 17 item 3;
-//! mds-goal-networks.md §1.7 `is_achievable(xgoal)`, which a state variable's achievers answer):
+//! Whether the goals delegated to a controller can be achieved
+//! (mds-goal-networks.md §1.7 `is_achievable(xgoal)`, which a state variable's achievers answer):
 //! the scheduler's question for a state variable that is not a component, asked of its
 //! controller instead of mode reconfiguration.
 //!

@@ -390,7 +390,7 @@ impl GoalController {
 
     /// Whether failures get responses: a mission that declares no goal types declares no
     /// responses either, and its failed goals stay failed while the network runs on (as a
-    /// network ran before goal types existed, issue 13). With types, a goal without one fails
+    /// network ran before goal types existed). With types, a goal without one fails
     /// up.
     fn responds(&self) -> bool {
         !self.mission.elaborators.types.is_empty()

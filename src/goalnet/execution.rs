@@ -17,8 +17,8 @@
 //!    unreached fails). Firing grounds the point and re-propagates incrementally, and
 //!    dispatches the XGoals that start there.
 //!
-//! A goal **delegated** to a controller (a state variable that is not a component, issue 17
-//! item 3) is on no timeline: its controller judges it. [`Execution::end_delegated`] says that
+//! A goal **delegated** to a controller (a state variable that is not a
+//! component) is on no timeline: its controller judges it. [`Execution::end_delegated`] says that
 //! the controller ended its constraint; until then the goal's end point is not ready (it is
 //! forced at its latest time, and the goal fails); a failure the controller reports is reported
 //! by the next monitoring, like any other, so the failure responses apply to it.

@@ -55,7 +55,7 @@ pub struct Goal {
     /// Its name in the mission (`"heater1"`), unique in its network.
     pub name: String,
     /// The state variable: a component, whose mode variable it constrains. `None` for a *macro*
-    /// goal, which constrains nothing itself and exists to be elaborated (AG §3.9; issue 14).
+    /// goal, which constrains nothing itself and exists to be elaborated (AG §3.9).
     pub sv: Option<ComponentId>,
     /// How the constraint is judged.
     pub kind: GoalKind,
@@ -86,7 +86,7 @@ impl Goal {
 }
 
 /// A goal delegated to the controller a mission declares for a state variable that is not a
-/// plant component (issue 17 item 3; mds-goal-networks.md §1.7: the SV's controller achieves
+/// plant component (mds-goal-networks.md §1.7: the SV's controller achieves
 /// its control goals). The goal is on no component timeline: the scheduler and mode
 /// reconfiguration never see it; its controller judges it, and its end point waits for the
 /// controller's `endcstr`.

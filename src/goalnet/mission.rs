@@ -15,7 +15,7 @@
 //!             Constraint(from: "origin", to: "TP_S", min: 10.0, max: 200.0),
 //!             Constraint(from: "TP_S", to: "TP_E", min: 300.0, max: 300.0),
 //!         ],
-//!         // Macro goals: no state variable; they exist to be elaborated (issue 14) and to be
+//!         // Macro goals: no state variable; they exist to be elaborated and to be
 //!         // the parents of goals.
 //!         macros: [Macro(name: "StayWarm", start: "TP_S", end: "TP_E")],
 //!         goals: [
@@ -31,7 +31,7 @@
 //!                  start: "origin", end: "TP_E"),
 //!         ],
 //!     ),
-//!     // Optional: the network safing promotes (issue 14); default: every SV unconstrained.
+//!     // Optional: the network safing promotes; default: every SV unconstrained.
 //!     // Not elaborated: its goals take no `type`.
 //!     safe: Network(goals: [...]),
 //!     // Optional: goal types — failure responses and elaborators' tactics (module
@@ -71,10 +71,10 @@ use super::temporal_constraint::{Provenance, TemporalConstraint};
 use super::time_point::TimePointId;
 use crate::diagnostic::locate::{Locator, Step};
 use crate::diagnostic::{Diagnostic, ReadError, Source, SourceErrors, did_you_mean, ron_error};
+use crate::diagnostic::{LoadErrors, resolve_path};
 use crate::logic::{self, Atom, CmpOp, Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
 use crate::protocol::CoaDeclaration;
-use crate::simulation::{ScenarioErrors, resolve_path};
 
 /// The knowledge threshold when the mission does not give one.
 pub const DEFAULT_KNOWLEDGE_THRESHOLD: f64 = 0.9;
@@ -94,7 +94,7 @@ pub struct Mission {
     pub knowledge_threshold: f64,
     /// The initial goal network, propagated.
     pub network: GoalNetwork,
-    /// The safe network (issue 14's safing promotes it).
+    /// The safe network (safing promotes it).
     pub safe: GoalNetwork,
     /// The goal types (elaborators, tactics, failure responses) and the initial goals' types.
     pub elaborators: Elaborators,
@@ -105,7 +105,7 @@ pub struct Mission {
 
 /// Why a mission could not be loaded: the file is unreadable, or its problems grouped by file
 /// (the mission, the plant model) — the same shape as a scenario's.
-pub type MissionErrors = ScenarioErrors;
+pub type MissionErrors = LoadErrors;
 
 #[derive(Deserialize)]
 #[serde(rename = "Mission", deny_unknown_fields)]
@@ -211,7 +211,7 @@ pub fn load(path: &Path) -> Result<Mission, MissionErrors> {
 /// Reads a mission from its text; its plant path is relative to `dir`.
 pub fn load_source(source: &Source, dir: &Path) -> Result<Mission, MissionErrors> {
     let invalid =
-        |diagnostics| ScenarioErrors::Invalid(vec![SourceErrors::new(source.clone(), diagnostics)]);
+        |diagnostics| LoadErrors::Invalid(vec![SourceErrors::new(source.clone(), diagnostics)]);
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let file: MissionFile = options
@@ -226,7 +226,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Mission, MissionErrors
     let plant_path = resolve_path(dir, &file.plant).display().to_string();
     let plant_source = match Source::read(Path::new(&plant_path)) {
         Ok(source) => source,
-        Err(ReadError::NotUtf8(errors)) => return Err(ScenarioErrors::Invalid(vec![*errors])),
+        Err(ReadError::NotUtf8(errors)) => return Err(LoadErrors::Invalid(vec![*errors])),
         Err(ReadError::Io { error: e, .. }) => {
             loader.error(
                 &[Step::Field("plant")],
@@ -236,7 +236,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Mission, MissionErrors
             return Err(invalid(loader.errors));
         }
     };
-    let plant = Plant::load(&plant_source).map_err(|e| ScenarioErrors::Invalid(vec![e]))?;
+    let plant = Plant::load(&plant_source).map_err(|e| LoadErrors::Invalid(vec![e]))?;
     let knowledge_threshold = loader.threshold(file.knowledge_threshold);
     loader.controllers = loader.controllers(&plant, &file.controllers);
     let network = loader.network(&plant, &file.network, "network");

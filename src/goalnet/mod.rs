@@ -23,6 +23,7 @@
 //! - [`GoalType`] ([`tactic`]): a named goal type's failure [`Response`] and its elaborator's
 //!   [`Tactic`]s; [`elaborate`]: elaboration with chronological tactic backtracking;
 //! - [`Proposal`]: a copy of the running network to edit and promote;
+//! - [`Submission`]: goals, points and constraints submitted to a running mission;
 //! - [`GoalController`]: the per-cycle mission executive — monitoring, failure responses
 //!   (re-elaboration, fail up, safing), promotion, firing — reporting [`MissionEvent`]s, each
 //!   failure with its [`Explanation`] chain.
@@ -41,6 +42,7 @@ mod projection;
 mod proposal;
 mod schedule;
 mod stn;
+mod submission;
 pub mod tactic;
 mod temporal_constraint;
 mod time_point;
@@ -59,6 +61,7 @@ pub use projection::{Projection, project};
 pub use proposal::Proposal;
 pub use schedule::{ScheduleError, schedule};
 pub use stn::{GroundError, Inconsistency, Stn, StnError, Window};
+pub use submission::{Submission, SubmitError, SubmittedConstraint, SubmittedGoal};
 pub use tactic::{Elaborators, GoalType, MissionNames, Response, Tactic, TypeId};
 pub use temporal_constraint::{ConstraintId, Provenance, TemporalConstraint};
 pub use time_point::{TimePoint, TimePointId};

@@ -188,7 +188,7 @@ pub const MAX_NESTING: usize = 100;
 /// How many operators (`not`, `and`, `or`, `=>`) a formula may nest, one inside the other: the
 /// depth of its tree, which every pass over a formula (resolution, grounding, evaluation, the
 /// Tseitin encoding, `Drop`) walks recursively. A chain of `=>` nests one level per arrow, so this
-/// bounds chains that [`MAX_NESTING`]'s text scan cannot see (issue 12: a 10,000-long chain
+/// bounds chains that [`MAX_NESTING`]'s text scan cannot see (a 10,000-long chain
 /// overflowed the stack).
 pub const MAX_DEPTH: usize = 2 * MAX_NESTING;
 

@@ -1,5 +1,5 @@
 //! Unit propagation over the theory's compiled clauses: the fast path in front of the SAT solver
-//! (issue 15, direction 4; Livingstone's truth maintenance answers most of its queries the same
+//! (Livingstone's truth maintenance answers most of its queries the same
 //! way).
 //!
 //! Estimation asks many questions of one assumption set in a row — every guard of a source
@@ -16,7 +16,7 @@
 //! answers it gives are exactly the solver's; what it cannot decide goes to the solver
 //! ([`super::theory`] decides which).
 //!
-//! # Two closures, kept apart (issue 15, evidence locality)
+//! # Two closures, kept apart
 //! OPSAT's candidate checks and everyone else's questions (estimation's guards and observed
 //! values, yes/no consistency) interleave, and their assumption lists have nothing in order in
 //! common: one closure for both was rebuilt from scratch at almost every switch. So [`Solver`]

@@ -1,4 +1,4 @@
-//! Conflicts shared between OPSAT searches that assume the same literals (issue 15, direction 2).
+//! Conflicts shared between OPSAT searches that assume the same literals.
 //!
 //! A conflict is a set of literals `x = v` that cannot hold together with the theory and the
 //! per-problem assumptions. That is a fact about the theory and the assumptions alone: it holds

@@ -26,7 +26,7 @@ use crate::logic::{Atom, Formula, ValueId, VarId, VarTable};
 const DECISIONS: usize = 16;
 
 /// Above this many values, "at most one" is the product encoding rather than one clause per
-/// pair: a control with 5,000 values made 12.5 million clauses and 917 MB (issue 12).
+/// pair: a control with 5,000 values made 12.5 million clauses and 917 MB.
 const PAIRWISE_AT_MOST_ONE: usize = 8;
 
 /// Clauses saying at most one of `lits` is true: pairwise for small domains (no new variables,

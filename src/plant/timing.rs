@@ -14,7 +14,7 @@
 //!   fires with probability `p`. A Gaussian's mass is never spent: far in its upper tail the
 //!   conditional form is evaluated in log space (`1 − e^(ln S(c+δ) − ln S(c))`, with the
 //!   asymptotic Mills-ratio series where `erfc` would underflow), so an overdue Gaussian event
-//!   keeps the design's hazard rather than jumping to `p` (issue 16, item 4).
+//!   keeps the design's hazard rather than jumping to `p`.
 //!
 //! A mode's transitions combine into one distribution over next modes ([`mode_distribution`]):
 //! rates are *hazards that compete with everything else* — in a step a hazard strikes with
@@ -443,7 +443,7 @@ mod tests {
 
     #[test]
     fn far_in_a_gaussians_upper_tail_the_conditional_form_still_holds() {
-        // Issue 16 item 4, DESIGN.md §6.2: p·(F(t) − F(t_prev))/(1 − F(t_prev)) however small
+        // DESIGN.md §6.2: p·(F(t) − F(t_prev))/(1 − F(t_prev)) however small
         // the survival. It once fired with the nominal p as soon as the survival was ≤ 1e-12
         // (from 7 σ on). The reference is the formula itself on `erfc`, whose ratio is accurate
         // to ~1e-15 relative wherever it does not underflow (below ~37 σ); the log-space form

@@ -97,7 +97,7 @@ fn guards_can_hold(
 /// call assigns every variable — so the checks are asked in batches, one check per component
 /// at a time: a consistent batch settles all its checks at once; when a batch conflicts, the
 /// checks in the conflict are asked alone and the others wait for the next batch. A plant whose
-/// components are independent takes as many SAT calls as a component has checks (issue 12).
+/// components are independent takes as many SAT calls as a component has checks.
 fn consistent_each(theory: &mut Theory, checks: &[Vec<Vec<Literal>>]) -> Vec<Vec<bool>> {
     let mut results: Vec<Vec<bool>> = checks.iter().map(|c| vec![false; c.len()]).collect();
     let mut next = vec![0usize; checks.len()];

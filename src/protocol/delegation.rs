@@ -1,11 +1,11 @@
 //! The protocol run one cycle at a time by the executive, for a mission goal *delegated* to a
-//! course-of-action controller (issue 17 item 3; mds-goal-networks.md §1.7, §2.9, §4).
+//! course-of-action controller (mds-goal-networks.md §1.7, §2.9, §4).
 //!
 //! A [`Delegation`] holds the components of seed 001's configuration — the
 //! [`CoaController`], the actuator, the rover on its [`Grid`], the sensor, the estimator and the
 //! position-and-heading [`StateVariable`] — and delivers their messages first in, first out.
-//! The explorer ([`explore()`](super::explore())) tries every order; the executive runs one, so a
-//! run is deterministic.
+//! The explorer ([`explore()`](crate::exploration::protocol::explore())) tries every order;
+//! the executive runs one, so a run is deterministic.
 //!
 //! The cycle follows mds-goal-networks.md §2.9: the device's report of the last command is a
 //! measurement of *this* cycle (step 1), it goes through sensor and estimator to the state

@@ -1,5 +1,5 @@
 //! The MDS controller protocol of seed 001 (the Maude model of MDS; mds-goal-networks.md §4)
-//! and its explicit-state check (DESIGN.md §16).
+//! (its explicit-state check, DESIGN.md §16, is [`crate::exploration::protocol`]).
 //!
 //! A state variable's controller receives a constraint; if the state variable's value satisfies
 //! it, it answers `endcstr` (success); otherwise it plans a fixed course of action `coa(v, c)`
@@ -15,14 +15,12 @@
 //! - [`components`]: actuator, sensor and estimator (sort conversions) and the state variable;
 //! - [`delegation`]: the protocol run one cycle at a time by the executive, for a mission goal
 //!   delegated to a course-of-action controller;
-//! - [`scenario`]: the rover scenario file (R1–R7, `scenarios/rover/`);
-//! - [`explore()`]: every interleaving of the messages, and the properties P-succ/P-fail,
-//!   P-excl, P-term and P-cmds checked on each.
+//! - [`scenario`]: the rover scenario file (R1–R7, `scenarios/rover/`), which
+//!   [`crate::exploration::protocol`] explores on every interleaving of the messages.
 
 pub mod components;
 pub mod controller;
 pub mod delegation;
-pub mod explore;
 pub mod messages;
 pub mod posandhead;
 pub mod rover;
@@ -30,5 +28,4 @@ pub mod scenario;
 
 pub use controller::{CoaController, Controller};
 pub use delegation::{CoaDeclaration, Delegation, Delivered};
-pub use explore::{Counterexample, Property, ProtocolExploration, explore};
 pub use scenario::{RoverScenario, is_rover_scenario};

@@ -34,9 +34,9 @@ use serde::Deserialize;
 use super::messages::{ConstraintId, Outcome, Reason};
 use super::posandhead::{Constraint, Heading, Pose, StateValue};
 use super::rover::Grid;
+use crate::diagnostic::LoadErrors;
 use crate::diagnostic::locate::{Locator, Step};
 use crate::diagnostic::{Diagnostic, Source, SourceErrors, did_you_mean, ron_error};
-use crate::simulation::ScenarioErrors;
 
 /// The grid's side when the scenario does not say (§4.2).
 pub const DEFAULT_GRID: i64 = 5;
@@ -185,15 +185,15 @@ enum Expect {
 }
 
 /// Reads the rover scenario at `path`.
-pub fn load(path: &Path) -> Result<RoverScenario, ScenarioErrors> {
+pub fn load(path: &Path) -> Result<RoverScenario, LoadErrors> {
     let source = Source::read(path)?;
     load_source(&source)
 }
 
 /// Reads a rover scenario from its text.
-pub fn load_source(source: &Source) -> Result<RoverScenario, ScenarioErrors> {
+pub fn load_source(source: &Source) -> Result<RoverScenario, LoadErrors> {
     let invalid =
-        |diagnostics| ScenarioErrors::Invalid(vec![SourceErrors::new(source.clone(), diagnostics)]);
+        |diagnostics| LoadErrors::Invalid(vec![SourceErrors::new(source.clone(), diagnostics)]);
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let file: File = options

@@ -1,4 +1,4 @@
-//! Policy tables for people (issue 5: "an engineer can review them like Table 6.2"): rows are
+//! Policy tables for people ("an engineer can review them like Table 6.2"): rows are
 //! current modes, columns the nominal target modes, and a cell says what the policy does —
 //! `Idle`, `Failure`, or the conditions of the next transition's guard: mode sub-goals on
 //! upstream components, then the component's inputs a command sets (`valve1 = open, valve2 =

@@ -1,4 +1,4 @@
-//! Acting under diagnostic ambiguity (issue 16 item 5; beyond thesis §6.3, whose executive acts
+//! Acting under diagnostic ambiguity (beyond thesis §6.3, whose executive acts
 //! on ŝ alone): when goal interpretation finds the goal unreachable from ŝ, the other plant states
 //! mode estimation tracks are tried, most probable first, and the planner's next command toward
 //! the goal *from the first one it can serve* is sent — so that the next estimate decides.

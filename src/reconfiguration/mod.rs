@@ -26,7 +26,7 @@
 //! never proposes a state the planner cannot achieve. [`Reconfiguration::simulate_nominal`] runs
 //! the planner against nominal transitions (`kairos plan`).
 //!
-//! When the goal is unreachable from ŝ, [`Ambiguity`] (`hypotheses.rs`, issue 16 item 5) looks
+//! When the goal is unreachable from ŝ, [`Ambiguity`] (`hypotheses.rs`) looks
 //! at the other plant states mode estimation tracks and returns the planner's next command from
 //! the most probable one that can serve the goal, a bounded number of times per goal.
 

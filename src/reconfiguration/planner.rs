@@ -147,7 +147,7 @@ impl Action {
 /// relies on ([`Reservation`]), and a later goal is served only with a command that touches
 /// none of them. Serving a later goal with a component a held-back descent had already moved —
 /// a helper it needs in a sub-goal mode — made the planner undo and redo the same step forever
-/// (issue 12's livelock: `c1` commanded `m3 → m1` for the first goal, then back `m1 → m3`
+/// (the livelock once seen: `c1` commanded `m3 → m1` for the first goal, then back `m1 → m3`
 /// toward its own goal during the first goal's wait).
 pub(crate) fn next_action(
     reconfiguration: &Reconfiguration,
@@ -193,7 +193,7 @@ pub(crate) fn next_action(
     wait.map_or(Action::Achieved, Action::Idle)
 }
 
-/// The planner's measure of progress toward a goal state, smaller is closer (issue 12).
+/// The planner's measure of progress toward a goal state, smaller is closer.
 ///
 /// One *descent* per component, in the causal graph's downstream-first order: empty when the
 /// component is in its goal mode; otherwise the descent the planner walks for it — the

@@ -1,5 +1,5 @@
 //! The command sequence the reactive planner produces when every command succeeds nominally
-//! (issue 5's `kairos plan`): cycle after cycle, ask the planner for its action, then let the
+//! (`kairos plan`): cycle after cycle, ask the planner for its action, then let the
 //! plant take the nominal transitions that action enables, as mode estimation would confirm
 //! them.
 //!

@@ -1,4 +1,4 @@
-//! The interactive run report of `kairos run SCENARIO --report run.html` (issue 19 item 6): one
+//! The interactive run report of `kairos run SCENARIO --report run.html`: one
 //! self-contained HTML file — no network, no server, the style sheet and a small hand-written
 //! script inline — to step through a run the way PLEXIL's viewer steps through a plan and
 //! Helios shows a plant's live estimate (thesis §8.1).

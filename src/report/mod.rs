@@ -1,7 +1,7 @@
-//! Output for people and tools (DESIGN.md §2, §12): Graphviz DOT drawings, the mission log and
-//! the JSON-lines trace of `kairos run`, and the SVG timeline of a run, and the interactive HTML report of a run.
+//! Output for people and tools (DESIGN.md §2, §12): the mission log and the JSON-lines trace of
+//! `kairos run`, the SVG timeline of a run, and the interactive HTML report of a run. (Graphviz
+//! drawings go through [`crate::dot`], below every layer that draws.)
 
-pub mod dot;
 pub mod html;
 pub mod log;
 pub mod timeline;

@@ -1,4 +1,4 @@
-//! The SVG timeline: one picture of a run (DESIGN.md §12; issue 7 item 4).
+//! The SVG timeline: one picture of a run (DESIGN.md §12).
 //!
 //! From what a finished or ongoing run has — the plant, the program, the executive's
 //! [`Timelines`] and the [`Event`]s of every step — [`render`] draws:
@@ -14,7 +14,7 @@
 //!   observations, planning failures). Labels are stacked on levels so that none overlaps
 //!   another; past a few levels they are thinned (the mark and its tooltip stay). Commands and
 //!   diagnoses draw a faint guide down through the lanes;
-//! - for a mission (issue 13 item 5), a *network* row of its **time points** as they fire, each
+//! - for a mission, a *network* row of its **time points** as they fire, each
 //!   with the window it had then as a whisker (a point forced at its latest time in the fault
 //!   colour, numbered in the notes), and its **XGoals as bars** in a band under their state
 //!   variable's lane, from dispatch to their end point, labelled inside the bar with their kind
@@ -509,7 +509,7 @@ impl<'a> Picture<'a> {
     }
 
     /// The legend, wrapped onto as many lines as the width needs: every colour and symbol the
-    /// picture can use is keyed (issue 19 item 3), the nominal palette as one strip.
+    /// picture can use is keyed, the nominal palette as one strip.
     fn legend(&self, top: f64) -> Group {
         let mut group = Group::new().set("id", "legend");
         let lines = legend_lines(self.options.width, self.has_network());
@@ -679,7 +679,7 @@ impl<'a> Picture<'a> {
         let colours = mode_colours(component);
         let drawn = self.drawn_intervals(intervals);
         // A fault too brief for its name inside gets it beside the segment (a callout); the
-        // nominal names keep clear of it (issue 19 item 3: the fault is labelled, nothing
+        // nominal names keep clear of it (the fault is labelled, nothing
         // overlaps).
         let callouts: Vec<Callout> = drawn
             .iter()

@@ -1,7 +1,7 @@
 //! The JSON-lines trace of `kairos run --trace FILE` (DESIGN.md §12): one object per cycle, every
 //! cycle, for tools.
 //!
-//! By default a line holds only what changed (issue 19: a long run's trace stays small — a quiet
+//! By default a line holds only what changed (a long run's trace stays small — a quiet
 //! cycle is its number, time and phase times, about 100 bytes): `observation`, `estimate` and
 //! `belief` appear on the first line and then only when they differ from the last line that had
 //! them (the belief: other tracked states, another order, or a probability that moved by
@@ -32,7 +32,7 @@ use std::borrow::Borrow;
 
 use serde::Serialize;
 
-use super::log::describe_event;
+use crate::executive::describe_event;
 use crate::executive::{EventKind, NamedValue};
 use crate::simulation::{CycleRecord, EventName, PlantEventKind, Scenario};
 

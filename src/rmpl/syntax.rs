@@ -530,7 +530,7 @@ impl Builder<'_, '_> {
             }
             Rule::maintained => {
                 // `A maintaining c maintaining d` is `(A maintaining c) maintaining d`: each
-                // link is a level (issue 12: a 10,000-long chain overflowed the passes' stacks).
+                // link is a level (a 10,000-long chain overflowed the passes' stacks).
                 let rest: Vec<Pair<'_, Rule>> = inner.collect();
                 let first = &rest[0];
                 let links = (rest.len() - 1) / 2;

@@ -8,7 +8,7 @@
 //! dashed `start` edges lead from it to the composite's start locations.
 
 use super::thca::{Location, LocationId, LocationKind, Thca};
-use crate::report::dot::{Cluster, Edge, Graph, Node, Shape};
+use crate::dot::{Cluster, Edge, Graph, Node, Shape};
 
 /// The drawing of `thca`, with the locations in `marked` highlighted (a marking from a trace).
 pub fn graph(thca: &Thca, marked: &[LocationId]) -> Graph {

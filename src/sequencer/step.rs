@@ -180,7 +180,7 @@ pub struct Sequencer {
     scratch: Scratch,
 }
 
-/// Working storage of the half cycles (issue 15: a quiet cycle allocates none of it). Holds no
+/// Working storage of the half cycles (a quiet cycle allocates none of it). Holds no
 /// state: every buffer is overwritten before it is read.
 #[derive(Debug, Clone, Default)]
 struct Scratch {
@@ -846,7 +846,7 @@ mod tests {
     fn a_preemption_carries_the_watched_condition() {
         // Figure 5-3 step 2: `do A watching c` is a composite with maintenance ⊭ c (thesis
         // §5.2); when ŝ(i) entails c the composite is preempted, and the event names the
-        // construct and the condition whose entailment preempted it (issue 19 item 2).
+        // construct and the condition whose entailment preempted it.
         let mut hand = Hand::new();
         let watching = Origin {
             construct: Construct::Watching,

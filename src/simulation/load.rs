@@ -1,16 +1,17 @@
 //! Loading a scenario: the scenario file, the scripts it includes, the plant model and the
 //! program, each problem located in the file it is in (DESIGN.md §13).
 
-use std::path::{Component, Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 use super::format::{ScenarioFile, ScriptFile, ScriptParts};
 use super::script::Script;
-use super::{Scenario, ScenarioErrors, ScenarioProgram};
+use super::{Scenario, ScenarioProgram};
 use crate::diagnostic::locate::{Entries, Locator, Step};
 use crate::diagnostic::{
     Diagnostic, ReadError, Source, SourceErrors, Span, did_you_mean, ron_error,
 };
+use crate::diagnostic::{LoadErrors, resolve_path};
 use crate::executive::ScheduledMission;
 use crate::goalnet::{display, mission};
 use crate::logic::{self, Formula, ValueId, VarId, VarTable};
@@ -23,7 +24,7 @@ pub const DEFAULT_KAPPA: usize = 10;
 
 /// The most cycles a scenario may run (`end / cycle`): ten million, 58 times the nominal Mars
 /// EDL (171,577 cycles) and about five minutes at its pace. A longer run ran silently for hours
-/// (issue 12: `cycle: 1e-8, end: 10` is 10⁹ cycles); it is refused at `end` with the count and
+/// (`cycle: 1e-8, end: 10` is 10⁹ cycles); it is refused at `end` with the count and
 /// the time it would take.
 pub const MAX_CYCLES: u64 = 10_000_000;
 
@@ -86,18 +87,18 @@ pub(super) enum Vars {
 }
 
 /// Reads the scenario at `path`.
-pub fn load(path: &Path) -> Result<Scenario, ScenarioErrors> {
+pub fn load(path: &Path) -> Result<Scenario, LoadErrors> {
     let source = Source::read(path)?;
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     load_source(&source, &dir)
 }
 
 /// Reads a scenario from its text; relative paths in it are relative to `dir`.
-pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErrors> {
+pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, LoadErrors> {
     let options =
         ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let file: ScenarioFile = options.from_str(&source.text).map_err(|e| {
-        ScenarioErrors::Invalid(vec![SourceErrors::new(
+        LoadErrors::Invalid(vec![SourceErrors::new(
             source.clone(),
             vec![ron_error(source, &e)],
         )])
@@ -107,7 +108,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
     let settings = settings(&mut ctx, &file);
     let Some((plant, program, paths)) = model_and_program(&mut ctx, &file, dir, &mut all) else {
         ctx.finish(&mut all);
-        return Err(ScenarioErrors::Invalid(all));
+        return Err(LoadErrors::Invalid(all));
     };
     let mut includes = read_includes(&mut ctx, &file, dir, &mut all);
     let mut parts: Vec<(&mut FileCtx, ScriptParts<'_>)> = includes
@@ -140,7 +141,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, ScenarioErro
     }
     ctx.finish(&mut all);
     if !all.is_empty() {
-        return Err(ScenarioErrors::Invalid(all));
+        return Err(LoadErrors::Invalid(all));
     }
     let name = file.name.clone().unwrap_or_else(|| {
         Path::new(&source.name)
@@ -249,7 +250,7 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
     };
     let deadline = file.deadline.and_then(|d| {
         // `try_from_secs_f64`, not `from_secs_f64`: a deadline past `Duration::MAX` (1e20 s)
-        // panics in the latter (issue 12).
+        // panics in the latter.
         let duration = Duration::try_from_secs_f64(d).ok().filter(|d| !d.is_zero());
         if duration.is_none() {
             let problem = if !(d.is_finite() && d > 0.0) {
@@ -315,22 +316,6 @@ fn rough_duration(seconds: f64) -> String {
     } else {
         format!("{amount:.1} {name}")
     }
-}
-
-/// `dir/relative` with `.` and `name/..` removed, so file names read well in messages.
-pub(crate) fn resolve_path(dir: &Path, relative: &str) -> PathBuf {
-    let joined = dir.join(relative);
-    let mut out: Vec<Component> = Vec::new();
-    for part in joined.components() {
-        match part {
-            Component::CurDir => {}
-            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
-                out.pop();
-            }
-            other => out.push(other),
-        }
-    }
-    out.iter().collect()
 }
 
 /// Reads a file named at `path` in the scenario; an unreadable file is an error there, one that
@@ -437,7 +422,7 @@ fn load_mission(
     let at = [Step::Field("mission")];
     let loaded = match mission::load(&resolve_path(dir, name)) {
         Ok(loaded) => loaded,
-        Err(ScenarioErrors::Unreadable(message)) => {
+        Err(LoadErrors::Unreadable(message)) => {
             let message = message
                 .strip_prefix("error: ")
                 .unwrap_or(&message)
@@ -449,7 +434,7 @@ fn load_mission(
             );
             return None;
         }
-        Err(ScenarioErrors::Invalid(errors)) => {
+        Err(LoadErrors::Invalid(errors)) => {
             all.extend(errors);
             return None;
         }

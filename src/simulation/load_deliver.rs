@@ -1,5 +1,5 @@
 //! The scenario's `deliver`: orders of simultaneous deliveries a run follows, as
-//! `kairos explore` writes them into a counterexample (issue 17 item 1; the plant's side is
+//! `kairos explore` writes them into a counterexample (the plant's side is
 //! `script::open`).
 
 use super::format::DeliverFile;

@@ -273,13 +273,11 @@ mod model_plant;
 mod run;
 mod script;
 
-use std::fmt;
 use std::time::Duration;
 
 pub(crate) use expect::{Checker, Names};
 pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
 pub use format::EventName;
-pub(crate) use load::resolve_path;
 pub use load::{DEFAULT_KAPPA, MAX_CYCLES, load, load_source};
 pub use model_plant::{FaultDrawn, ForcedFault, ModelPlant, ModelPlantConfig};
 pub(crate) use run::build as build_executive;
@@ -289,7 +287,7 @@ pub use script::{
     Delay, Effect, OpenLanding, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger,
 };
 
-use crate::diagnostic::{Source, SourceErrors};
+use crate::diagnostic::Source;
 use crate::executive::{ControlProgram, ScheduledMission};
 use crate::logic::ValueId;
 use crate::plant::{ComponentId, Plant};
@@ -404,44 +402,6 @@ fn needs_model() -> String {
 fn cycle_count(end: f64, cycle: f64) -> f64 {
     ((end + script::TIME_EPSILON) / cycle).floor() + 1.0
 }
-
-/// Why a scenario could not be loaded.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum ScenarioErrors {
-    /// The scenario file itself cannot be read.
-    Unreadable(String),
-    /// The problems found, grouped by the file they are in (scenario, scripts, model, program).
-    Invalid(Vec<SourceErrors>),
-}
-
-impl From<crate::diagnostic::ReadError> for ScenarioErrors {
-    /// A file that cannot be read at all is unreadable; one that is not UTF-8 is located.
-    fn from(error: crate::diagnostic::ReadError) -> Self {
-        match error {
-            crate::diagnostic::ReadError::NotUtf8(errors) => ScenarioErrors::Invalid(vec![*errors]),
-            io => ScenarioErrors::Unreadable(io.to_string()),
-        }
-    }
-}
-
-impl fmt::Display for ScenarioErrors {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ScenarioErrors::Unreadable(message) => f.write_str(message),
-            ScenarioErrors::Invalid(files) => {
-                for (i, errors) in files.iter().enumerate() {
-                    if i > 0 {
-                        writeln!(f)?;
-                    }
-                    write!(f, "{errors}")?;
-                }
-                Ok(())
-            }
-        }
-    }
-}
-
-impl std::error::Error for ScenarioErrors {}
 
 #[cfg(test)]
 pub(crate) mod testing {

@@ -1,5 +1,5 @@
 //! What the model-driven plant asks its theory, asked once per (modes, command) and kept
-//! (issue 18; BENCHMARKS.md "Campaigns"): a cycle in which neither the modes nor the command
+//! (BENCHMARKS.md "Campaigns"): a cycle in which neither the modes nor the command
 //! change — most of a 17,000 s cruise — then costs lookups and the generator's draws, not the
 //! 25–70 SAT calls of the observation and the entailment checks of the step.
 //!

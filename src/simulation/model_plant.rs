@@ -1,4 +1,4 @@
-//! A model-driven plant (issue 18; DESIGN.md §11): the plant model itself, sampled, standing in
+//! A model-driven plant (DESIGN.md §11): the plant model itself, sampled, standing in
 //! for the hardware. Where a scripted plant plays one story, this one plays the model's own
 //! probabilities, so that a Monte Carlo campaign of seeded runs sees faults as often as the
 //! model says they happen.

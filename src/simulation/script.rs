@@ -721,7 +721,7 @@ mod tests {
     }
 
     /// §7.2.1 (the plant holds its values, DESIGN.md §3): while no effect applies, every cycle
-    /// reports the very same observation — shared, not formatted again (issue 15) — and an
+    /// reports the very same observation — shared, not formatted again — and an
     /// effect shows in the next report.
     #[test]
     fn the_report_is_shared_until_an_effect_applies() {

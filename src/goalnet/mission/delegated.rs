@@ -1,5 +1,5 @@
 //! Controllers of state variables that are not plant components, and the goals delegated to
-//! them (issue 17 item 3; mds-goal-networks.md §1.7: each SV has at most one controller, which
+//! them (mds-goal-networks.md §1.7: each SV has at most one controller, which
 //! achieves its control goals).
 //!
 //! ```ron

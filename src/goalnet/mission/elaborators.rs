@@ -1,4 +1,4 @@
-//! The mission file's goal types (issue 14 item 1; mds-goal-networks.md §2.1, §2.6): each with
+//! The mission file's goal types (mds-goal-networks.md §2.1, §2.6): each with
 //! its failure response and its elaborator's tactics.
 //!
 //! ```ron

@@ -6,7 +6,7 @@
 use super::{GoalNetwork, Item, Loader, NetworkFile};
 use crate::diagnostic::locate::{Locator, Step};
 use crate::diagnostic::{Diagnostic, Source};
-use crate::executive::{Submission, SubmittedConstraint, SubmittedGoal};
+use crate::goalnet::{Submission, SubmittedConstraint, SubmittedGoal};
 use crate::plant::Plant;
 
 /// The submission written at `at` in `source`, resolved against `plant`. Its goals and

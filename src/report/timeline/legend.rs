@@ -1,4 +1,4 @@
-//! The timeline's legend: every colour and symbol the picture can use, keyed (issue 19 item 3),
+//! The timeline's legend: every colour and symbol the picture can use, keyed,
 //! wrapped onto as many lines as the picture's width needs.
 
 use svg::node::element::{Group, Rectangle};

@@ -332,7 +332,7 @@ mod tests {
         pad: 8.0,
     };
 
-    /// The mission log's clock (issue 19 item 2): always hours, always milliseconds, so that a
+    /// The mission log's clock: always hours, always milliseconds, so that a
     /// right-aligned column of them lines up.
     #[test]
     fn the_log_clock_writes_hours_minutes_and_seconds_to_the_millisecond() {

@@ -1,4 +1,4 @@
-//! A mission's XGoals as bars on their state variables' lanes (issue 13 item 5; DESIGN.md
+//! A mission's XGoals as bars on their state variables' lanes (DESIGN.md
 //! §15.3): an XGoal is drawn from the cycle it was dispatched until its end point fired — or
 //! until the next XGoal on the same state variable took over, or the drawn window ends — in a
 //! band under the lane's modes, so that what the executive was asked to hold sits right under

@@ -1,5 +1,5 @@
 //! The nondeterminism of a scripted plant beyond optional rules, which `kairos explore` leaves
-//! open (issue 17 item 1) and a run resolves one documented way:
+//! open and a run resolves one documented way:
 //!
 //! - **Where a timed response lands.** A rule with `after: Between(from, to)` lands its effect
 //!   at a cycle whose time is in [fired + from, fired + to]. A run takes `from` (the effect
@@ -235,7 +235,7 @@ fn next_permutation(items: &mut [usize]) -> bool {
 
 #[cfg(test)]
 mod tests {
-    //! Issue 17 item 1: the orders of simultaneous deliveries that can matter.
+    //! the orders of simultaneous deliveries that can matter.
 
     use super::*;
     use crate::simulation::testing::engine_camera;
