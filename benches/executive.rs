@@ -1,4 +1,4 @@
-//! A full executive cycle on the propulsion scenario (issue 6; DESIGN.md §14), with the shares
+//! A full executive cycle on the propulsion scenario (DESIGN.md §14), with the shares
 //! of mode estimation, the sequencer and mode reconfiguration measured separately.
 //!
 //! The workload is `scenarios/propulsion/pde_resettable.ron` (§6.3.3's sequence with a PDE
@@ -8,7 +8,7 @@
 //! cycles, from the executive's own per-phase timers (`Step::times`), so the phases are measured
 //! one by one on the very same cycles and building the executive is not counted.
 //!
-//! The cost a goal network adds to a quiet cycle (issue 13 item 7; DESIGN.md §15.3): the
+//! The cost a goal network adds to a quiet cycle (DESIGN.md §15.3): the
 //! thermostat's StayWarm run as RMPL (`scenarios/thermostat/stay_warm.ron`) and as a mission
 //! (`scenarios/thermostat/stay_warm_mission.ron`), same plant, same script, same tactic; the mean
 //! quiet cycle (no event: the device held warm) of each, whole and its control-program share (the
@@ -122,7 +122,7 @@ fn per_cycle(b: &mut criterion::Bencher<'_>, scenario: &Scenario, class: Class, 
 }
 
 /// A quiet thermostat cycle under StayWarm, as RMPL, as a mission, and as the mission with the
-/// seed's goal types run by the goal controller (issue 14).
+/// seed's goal types run by the goal controller.
 fn thermostat(c: &mut Criterion) {
     let mut group = c.benchmark_group("executive/thermostat_quiet");
     group.sample_size(20);

@@ -1,4 +1,4 @@
-//! Conflict-directed A* against plain best-first enumeration (issue 2, benchmark (b)).
+//! Conflict-directed A* against plain best-first enumeration (benchmark (b)).
 //!
 //! Both searches enumerate candidates in best-first order and test them with the same theory;
 //! the plain one learns nothing from an inconsistent candidate and tests the next, CDA* jumps

@@ -1,4 +1,4 @@
-//! Mode reconfiguration (issue 5; DESIGN.md §14): goal interpretation and one reactive-planner
+//! Mode reconfiguration (DESIGN.md §14): goal interpretation and one reactive-planner
 //! step on the propulsion subsystem (§6.3.3) and on a synthetic plant of 100 components (a bus,
 //! 9 drivers, 90 devices), and policy compilation. The target is Burton's: one planner step in
 //! constant time, at most 5 µs median on propulsion. Run: `cargo bench --bench reconfiguration`.

@@ -1,4 +1,4 @@
-//! Writes a circuit-breaker tree model and its scripted replay log (issue 15 item 6):
+//! Writes a circuit-breaker tree model and its scripted replay log:
 //! `cargo run --example breakers -- N [TRIPS] [DIR]` writes `DIR/breakers_N.ron` and
 //! `DIR/breakers_N.jsonl` (N = 2^d − 1 breakers; default 7 trips; default DIR `.`). The shipped
 //! `models/breakers_15.ron` and `tests/logs/breakers_15.jsonl` are `-- 15 7` (checked by

@@ -1,4 +1,4 @@
-//! Embedding kairos in your own flight loop (issue 19 item 1; DESIGN.md §10): load a plant model
+//! Embedding kairos in your own flight loop (DESIGN.md §10): load a plant model
 //! and a program in one call, then each cycle hand the executive what the sensors read, by name,
 //! and send what it commands, by name. The "hardware" here is the driver and valve of thesis
 //! §6.1 (`models/driver_valve.ron`) simulated in a few lines: the driver relays commands once it

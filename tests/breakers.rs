@@ -1,4 +1,4 @@
-//! The circuit-breaker tree (the Livingstone 2 benchmark shape; issue 15 item 6): the shipped
+//! The circuit-breaker tree (the Livingstone 2 benchmark shape): the shipped
 //! `models/breakers_15.ron` and `tests/logs/breakers_15.jsonl` are what the generator writes,
 //! and TimedME at κ = 10 follows the scripted story — every breaker on, then each trip
 //! diagnosed in the cycle its LEDs go dark (a tripped breaker, not a blown one: the trip rate is

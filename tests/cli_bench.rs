@@ -1,4 +1,4 @@
-//! `kairos bench` (DESIGN.md §12, §14; issue 15 item 5): per-phase cycle times, quiet and busy
+//! `kairos bench` (DESIGN.md §12, §14): per-phase cycle times, quiet and busy
 //! cycles apart, for a scenario and for estimation over a replay log. Only the shape of the
 //! report is checked — counts, ordering of the statistics — never a time.
 

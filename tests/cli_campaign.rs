@@ -1,4 +1,4 @@
-//! `kairos campaign` (issue 18): seeded Monte Carlo runs whose records do not depend on the
+//! `kairos campaign`: seeded Monte Carlo runs whose records do not depend on the
 //! number of threads or on the shard split, `campaign merge`, and `kairos run --seed` replaying
 //! a campaign's run.
 
@@ -124,7 +124,7 @@ fn values(path: &str) -> Vec<Value> {
 /// exactly: the propulsion campaign (three runs with a drawn fault — a stuck valve, a resettable
 /// PDE — whose fault modes leave observables open) and the noisy one with a forced fault. One
 /// line of the propulsion record was remade when the executive learned to act under diagnostic
-/// ambiguity (issue 16 item 5): run 69 draws the same resettable PDE at 10 s, and now recovers
+/// ambiguity: run 69 draws the same resettable PDE at 10 s, and now recovers
 /// (a retried reset and `open1`) instead of failing; its draws are unchanged.
 #[test]
 fn records_are_those_of_the_plant_before_its_cache() {
@@ -151,7 +151,7 @@ fn records_are_those_of_the_plant_before_its_cache() {
     );
 }
 
-/// Issue 18: `--fault` forces a fault in every run of a campaign (a drawn-fault record marked
+/// `--fault` forces a fault in every run of a campaign (a drawn-fault record marked
 /// forced, at the first cycle at or after its time), `--noise` sets the sensor noise, the
 /// summary says how to replay a run with them, and `kairos run --seed` with the same options
 /// replays it: the same verdict, and the same fault in the run's log.

@@ -1,4 +1,4 @@
-//! The mission log's filters and its wording (issue 19 item 2; DESIGN.md §12): `--hide-plant`,
+//! The mission log's filters and its wording (DESIGN.md §12): `--hide-plant`,
 //! `--only COMPONENT…`, `--from T`, `--to T` choose what is printed, never what is checked; a
 //! repair and a wait are said once ("REPAIR PDE.cmd = reset", "waiting after …"); a goal its
 //! location asserts again is "re-asserted"; a preemption names its construct and condition.
@@ -109,7 +109,7 @@ fn bad_filters_are_refused_before_the_run() {
 /// A goal asserted again by the same program location — each iteration of the camera loop's
 /// `always` re-enters `camera = taking-picture` (thesis §5.2: the sequencer re-marks the
 /// location) — is reported `re-asserted`; the first assertion, and a location entered once
-/// (`camera = idle`), say `asserted` (issue 19 item 2).
+/// (`camera = idle`), say `asserted`.
 #[test]
 fn a_goal_asserted_again_by_its_location_is_re_asserted() {
     let (code, stdout, stderr) = kairos(&["run", "tests/scenarios/camera_pictures.ron"]);

@@ -1,4 +1,4 @@
-//! `kairos plan` (issue 5, items 4 and 5): the goal state and the nominal command sequence, the
+//! `kairos plan` (items 4 and 5): the goal state and the nominal command sequence, the
 //! policy tables for review (Table 6.2), and its exit codes — 0 when the plan reaches the goal
 //! state, 1 when the goal fails, 2 with a located error for bad `--state`/`--goal` text.
 

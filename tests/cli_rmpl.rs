@@ -1,4 +1,4 @@
-//! `kairos check` and `kairos compile` (issue 3, items 3 and 6): exit 0 on good programs, exit 2
+//! `kairos check` and `kairos compile` (items 3 and 6): exit 0 on good programs, exit 2
 //! with every located error on bad ones.
 
 #[path = "support/cli.rs"]

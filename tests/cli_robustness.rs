@@ -1,4 +1,4 @@
-//! No panic, no abort, no hang on any input (DESIGN.md §13; issue 12 item 3): each finding of the
+//! No panic, no abort, no hang on any input (DESIGN.md §13): each finding of the
 //! black-box campaign against the release binary, run through `kairos` as a user would, must end
 //! with a located error or a bounded run.
 

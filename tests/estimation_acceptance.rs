@@ -295,7 +295,7 @@ fn inconsistent_observations_fall_back_and_say_so() {
     }
 }
 
-/// The replay log drives both estimators (issue 4, item 6): a driver commanded on whose valve
+/// The replay log drives both estimators: a driver commanded on whose valve
 /// shows flow once opened.
 #[test]
 fn a_logged_run_replays_through_both_estimators() {

@@ -1,12 +1,12 @@
-//! No loss of exactness from the theory's unit-propagation fast path (issue 15, direction 4;
+//! No loss of exactness from the theory's unit-propagation fast path (direction 4;
 //! DESIGN.md §7: the theory answers "consistent?" and "entailed?" completely), nor from
-//! replaying quiet steps (issue 15, direction 1; DESIGN.md §8, `src/estimation/replay.rs`).
+//! replaying quiet steps (DESIGN.md §8, `src/estimation/replay.rs`).
 //!
 //! Propagation answers the questions it decides and leaves the rest to the SAT solver, which
 //! still gives every conflict its core; skipping solver calls must change no answer and no
 //! search order. So TimedME run on a theory with the fast path and on one without it
 //! (`Theory::set_propagation`) must keep the same system states with bit-for-bit the same
-//! probabilities, cycle after cycle: on the circuit-breaker tree (issue 15 item 6), on the
+//! probabilities, cycle after cycle: on the circuit-breaker tree, on the
 //! Mars lander's EDL events (§7.2.2) and on random plants.
 //!
 //! A replayed step serves the last step's solutions re-costed only where it certifies that the
@@ -18,7 +18,7 @@
 //! that changes into a timed mode at the step's end, never copy an earlier step's successor.
 //!
 //! Conflicts learned by one source's OPSAT search are shared with the other sources' searches
-//! under the same observation (issue 15 direction 2; `src/opsat/shared.rs`): they prune only
+//! under the same observation (`src/opsat/shared.rs`): they prune only
 //! inconsistent assignments, and OPSAT returns equal-cost solutions in a canonical order
 //! (`src/opsat/search.rs`, "Order"), so TimedME with sharing on and off
 //! (`TimedMeOptions::share_conflicts`) must give bit-for-bit the same beliefs as well.
@@ -265,7 +265,7 @@ fn warm_steps_as_cold(plant: &Plant, records: &[LogRecord], from: f64) -> Option
 
 #[test]
 fn a_warm_estimator_steps_quiet_mars_edl_cycles_as_a_cold_one() {
-    // Issue 15 (a quiet step replayed and its sources' choices kept across steps): the cruise
+    // a quiet step replayed and its sources' choices kept across steps: the cruise
     // with the entry clock running and the cycle's length jittering in its last bits, and the
     // heating window with its end (§7.2.2's EDL at the executive's 0.1 s cycle).
     let plant = model("mars_lander");

@@ -1,4 +1,4 @@
-//! Reasoning fidelity of mode estimation (issue 16), on random plants
+//! Reasoning fidelity of mode estimation, on random plants
 //! (`tests/support/random_plant.rs`) against the exact update:
 //!
 //! - **Merge before truncating** (DESIGN.md §8: equal system states are merged by summing, "exact,
@@ -27,7 +27,7 @@ use support::random_plant::{
 const MAX_COMPONENTS: usize = 4;
 const MAX_STEPS: usize = 12;
 
-/// The broad generator (issue 16 item 3): plants of up to this many components, 10–30 steps.
+/// The broad generator: plants of up to this many components, 10–30 steps.
 const BROAD_COMPONENTS: usize = 5;
 const BROAD_STEPS: usize = 30;
 
@@ -138,7 +138,7 @@ fn run_case(spec: &RandomPlant, run: &RandomRun) -> Findings {
 proptest! {
     #![proptest_config(seeded::config(64))]
 
-    /// Issue 16 item 1: TimedME equals the exact update while the exact belief fits in κ.
+    /// TimedME equals the exact update while the exact belief fits in κ.
     #[test]
     fn timed_me_is_the_exact_update_while_kappa_states_suffice(
         spec in random_plant(MAX_COMPONENTS),
@@ -153,7 +153,7 @@ proptest! {
         );
     }
 
-    /// Issue 16 item 2: no kept system state violates the model, observed or not.
+    /// no kept system state violates the model, observed or not.
     #[test]
     fn every_kept_state_is_consistent_with_the_model(
         spec in random_plant(MAX_COMPONENTS),

@@ -2,7 +2,7 @@
 //! loop written by hand drives `Executive::step` against a plant simulated in plain Rust, the
 //! propulsion subsystem of thesis Figures 6-14/6-15 (`models/propulsion.ron`); and what a
 //! diagnosis names as evidence in cycle 0 and for observations discrepant only together, on a
-//! sensor pair written for the test (issue 19 item 2).
+//! sensor pair written for the test.
 
 use std::cell::RefCell;
 
@@ -479,7 +479,7 @@ fn a_maintained_goal_is_reported_achieved_once_while_it_holds() {
     );
 }
 
-/// `examples/embed.rs` (issue 19 item 1), built by `cargo test` with the other examples, runs
+/// `examples/embed.rs`, built by `cargo test` with the other examples, runs
 /// to the settled valve: the documented embedding works as shipped.
 #[test]
 fn the_embedding_example_runs() {
@@ -650,7 +650,7 @@ fn readings(a: &str, b: &str, c: &str) -> [NamedValue; 3] {
     ]
 }
 
-/// Issue 19 item 2: a diagnosis in cycle 0 has no previous belief; its evidence is what the
+/// a diagnosis in cycle 0 has no previous belief; its evidence is what the
 /// state the executive starts from — the model's most likely initial state (thesis §6.2.2,
 /// P_Θ), here `agreeing` — cannot explain: `pair.c = high`.
 #[test]
@@ -662,7 +662,7 @@ fn a_diagnosis_in_cycle_0_names_what_the_initial_state_cannot_explain() {
     assert_eq!(evidence(&step), [["pair.c = high"]]);
 }
 
-/// Issue 19 item 2: observations that contradict the previous most likely state only jointly.
+/// observations that contradict the previous most likely state only jointly.
 /// In cycle 1 the pair reads `a = low`, `b = high`: neither alone is discrepant with `agreeing`
 /// (stepped by no command it stays `agreeing`), together they are, and `c = low` has no part
 /// in it — the evidence is the minimal set `pair.a = low & pair.b = high`, printed joined by

@@ -1,4 +1,4 @@
-//! The embedding API with a mission as the control program (issue 13 item 4; DESIGN.md §15.3,
+//! The embedding API with a mission as the control program (DESIGN.md §15.3,
 //! §15.4): `Executive::builder(plant, scheduled_mission)` runs the goal network in the cycle, and
 //! `Executive::submit` adds goals to the running network — rescheduled with the fired points
 //! held at their times — or refuses them and leaves the network unchanged.

@@ -1,4 +1,4 @@
-//! `kairos explore` (issue 17 item 1; DESIGN.md §16, thesis §8.1 "model checking of timed
+//! `kairos explore` (DESIGN.md §16, thesis §8.1 "model checking of timed
 //! model-based programs"): every path a scenario's `Optional` rules allow, every expectation
 //! checked on each, the shortest counterexample kept and replayable; the executive's `Clone`
 //! and fingerprint that the search rests on.

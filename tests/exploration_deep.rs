@@ -1,4 +1,4 @@
-//! `kairos check --deep` (issue 17 item 2; thesis §8.1: "potential negative interactions
+//! `kairos check --deep` (thesis §8.1: "potential negative interactions
 //! between concurrently-asserted goals"): goals the THCA can assert in one cycle that the plant
 //! model makes inconsistent, and modes no transition reaches, each located in its file.
 

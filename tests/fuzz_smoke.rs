@@ -1,4 +1,4 @@
-//! The fuzz targets on the stable toolchain (issue 12 item 4; DESIGN.md §13: no panic, no abort,
+//! The fuzz targets on the stable toolchain (DESIGN.md §13: no panic, no abort,
 //! no hang on any input). `cargo fuzz` needs nightly compiler flags, so CI runs the same entry
 //! functions (`fuzz/src/lib.rs`, included below) over
 //!

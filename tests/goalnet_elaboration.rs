@@ -1,4 +1,4 @@
-//! The thermostat, complete, at the goal-network level (issue 14 items 1–6; DESIGN.md §15.5;
+//! The thermostat, complete, at the goal-network level (DESIGN.md §15.5;
 //! seed 000 App. A, Table 7; mds-goal-networks.md §3.3): `missions/thermostat.ron` run by a
 //! [`GoalController`] on scripted estimates (no executive), reproducing the seed's verdicts of
 //! system tests 4–9 — which tactics elaboration chooses and rejects, which goals fail, the

@@ -156,7 +156,7 @@ fn kairos_check_validates_missions() {
     assert!(stderr.contains("unknown_sv.ron:6:43"), "{stderr}");
 }
 
-// Goal types, tactics and children (issue 14 item 1; `missions/thermostat.ron`'s format).
+// Goal types, tactics and children (`missions/thermostat.ron`'s format).
 bad_mission!(
     unknown_goal_type,
     "unknown_goal_type.ron:6:",
@@ -235,7 +235,7 @@ fn the_thermostat_mission_declares_the_seeds_goal_types() {
 }
 
 // Controllers of state variables that are not components, and the goals delegated to them
-// (issue 17 item 3; `missions/rover_traverse.ron`'s format).
+// (`missions/rover_traverse.ron`'s format).
 bad_mission!(
     bad_controller,
     "bad_controller.ron:6:29",

@@ -1,4 +1,4 @@
-//! Property tests of the goal network's core (issue 13; DESIGN.md §15.1–15.2;
+//! Property tests of the goal network's core (DESIGN.md §15.1–15.2;
 //! mds-goal-networks.md §1.4–1.5, §3.3 "unit tests of every constraint's merge and subset").
 //!
 //! - STN propagation (petgraph's Bellman–Ford, full and incremental) against a brute-force

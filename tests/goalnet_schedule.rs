@@ -196,7 +196,7 @@ fn schedule_cli(args: &[&str]) -> (Option<i32>, String, String) {
     )
 }
 
-/// `kairos schedule --at T` projects the network to T (issue 13 item 5; mds-goal-networks.md
+/// `kairos schedule --at T` projects the network to T (mds-goal-networks.md
 /// §2.4): the points that fire by T at their earliest times, the windows left to the others,
 /// the XGoal each SV is under at T.
 #[test]
@@ -214,7 +214,7 @@ fn kairos_schedule_at_projects_firings_and_active_xgoals() {
     insta::assert_snapshot!(stdout);
 }
 
-/// `kairos schedule --dot` draws points, written constraints and XGoals (issue 13 item 5).
+/// `kairos schedule --dot` draws points, written constraints and XGoals.
 #[test]
 fn kairos_schedule_dot_draws_points_constraints_and_xgoals() {
     let (code, stdout, stderr) =
@@ -265,7 +265,7 @@ fn a_maintain_goal_on_a_spontaneous_trigger_schedules_as_a_wait() {
     assert_eq!(mission.network.point(xgoal.start).name, "TP_bs");
 }
 
-/// `kairos schedule --dot` on a mission with goal types (issue 14 item 5): the network as the
+/// `kairos schedule --dot` on a mission with goal types: the network as the
 /// goal controller elaborates it at 0 s from the initial modes, and the elaboration tree beside
 /// it — each goal with its type and tactic in use, parent to child.
 #[test]

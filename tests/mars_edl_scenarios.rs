@@ -1,4 +1,4 @@
-//! The Mars EDL scenarios (issue 7 item 3; thesis §7.2): every scenario under
+//! The Mars EDL scenarios (thesis §7.2): every scenario under
 //! `scenarios/mars_edl/` runs through `kairos run` and exits 0 (all its expectations hold), and
 //! the mission log shows the moments each one is about. scenarios/mars_edl/README.md maps the
 //! validation requirements of §7.2.1 to the scenarios and their expectations.
@@ -129,7 +129,7 @@ fn an_engine_losing_power_while_heating_falls_to_its_unconstrained_mode() {
 }
 
 /// §7.2.4-§7.2.5: a resettable PDE is reset and the EDL continues (fault validation
-/// requirement 3 of §7.2.1). Every command names the goal it serves (issue 19 item 2): the
+/// requirement 3 of §7.2.1). Every command names the goal it serves: the
 /// PDE's `on` and `reset` serve the engine's standby goal, which needs the PDE on; the PDE's
 /// `off` afterwards serves no asserted goal but the intended configuration.
 #[test]
@@ -176,7 +176,7 @@ fn a_primary_pyro_misfire_is_diagnosed_and_the_backup_separates_the_lander() {
     );
 }
 
-/// Issue 16 item 5 (beyond the thesis's executive, which acts on ŝ alone): valve 2 ignores the
+/// beyond the thesis's executive, which acts on ŝ alone: valve 2 ignores the
 /// first `open2`. Mode estimation prefers stuck-closed (its hazard accumulated over the mission)
 /// to "the command was not taken"; the diagnosis names the next candidates, the executive sends
 /// `open2` again on the closed hypothesis, the valve opens, the engine fires and the EDL lands.
@@ -206,7 +206,7 @@ fn a_valve_that_ignores_the_first_open_command_is_commanded_again_and_the_edl_la
     assert!(!log.contains("GOAL FAILED"), "{log}");
 }
 
-/// Issue 16 item 5: valve 2 is really stuck closed. One retry on the closed hypothesis; its
+/// valve 2 is really stuck closed. One retry on the closed hypothesis; its
 /// silence leaves "not taken twice" below the threshold, and `engine = firing` fails, the failure
 /// naming both explanations — stuck-closed (ŝ) and closed (tried) — and the one left that cannot
 /// serve the goal (an empty tank behind an open valve). The engine is never fired.
@@ -219,7 +219,7 @@ fn a_valve_stuck_closed_is_retried_once_then_the_goal_fails_naming_the_hypothese
             "command PDE.cmd = open2 (valve2: closed -> open) for engine = firing (programs/mars_edl.rmpl:71:7)",
             "[ 17109.000 s 4:45:09.000]",
             // The evidence: after `open2`, the valve that ŝ (closed) stepped by the command
-            // would have opened reports its outlet low (issue 19 item 2).
+            // would have opened reports its outlet low.
             "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35)",
             "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
@@ -302,7 +302,7 @@ fn without_the_reset_thread_the_mars_polar_lander_scenario_fails() {
     );
 }
 
-/// Issue 17: the EDL with optional hardware faults is, under `kairos run`, the nominal EDL — an
+/// the EDL with optional hardware faults is, under `kairos run`, the nominal EDL — an
 /// optional rule fires in a run only where `choose` pins it (its exploration is measured in
 /// BENCHMARKS.md; a small one runs in tests/exploration.rs).
 #[test]
@@ -312,7 +312,7 @@ fn the_explored_edl_runs_as_the_nominal_one() {
     assert_in_order(&log, &["landing = success", "the program has completed"]);
 }
 
-/// Issue 14 item 7: the powered descent as a goal network (missions/mars_edl_descent.ron) run
+/// the powered descent as a goal network (missions/mars_edl_descent.ron) run
 /// by the goal controller: the triggers hold its points, the engine is maintained firing until
 /// touchdown, then off and the landing declared; the mission completes.
 #[test]
@@ -326,7 +326,7 @@ fn the_descent_mission_lands() {
             "fired TP_att (window [16700, 16800])",
             "[ 17102.500 s 4:45:02.500]",
             "fired TP_bs (window [17000, 17300])",
-            // A command names the mission goal it serves (issue 19 item 2).
+            // A command names the mission goal it serves.
             "command PDE.cmd = engine-fire (engine: standby -> firing) for goal ignite",
             "fired TP_fire",
             "fired TP_12m",
@@ -342,7 +342,7 @@ fn the_descent_mission_lands() {
     );
 }
 
-/// Issue 14 item 7: the engine flames out mid-descent; the Maintain goal on `engine = firing`
+/// the engine flames out mid-descent; the Maintain goal on `engine = firing`
 /// fails, its response (safing: the model cannot restart a failed engine) is taken with its
 /// explanation, the safe network closes the propellant valves, and nothing of the descent
 /// fires after it.

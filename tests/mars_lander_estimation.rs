@@ -1,4 +1,4 @@
-//! Mode estimation on the Mars lander (issue 7): TimedME at κ = 10 tracks the nominal EDL of
+//! Mode estimation on the Mars lander: TimedME at κ = 10 tracks the nominal EDL of
 //! §7.2.2 through commanded and timed transitions, and diagnoses the faults of §7.2.5 and §1.1
 //! from the observations a scripted plant (DESIGN.md §11) would give — every observable every
 //! cycle, each observation reflecting the previous cycle's commands. The runs are written in the

@@ -1,4 +1,4 @@
-//! The Mars lander plant model (issue 7, items 1 and 2): `models/mars_lander.ron` holds the 22
+//! The Mars lander plant model (items 1 and 2): `models/mars_lander.ron` holds the 22
 //! state variables of thesis Table 7.1 with the kinds of modes §7.2.4 and DESIGN.md §6.3
 //! describe, `programs/mars_edl.rmpl` (Appendix B) links against it, and every goal the program
 //! asserts can be reached from any consistent nominal state of the components it depends on by
@@ -370,7 +370,7 @@ fn every_observable_is_determined_by_each_nominal_mode_of_its_component() {
 
 #[test]
 fn the_edl_program_links_against_the_model() {
-    // Issue 7, item 2: Appendix B's program names only variables and values of the model.
+    // Appendix B's program names only variables and values of the model.
     let plant = lander();
     let thca = edl_against(&plant);
     assert_eq!(thca.name(), "MarsEDL");

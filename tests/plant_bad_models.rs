@@ -1,4 +1,4 @@
-//! The plant loader's errors on malformed models (issue 4: "snapshot tests of the loader's errors
+//! The plant loader's errors on malformed models ("snapshot tests of the loader's errors
 //! for ≥ 10 malformed models"; DESIGN.md §6.1's validation list, §13). Each file in
 //! `tests/bad_models/` says in its first comment what is wrong with it; its snapshot shows every
 //! error located at file:line:col with the offending text and what was expected.

@@ -1,4 +1,4 @@
-//! Large plants load and validate (issue 12 item 3: a 10,000-component plant ran for minutes;
+//! Large plants load and validate (a 10,000-component plant ran for minutes;
 //! validation asked one SAT question per mode and guard, each assigning every variable). The
 //! timings are in BENCHMARKS.md, "Loading large plants"; here, what the batched validation
 //! decides must not change: modes that exclude each other across an interconnection are each

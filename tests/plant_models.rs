@@ -1,4 +1,4 @@
-//! The shipped plant models (issue 4, item 7) and the plant-level semantics: variables named as
+//! The shipped plant models and the plant-level semantics: variables named as
 //! agreed, Table 6.1's numbers, §6.2's per-step probabilities, Step_TCCA (Figure 6-6) and
 //! ConsistentState (Figure 6-7), and `kairos graph`.
 
@@ -250,7 +250,7 @@ fn commands_and_observations_are_checked_against_the_plant() {
 }
 
 /// `kairos graph MODEL --dot`: one cluster per component automaton, timed edges labelled with
-/// their windows (issue 4, item 1).
+/// their windows.
 #[test]
 fn graph_draws_one_cluster_per_component_with_timed_windows() {
     let (code, dot, _) = kairos(&["graph", "models/engine_camera.ron", "--dot"]);

@@ -2,7 +2,7 @@
 //! 5): whenever goal interpretation finds a goal state, that state entails the goal, and the
 //! reactive planner, run against nominal transitions, reaches it in a bounded number of cycles
 //! without ever taking an irreversible transition into a mode the goal did not name (§6.3.3),
-//! making progress by the planner's own measure every cycle it acts for its focus (issue 12).
+//! making progress by the planner's own measure every cycle it acts for its focus.
 //! `KAIROS_CASES=N` raises the number of cases.
 
 #[path = "support/reconfiguration_plants.rs"]
@@ -130,7 +130,7 @@ fn check(plant: &RandomPlant, picks: &[usize], atoms: &[GoalAtom]) -> Result<(),
         .reconfiguration
         .simulate_nominal(&mut setup.theory, &start, &goal, STEP_BOUND)
         .expect("simulates");
-    // Issue 12: the planner's measure of progress strictly decreases every cycle, so no state
+    // the planner's measure of progress strictly decreases every cycle, so no state
     // comes back.
     let mut before = setup.reconfiguration.progress(&start, &goal);
     let mut visited = vec![start.clone()];

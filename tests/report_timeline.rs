@@ -1,4 +1,4 @@
-//! The SVG timeline of a run (issue 7 item 4): real runs of the executive drawn and read back
+//! The SVG timeline of a run: real runs of the executive drawn and read back
 //! with an XML parser — one lane per state variable, a mark per command and diagnosis, idle
 //! stretches compressed — a snapshot of a small run, and inputs that must not break it.
 
@@ -336,7 +336,7 @@ fn a_propulsion_run_draws_one_lane_per_state_variable_and_a_mark_per_command_and
 
     // The repair is labelled as such, the diagnosis names the component and fault mode, and the
     // goal carries its text and program line. A fault's label starts with the number of its
-    // note under the picture, which has the full text (issue 19 item 3).
+    // note under the picture, which has the full text.
     let repair = &picture.events("repair")[0];
     assert_eq!(labels_of(*repair), ["repair: PDE.cmd = reset"]);
     let diagnosis = &picture.events("diagnosis")[0];
@@ -386,7 +386,7 @@ fn a_propulsion_run_draws_one_lane_per_state_variable_and_a_mark_per_command_and
     assert!(assert_no_label_overlaps(&picture) > 10);
 }
 
-/// Issue 7 item 4, "readable at a glance": labels crowded into one instant stack on levels
+/// "readable at a glance": labels crowded into one instant stack on levels
 /// instead of overlapping, and past the level limit are thinned (the mark and its tooltip stay).
 #[test]
 fn crowded_labels_stack_without_overlapping_and_thin_past_the_limit() {
@@ -612,7 +612,7 @@ fn input<'a>(
     }
 }
 
-/// Issue 7 item 4, "nothing panics on odd input": an empty run.
+/// "nothing panics on odd input": an empty run.
 #[test]
 fn a_run_with_no_cycles_draws_empty_lanes() {
     let plant = propulsion();
@@ -628,7 +628,7 @@ fn a_run_with_no_cycles_draws_empty_lanes() {
     assert_eq!(empty, 6);
 }
 
-/// Issue 7 item 4, odd input: a single cycle, and modes held for one cycle.
+/// odd input: a single cycle, and modes held for one cycle.
 #[test]
 fn a_single_cycle_and_zero_length_intervals_draw() {
     let plant = propulsion();
@@ -662,7 +662,7 @@ fn a_single_cycle_and_zero_length_intervals_draw() {
     assert!(widths.iter().all(|&w| w >= 1.0), "{widths:?}");
 }
 
-/// Issue 7 item 4, odd input: events outside the window are left out and counted; a drawn
+/// odd input: events outside the window are left out and counted; a drawn
 /// window cuts the lanes' intervals at its edges.
 #[test]
 fn events_outside_the_window_are_counted_not_drawn() {

@@ -1,4 +1,4 @@
-//! The SVG timeline of the Mars EDL (thesis §7.2.2, §7.2.5; issue 7 item 4): the primary
+//! The SVG timeline of the Mars EDL (thesis §7.2.2, §7.2.5): the primary
 //! pyro misfire scenario run through the scenario runner, drawn and read back — the 22 state
 //! variables of Table 7.1 as lanes, the fault highlighted where it was estimated, a mark per
 //! command and diagnosis, the 4.5-hour cruise compressed.

@@ -1,4 +1,4 @@
-//! The README's picture rendered to pixels (issue 19 item 3, "a timeline that shows the fault"):
+//! The README's picture rendered to pixels ("a timeline that shows the fault"):
 //! the primary pyro misfire of the Mars EDL (thesis §7.2.5) drawn exactly as `kairos run
 //! --timeline` draws it, laid out by a real SVG renderer (resvg, with the machine's fonts) and
 //! checked on what a reader sees — the fault's labels inside the picture and painted, the
@@ -78,7 +78,7 @@ fn red_pixels(pixmap: &Pixmap, area: &Rect) -> usize {
     count
 }
 
-/// Issue 19 item 3: the fault is labelled where it was estimated and diagnosed, the injection
+/// the fault is labelled where it was estimated and diagnosed, the injection
 /// has its own row, every label is inside the picture and visible, no two labels intersect.
 #[test]
 fn the_readme_picture_shows_the_fault_with_labels_that_do_not_overlap() {
@@ -180,7 +180,7 @@ fn label_ids_in(svg: &str, class: &str) -> Vec<String> {
         .collect()
 }
 
-/// Issue 13 item 5 (DESIGN.md §15.3, mds-goal-networks.md §2.4): a mission's timeline shows its
+/// DESIGN.md §15.3, mds-goal-networks.md §2.4: a mission's timeline shows its
 /// time points on the network row with their windows and its XGoals as bars under their state
 /// variables' lanes. With switch 1 sticking open under StayWarm, the maintained XGoals of
 /// switch 1 and the temperature are outlined as failed from their goals' failures; every label

@@ -1,4 +1,4 @@
-//! A mission goal delegated to the course-of-action controller (issue 17 item 3; seed 001,
+//! A mission goal delegated to the course-of-action controller (seed 001,
 //! mds-goal-networks.md §1.7, §2.9, §4), run by the executive through `kairos run`: the goal on
 //! the rover's pose — a state variable that is not a plant component — is sent to its
 //! controller when its start point fires, the controller's commands go to the device one a

@@ -1,4 +1,4 @@
-//! The Maude rover (issue 17 item 3; mds-goal-networks.md §4.2, seed 001 ¶6–¶13): scenarios
+//! The Maude rover (mds-goal-networks.md §4.2, seed 001 ¶6–¶13): scenarios
 //! R1–R7 checked on every interleaving of the controller protocol's messages, controllers that
 //! break the protocol caught with their shortest counterexamples, `kairos explore` on a rover
 //! scenario, and the scenario file's located errors (DESIGN.md §13).

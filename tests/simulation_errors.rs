@@ -67,7 +67,7 @@ bad_scenario!(
     "time_after_end.ron:8:41",
     "after the run ends at 100 s"
 );
-// Issue 12: deadlines a `Duration` cannot hold are located errors, not a panic.
+// deadlines a `Duration` cannot hold are located errors, not a panic.
 bad_scenario!(
     deadline_too_long,
     "deadline_too_long.ron:8:15",
@@ -78,7 +78,7 @@ bad_scenario!(
     "deadline_1e20.ron:7:15",
     "is longer than any duration"
 );
-// Issue 12: a run of more than `simulation::MAX_CYCLES` cycles is refused before it starts.
+// a run of more than `simulation::MAX_CYCLES` cycles is refused before it starts.
 bad_scenario!(
     too_many_cycles,
     "too_many_cycles.ron:7:10",
@@ -96,7 +96,7 @@ bad_scenario!(
     "is not `component = mode @ time`",
     "noise 1.5 is not a probability"
 );
-// Issue 13: a scenario runs a program or a mission (DESIGN.md §15.4); the mission's problems and
+// a scenario runs a program or a mission (DESIGN.md §15.4); the mission's problems and
 // the expectations on its network are located like the rest.
 bad_scenario!(
     both_program_and_mission,
@@ -137,7 +137,7 @@ bad_scenario!(
     "did you mean `stay-warm`?"
 );
 
-// Issue 14: `believed` (the executive's initial certainty, the seed's tests 5 and 6).
+// `believed` (the executive's initial certainty, the seed's tests 5 and 6).
 bad_scenario!(
     believed_unknown,
     "believed_unknown.ron:8:18",
@@ -147,14 +147,14 @@ bad_scenario!(
     "one of switch1's modes: open, closed, stuck-open, stuck-closed"
 );
 
-// Issue 17: `Optional` rules, `choose` and `AnyOf` (the formats of `kairos explore`).
+// `Optional` rules, `choose` and `AnyOf` (the formats of `kairos explore`).
 bad_scenario!(
     optional_window,
     "optional_window.ron:9:57",
     "a time at or after `from`",
     "1 or more cycles"
 );
-// Issue 17 item 1: `Between` intervals, their `choose` delays, `deliver` orders.
+// `Between` intervals, their `choose` delays, `deliver` orders.
 bad_scenario!(
     between_interval,
     "before it opens at 60 s",
@@ -171,7 +171,7 @@ bad_scenario!(
     "cannot be one of `AnyOf`"
 );
 
-// A rule's `submit:` is resolved by the mission loader (issue 13 item 5, DESIGN.md §15.4): every
+// A rule's `submit:` is resolved by the mission loader (DESIGN.md §15.4): every
 // problem of its points, constraints and goals is located in the scenario, as in a mission file.
 bad_scenario!(
     submit_bad_goals,

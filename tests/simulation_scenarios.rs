@@ -150,7 +150,7 @@ fn propulsion_repairs_a_resettable_pde_and_the_trace_shows_the_diagnosis() {
         .expect("a cycle with the diagnosis");
     assert_eq!(diagnosis["estimate"]["PDE"], "resettable");
     assert_eq!(diagnosis["command"][0], "PDE.cmd = reset");
-    // Issue 16 item 5: the diagnosis names the next candidate, in its text and structured.
+    // the diagnosis names the next candidate, in its text and structured.
     let event = diagnosis["events"]
         .as_array()
         .and_then(|es| es.iter().find(|e| e["kind"] == "Diagnosis"))
@@ -162,7 +162,7 @@ fn propulsion_repairs_a_resettable_pde_and_the_trace_shows_the_diagnosis() {
         ),
         "{text}"
     );
-    // Issue 19 item 2: and its evidence — the latched PDE cut the engine's power, which the
+    // and its evidence — the latched PDE cut the engine's power, which the
     // PDE on (ŝ of the cycle before) cannot explain.
     assert_eq!(event["evidence"][0], "engine.power = zero");
     assert_eq!(event["next"][0]["mode"], "on");
@@ -197,7 +197,7 @@ fn odd_observations_are_events_and_the_run_completes() {
 fn fault_scenarios_diagnose_their_fault() {
     let log = passes("scenarios/driver_valve/valve_stuck.ron");
     assert!(log.contains("DIAGNOSIS    valve = stuck-closed"), "{log}");
-    // Issue 19 item 2: the valve open (ŝ stepped by `open`) passes its inflow (§6.1.3,
+    // the valve open (ŝ stepped by `open`) passes its inflow (§6.1.3,
     // `flow_out = flow_in`); nominal in and zero out each fit it alone, not together.
     assert!(
         log.contains("evidence: valve.flow_in = nominal & valve.flow_out = zero;"),
@@ -208,7 +208,7 @@ fn fault_scenarios_diagnose_their_fault() {
     assert!(log.contains("DIAGNOSIS    engine = failed"), "{log}");
 }
 
-/// Issue 6 item 5, thesis §4.4 and §7.1.2: a confidence guard reads the estimator's belief, not
+/// thesis §4.4 and §7.1.2: a confidence guard reads the estimator's belief, not
 /// ŝ. With no temperature readings, standby becomes the most likely mode half-way through the
 /// Uniform(30, 60) s heating window, but P(engine = standby) >= 0.95 only near its end; the
 /// camera is switched on then.
@@ -305,7 +305,7 @@ fn same_belief(a: Option<&serde_json::Value>, b: Option<&serde_json::Value>) -> 
         })
 }
 
-/// Issue 19 item 5: by default the trace says only what changed — a quiet cycle is a short
+/// by default the trace says only what changed — a quiet cycle is a short
 /// line — and carrying each field forward from the last line that had it gives back the full
 /// trace (`--trace-full`), field for field (the belief within the trace's 1e-3 resolution).
 #[test]
@@ -351,7 +351,7 @@ fn the_trace_holds_changes_only_and_they_add_up_to_the_full_trace() {
     );
 }
 
-/// Issue 7 item 4: `kairos run --timeline FILE.svg` draws the run — one lane per state variable
+/// `kairos run --timeline FILE.svg` draws the run — one lane per state variable
 /// of the model — also when an expectation fails (exit 1), which is the run worth looking at; a
 /// path that cannot be written is bad input, reported before the run.
 #[test]

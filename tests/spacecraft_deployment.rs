@@ -1,4 +1,4 @@
-//! The spacecraft deployment of thesis §5.1.2 end to end (issue 20): `programs/
+//! The spacecraft deployment of thesis §5.1.2 end to end: `programs/
 //! spacecraft_deployment.rmpl` (Figure 5-1) links against `models/spacecraft_deployment.ron`
 //! (`kairos check`), and every scenario under `scenarios/spacecraft_deployment/` runs through
 //! `kairos run` and exits 0 (all its expectations hold), with the mission log showing the steps
@@ -71,7 +71,7 @@ fn kairos_check_links_the_program_against_the_model() {
     );
 }
 
-/// Issue 20 item 1: one component per state variable Figure 5-1 names, in the order the program
+/// one component per state variable Figure 5-1 names, in the order the program
 /// first names them (lines 3-55).
 #[test]
 fn the_components_are_the_programs_state_variables() {

@@ -1,5 +1,5 @@
 //! The thermostat's goal-network missions run by the executive through `kairos run` (issue 13
-//! item 6, issue 14 item 6; DESIGN.md §15.3, §15.5; mds-goal-networks.md §3.3): system test 1
+//! item 6, DESIGN.md §15.3, §15.5; mds-goal-networks.md §3.3): system test 1
 //! (knowledge over KnowAll), system test 4 (StayWarm, tactic 1) and a maintain failure (switch 1
 //! sticks open during the hold) on missions with no goal types; and the seed's system tests 4–9
 //! on `missions/thermostat.ron`, the mission with the seed's goal types, run by the executive's
@@ -157,7 +157,7 @@ fn system_test_4_closes_switch_1_once_and_fires_tp_s_once_warm() {
     assert_eq!(commands, 1, "{log}");
 }
 
-/// Goals submitted to the running mission by a scenario rule (issue 13 item 5; DESIGN.md §15.4):
+/// Goals submitted to the running mission by a scenario rule (DESIGN.md §15.4):
 /// a second StayWarm submitted at 200 s is scheduled after the first, TP_S2 fires when TP_E
 /// does and TP_E2 100 s later, with its XGoals dispatched on the temperature and switch 1 and no
 /// new command; a submission contradicting the running `stay-warm` at 250 s is refused with the
@@ -195,7 +195,7 @@ fn a_submitted_stay_warm_runs_after_the_first_and_a_contradicting_one_is_refused
     assert_eq!(commands, 1, "{log}");
 }
 
-/// A maintain failure (issue 13 item 6): switch 1 sticks open at 181 s; in the cycle it is
+/// A maintain failure: switch 1 sticks open at 181 s; in the cycle it is
 /// diagnosed (187 s) the maintain XGoal on switch 1 fails and is narrowed to `heater1`, with the
 /// mode ŝ is in; `stay-warm` fails only when the device reads cold (205 s).
 #[test]

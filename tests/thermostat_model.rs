@@ -1,4 +1,4 @@
-//! The thermostat of the MDS goal-network seed (Appendix A; DESIGN.md §15.5, issue 13 item 6):
+//! The thermostat of the MDS goal-network seed (Appendix A; DESIGN.md §15.5):
 //! `models/thermostat.ron` loads with the components, modes and numbers its header documents,
 //! `programs/thermostat_stay_warm.rmpl` (StayWarm, tactic 1) links against it, every RMPL scenario
 //! of `scenarios/thermostat/` passes through `kairos run`, and mode estimation diagnoses a stuck

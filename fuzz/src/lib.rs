@@ -1,4 +1,4 @@
-//! The fuzz targets' entry functions (issue 12 item 4; DESIGN.md §13: no panic, no abort, no
+//! The fuzz targets' entry functions (DESIGN.md §13: no panic, no abort, no
 //! hang on any input).
 //!
 //! One function per input format, each taking the raw bytes libFuzzer hands over. The

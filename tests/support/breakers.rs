@@ -1,4 +1,4 @@
-//! Circuit-breaker trees: the shape of Livingstone 2's benchmark, at any size (issue 15 item 6).
+//! Circuit-breaker trees: the shape of Livingstone 2's benchmark, at any size.
 //!
 //! `n = 2^d − 1` breakers in a complete binary tree: breaker 0 is fed, breaker `i > 0` is fed
 //! by breaker `(i − 1) / 2`'s output; each leaf breaker feeds an LED whose light is the only

@@ -383,7 +383,7 @@ fn component() -> impl Strategy<Value = ComponentSpec> {
         )
 }
 
-/// A component of the broad generator (issue 16, item 3): powered modes that can violate the
+/// A component of the broad generator: powered modes that can violate the
 /// connections, more transitions (every timing kind), faults by probability and by rate up to
 /// 0.05/s, fewer observables and more coupling, so that beliefs spread over many clock-distinct
 /// system states.

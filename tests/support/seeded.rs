@@ -1,4 +1,4 @@
-//! One configuration for every property test, so CI is deterministic (issue 12, DESIGN.md §13).
+//! One configuration for every property test, so CI is deterministic (DESIGN.md §13).
 //!
 //! By default a property test runs a fixed number of cases from a fixed seed: the same cases on
 //! every run and every machine. Two environment variables open it up for exploration before a
