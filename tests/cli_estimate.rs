@@ -99,7 +99,7 @@ fn a_bad_log_exits_2_with_every_error_located() {
     insta::assert_snapshot!(stderr);
 }
 
-/// by default `kairos estimate` prints the cycles where something changed and
+/// By default `kairos estimate` prints the cycles where something changed and
 /// says how many it left out; `--full` prints every cycle.
 #[test]
 fn estimate_prints_changes_unless_full() {
@@ -125,7 +125,7 @@ fn estimate_prints_changes_unless_full() {
     assert_eq!(cycles(&changes) + left_out, 16, "{changes}");
 }
 
-/// item 1 (DESIGN.md §6.2 "Expected behaviour", §8 "merge ... summing their
+/// Item 1 (DESIGN.md §6.2 "Expected behaviour", §8 "merge ... summing their
 /// probabilities"): the engine alone heating in Uniform(30, 60) s, nothing observed. The exact
 /// update never holds more than 3 system states (heating, standby, failed), so TimedME at κ = 3
 /// must be the exact update — and flip to standby in the second half of the window (§7.1.2).

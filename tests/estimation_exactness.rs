@@ -265,7 +265,7 @@ fn warm_steps_as_cold(plant: &Plant, records: &[LogRecord], from: f64) -> Option
 
 #[test]
 fn a_warm_estimator_steps_quiet_mars_edl_cycles_as_a_cold_one() {
-    // a quiet step replayed and its sources' choices kept across steps: the cruise
+    // A quiet step replayed and its sources' choices kept across steps: the cruise
     // with the entry clock running and the cycle's length jittering in its last bits, and the
     // heating window with its end (§7.2.2's EDL at the executive's 0.1 s cycle).
     let plant = model("mars_lander");

@@ -153,7 +153,7 @@ proptest! {
         );
     }
 
-    /// no kept system state violates the model, observed or not.
+    /// No kept system state violates the model, observed or not.
     #[test]
     fn every_kept_state_is_consistent_with_the_model(
         spec in random_plant(MAX_COMPONENTS),

@@ -650,7 +650,7 @@ fn readings(a: &str, b: &str, c: &str) -> [NamedValue; 3] {
     ]
 }
 
-/// a diagnosis in cycle 0 has no previous belief; its evidence is what the
+/// A diagnosis in cycle 0 has no previous belief; its evidence is what the
 /// state the executive starts from — the model's most likely initial state (thesis §6.2.2,
 /// P_Θ), here `agreeing` — cannot explain: `pair.c = high`.
 #[test]
@@ -662,7 +662,7 @@ fn a_diagnosis_in_cycle_0_names_what_the_initial_state_cannot_explain() {
     assert_eq!(evidence(&step), [["pair.c = high"]]);
 }
 
-/// observations that contradict the previous most likely state only jointly.
+/// Observations that contradict the previous most likely state only jointly.
 /// In cycle 1 the pair reads `a = low`, `b = high`: neither alone is discrepant with `agreeing`
 /// (stepped by no command it stays `agreeing`), together they are, and `c = low` has no part
 /// in it — the evidence is the minimal set `pair.a = low & pair.b = high`, printed joined by

@@ -176,7 +176,7 @@ fn a_primary_pyro_misfire_is_diagnosed_and_the_backup_separates_the_lander() {
     );
 }
 
-/// beyond the thesis's executive, which acts on ŝ alone: valve 2 ignores the
+/// Beyond the thesis's executive, which acts on ŝ alone: valve 2 ignores the
 /// first `open2`. Mode estimation prefers stuck-closed (its hazard accumulated over the mission)
 /// to "the command was not taken"; the diagnosis names the next candidates, the executive sends
 /// `open2` again on the closed hypothesis, the valve opens, the engine fires and the EDL lands.
@@ -206,7 +206,7 @@ fn a_valve_that_ignores_the_first_open_command_is_commanded_again_and_the_edl_la
     assert!(!log.contains("GOAL FAILED"), "{log}");
 }
 
-/// valve 2 is really stuck closed. One retry on the closed hypothesis; its
+/// Valve 2 is really stuck closed. One retry on the closed hypothesis; its
 /// silence leaves "not taken twice" below the threshold, and `engine = firing` fails, the failure
 /// naming both explanations — stuck-closed (ŝ) and closed (tried) — and the one left that cannot
 /// serve the goal (an empty tank behind an open valve). The engine is never fired.
@@ -302,7 +302,7 @@ fn without_the_reset_thread_the_mars_polar_lander_scenario_fails() {
     );
 }
 
-/// the EDL with optional hardware faults is, under `kairos run`, the nominal EDL — an
+/// The EDL with optional hardware faults is, under `kairos run`, the nominal EDL — an
 /// optional rule fires in a run only where `choose` pins it (its exploration is measured in
 /// BENCHMARKS.md; a small one runs in tests/exploration.rs).
 #[test]
@@ -312,7 +312,7 @@ fn the_explored_edl_runs_as_the_nominal_one() {
     assert_in_order(&log, &["landing = success", "the program has completed"]);
 }
 
-/// the powered descent as a goal network (missions/mars_edl_descent.ron) run
+/// The powered descent as a goal network (missions/mars_edl_descent.ron) run
 /// by the goal controller: the triggers hold its points, the engine is maintained firing until
 /// touchdown, then off and the landing declared; the mission completes.
 #[test]
@@ -342,7 +342,7 @@ fn the_descent_mission_lands() {
     );
 }
 
-/// the engine flames out mid-descent; the Maintain goal on `engine = firing`
+/// The engine flames out mid-descent; the Maintain goal on `engine = firing`
 /// fails, its response (safing: the model cannot restart a failed engine) is taken with its
 /// explanation, the safe network closes the propellant valves, and nothing of the descent
 /// fires after it.

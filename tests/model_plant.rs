@@ -118,7 +118,7 @@ fn timed_transitions_fire_with_their_distribution_on_the_clock() {
     assert!(statistic < 45.3, "χ² = {statistic} for {counts:?}");
 }
 
-/// the observation is an assignment of the observables the modes, the
+/// The observation is an assignment of the observables the modes, the
 /// interconnections and the command allow. On the driver and valve of §6.1 (interconnected),
 /// commanded on, open, close and off, every cycle's observation is consistent with the plant's
 /// modes in the theory.
@@ -155,7 +155,7 @@ fn observations_are_consistent_with_the_sampled_modes() {
     }
 }
 
-/// a forced fault `valve1 = stuck-closed @ 20 s` puts the valve in that mode at the
+/// A forced fault `valve1 = stuck-closed @ 20 s` puts the valve in that mode at the
 /// first cycle at or after 20 s, and the run records it as forced, at that time.
 #[test]
 fn a_forced_fault_happens_at_its_time() {
@@ -175,7 +175,7 @@ fn a_forced_fault_happens_at_its_time() {
     assert_eq!((forced[0].component, forced[0].time), (valve1, 20.0));
 }
 
-/// a seed replays a run exactly — the same observations every cycle, the same faults,
+/// A seed replays a run exactly — the same observations every cycle, the same faults,
 /// the same verdicts — and another seed plays another run. The propulsion scenario driven by
 /// its model, with noise so that the generator is used every cycle.
 #[test]
@@ -210,7 +210,7 @@ fn the_same_seed_replays_the_same_run() {
     assert!(first.1.iter().any(|f| f.forced && f.time == 30.0));
 }
 
-/// with noise q an observation is replaced by a value drawn from its domain, so on the
+/// With noise q an observation is replaced by a value drawn from its domain, so on the
 /// cycler held in `a` (which shows `bright`) a 3-value observable reads something else with
 /// probability q · 2/3. q = 0.3 over 20,000 cycles: 0.2 expected; the bound ±0.0142 is 5
 /// standard deviations of the binomial proportion (√(0.2 · 0.8 / 20,000) = 0.00283), exceeded by

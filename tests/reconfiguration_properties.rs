@@ -130,7 +130,7 @@ fn check(plant: &RandomPlant, picks: &[usize], atoms: &[GoalAtom]) -> Result<(),
         .reconfiguration
         .simulate_nominal(&mut setup.theory, &start, &goal, STEP_BOUND)
         .expect("simulates");
-    // the planner's measure of progress strictly decreases every cycle, so no state
+    // The planner's measure of progress strictly decreases every cycle, so no state
     // comes back.
     let mut before = setup.reconfiguration.progress(&start, &goal);
     let mut visited = vec![start.clone()];

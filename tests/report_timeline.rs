@@ -628,7 +628,7 @@ fn a_run_with_no_cycles_draws_empty_lanes() {
     assert_eq!(empty, 6);
 }
 
-/// odd input: a single cycle, and modes held for one cycle.
+/// Odd input: a single cycle, and modes held for one cycle.
 #[test]
 fn a_single_cycle_and_zero_length_intervals_draw() {
     let plant = propulsion();
@@ -662,7 +662,7 @@ fn a_single_cycle_and_zero_length_intervals_draw() {
     assert!(widths.iter().all(|&w| w >= 1.0), "{widths:?}");
 }
 
-/// odd input: events outside the window are left out and counted; a drawn
+/// Odd input: events outside the window are left out and counted; a drawn
 /// window cuts the lanes' intervals at its edges.
 #[test]
 fn events_outside_the_window_are_counted_not_drawn() {

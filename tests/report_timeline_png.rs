@@ -78,7 +78,7 @@ fn red_pixels(pixmap: &Pixmap, area: &Rect) -> usize {
     count
 }
 
-/// the fault is labelled where it was estimated and diagnosed, the injection
+/// The fault is labelled where it was estimated and diagnosed, the injection
 /// has its own row, every label is inside the picture and visible, no two labels intersect.
 #[test]
 fn the_readme_picture_shows_the_fault_with_labels_that_do_not_overlap() {

@@ -67,7 +67,7 @@ bad_scenario!(
     "time_after_end.ron:8:41",
     "after the run ends at 100 s"
 );
-// deadlines a `Duration` cannot hold are located errors, not a panic.
+// Deadlines a `Duration` cannot hold are located errors, not a panic.
 bad_scenario!(
     deadline_too_long,
     "deadline_too_long.ron:8:15",
@@ -78,7 +78,7 @@ bad_scenario!(
     "deadline_1e20.ron:7:15",
     "is longer than any duration"
 );
-// a run of more than `simulation::MAX_CYCLES` cycles is refused before it starts.
+// A run of more than `simulation::MAX_CYCLES` cycles is refused before it starts.
 bad_scenario!(
     too_many_cycles,
     "too_many_cycles.ron:7:10",
@@ -96,7 +96,7 @@ bad_scenario!(
     "is not `component = mode @ time`",
     "noise 1.5 is not a probability"
 );
-// a scenario runs a program or a mission (DESIGN.md §15.4); the mission's problems and
+// A scenario runs a program or a mission (DESIGN.md §15.4); the mission's problems and
 // the expectations on its network are located like the rest.
 bad_scenario!(
     both_program_and_mission,

@@ -150,7 +150,7 @@ fn propulsion_repairs_a_resettable_pde_and_the_trace_shows_the_diagnosis() {
         .expect("a cycle with the diagnosis");
     assert_eq!(diagnosis["estimate"]["PDE"], "resettable");
     assert_eq!(diagnosis["command"][0], "PDE.cmd = reset");
-    // the diagnosis names the next candidate, in its text and structured.
+    // The diagnosis names the next candidate, in its text and structured.
     let event = diagnosis["events"]
         .as_array()
         .and_then(|es| es.iter().find(|e| e["kind"] == "Diagnosis"))
@@ -162,7 +162,7 @@ fn propulsion_repairs_a_resettable_pde_and_the_trace_shows_the_diagnosis() {
         ),
         "{text}"
     );
-    // and its evidence — the latched PDE cut the engine's power, which the
+    // And its evidence — the latched PDE cut the engine's power, which the
     // PDE on (ŝ of the cycle before) cannot explain.
     assert_eq!(event["evidence"][0], "engine.power = zero");
     assert_eq!(event["next"][0]["mode"], "on");
@@ -197,7 +197,7 @@ fn odd_observations_are_events_and_the_run_completes() {
 fn fault_scenarios_diagnose_their_fault() {
     let log = passes("scenarios/driver_valve/valve_stuck.ron");
     assert!(log.contains("DIAGNOSIS    valve = stuck-closed"), "{log}");
-    // the valve open (ŝ stepped by `open`) passes its inflow (§6.1.3,
+    // The valve open (ŝ stepped by `open`) passes its inflow (§6.1.3,
     // `flow_out = flow_in`); nominal in and zero out each fit it alone, not together.
     assert!(
         log.contains("evidence: valve.flow_in = nominal & valve.flow_out = zero;"),
@@ -208,7 +208,7 @@ fn fault_scenarios_diagnose_their_fault() {
     assert!(log.contains("DIAGNOSIS    engine = failed"), "{log}");
 }
 
-/// thesis §4.4 and §7.1.2: a confidence guard reads the estimator's belief, not
+/// Thesis §4.4 and §7.1.2: a confidence guard reads the estimator's belief, not
 /// ŝ. With no temperature readings, standby becomes the most likely mode half-way through the
 /// Uniform(30, 60) s heating window, but P(engine = standby) >= 0.95 only near its end; the
 /// camera is switched on then.
@@ -305,7 +305,7 @@ fn same_belief(a: Option<&serde_json::Value>, b: Option<&serde_json::Value>) -> 
         })
 }
 
-/// by default the trace says only what changed — a quiet cycle is a short
+/// By default the trace says only what changed — a quiet cycle is a short
 /// line — and carrying each field forward from the last line that had it gives back the full
 /// trace (`--trace-full`), field for field (the belief within the trace's 1e-3 resolution).
 #[test]

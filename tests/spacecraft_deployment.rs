@@ -71,7 +71,7 @@ fn kairos_check_links_the_program_against_the_model() {
     );
 }
 
-/// one component per state variable Figure 5-1 names, in the order the program
+/// One component per state variable Figure 5-1 names, in the order the program
 /// first names them (lines 3-55).
 #[test]
 fn the_components_are_the_programs_state_variables() {

@@ -713,7 +713,7 @@ mod tests {
         assert_eq!(goal.mode(gadget), mode(&plant, "gadget", "b"));
     }
 
-    /// the spacecraft deployment: a mode merely kept that the component has left for
+    /// The spacecraft deployment: a mode merely kept that the component has left for
     /// good by nominal transitions (an IUS signal setting a flag) is not pursued: before, the
     /// planner reported "no plannable path" for it every cycle no goal was asserted. A kept mode
     /// still reachable (a repairable fault) or lost to a fault without repair stays.

@@ -448,7 +448,7 @@ mod tests {
         assert!(!outcome.completed);
     }
 
-    /// a run of any length keeps bounded memory — the outcome keeps the latest events.
+    /// A run of any length keeps bounded memory — the outcome keeps the latest events.
     #[test]
     fn the_outcome_keeps_the_latest_events() {
         let scenario = engine_camera(r#"include: ["scenarios/engine_camera/plant.ron"]"#);

@@ -235,7 +235,7 @@ fn next_permutation(items: &mut [usize]) -> bool {
 
 #[cfg(test)]
 mod tests {
-    //! the orders of simultaneous deliveries that can matter.
+    //! The orders of simultaneous deliveries that can matter.
 
     use super::*;
     use crate::simulation::testing::engine_camera;
