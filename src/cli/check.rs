@@ -1,6 +1,7 @@
-//! `kairos check FILES...`: validates plant models, OCSP files and missions (`.ron`, told apart
-//! by their top-level struct name) and parses and links RMPL programs (`.rmpl`), reporting every error in
-//! each file. Programs are linked against every plant model given on the same command line, or
+//! `kairos check FILES...`: validates plant models, OCSP files, missions, scenarios and rover
+//! scenarios (`.ron`, told apart by their top-level struct name) and parses and links RMPL
+//! programs (`.rmpl`), reporting every error in each file. A scenario is checked as `kairos run`
+//! loads it: with its plant, its program or mission (linked and scheduled) and its scripts. Programs are linked against every plant model given on the same command line, or
 //! against the names they use when no model is given.
 
 use std::path::Path;
@@ -8,6 +9,7 @@ use std::path::Path;
 use kairos::exploration::deep;
 use kairos::plant::Plant;
 use kairos::rmpl::{self, LinkOptions};
+use kairos::simulation::{Scenario, ScenarioProgram};
 
 use super::{Failure, load_plant, read_source};
 
@@ -27,30 +29,55 @@ pub fn run(paths: &[impl AsRef<Path>]) -> Result<(), Failure> {
                 continue;
             }
         };
-        if ron_struct_name(&source.text) == Some("Mission") {
-            match kairos::goalnet::mission::load(path) {
-                Ok(mission) => println!(
-                    "ok: {}: mission on {} ({}, {})",
-                    path.display(),
-                    mission.plant_path,
-                    count(mission.network.points().len(), "time point"),
-                    count(mission.network.goals().len(), "goal")
-                ),
-                Err(errors) => problems.push(errors.to_string()),
+        match ron_struct_name(&source.text) {
+            Some("Mission") => {
+                check_file(path, kairos::goalnet::mission::load(path), |mission| {
+                    format!(
+                        "mission on {} ({}, {})",
+                        mission.plant_path,
+                        count(mission.network.points().len(), "time point"),
+                        count(mission.network.goals().len(), "goal")
+                    )
+                })
+                .unwrap_or_else(|problem| problems.push(problem));
+                continue;
             }
-            continue;
-        }
-        if ron_struct_name(&source.text) == Some("Ocsp") {
-            match kairos::opsat::file::load(&source) {
-                Ok(instance) => println!(
-                    "ok: {}: OCSP ({}, {})",
-                    path.display(),
-                    count(instance.ocsp.decisions().len(), "decision variable"),
-                    count(instance.theory.table().len(), "variable")
-                ),
-                Err(errors) => problems.push(errors.to_string()),
+            Some("Ocsp") => {
+                check_file(path, kairos::opsat::file::load(&source), |instance| {
+                    format!(
+                        "OCSP ({}, {})",
+                        count(instance.ocsp.decisions().len(), "decision variable"),
+                        count(instance.theory.table().len(), "variable")
+                    )
+                })
+                .unwrap_or_else(|problem| problems.push(problem));
+                continue;
             }
-            continue;
+            Some("Scenario") => {
+                check_file(path, kairos::simulation::load(path), scenario_summary)
+                    .unwrap_or_else(|problem| problems.push(problem));
+                continue;
+            }
+            Some("RoverScenario") => {
+                check_file(path, kairos::protocol::scenario::load(path), |rover| {
+                    format!(
+                        "rover scenario ({})",
+                        count(rover.constraints.len(), "constraint")
+                    )
+                })
+                .unwrap_or_else(|problem| problems.push(problem));
+                continue;
+            }
+            Some("Plant") => {}
+            other => {
+                problems.push(format!(
+                    "error: cannot check {}: its top-level value is {}; expected one of `Plant(…)`, \
+                     `Ocsp(…)`, `Mission(…)`, `Scenario(…)` or `RoverScenario(…)`",
+                    path.display(),
+                    other.map_or("not a named struct".to_string(), |name| format!("`{name}(…)`"))
+                ));
+                continue;
+            }
         }
         match load_plant(path) {
             Ok(plant) => {
@@ -78,6 +105,35 @@ pub fn run(paths: &[impl AsRef<Path>]) -> Result<(), Failure> {
     } else {
         Err(Failure::bad_input(problems.join("\n\n")))
     }
+}
+
+/// `ok: PATH: SUMMARY` for a file that loaded, or its errors.
+fn check_file<T, E: std::fmt::Display>(
+    path: &Path,
+    loaded: Result<T, E>,
+    summary: impl FnOnce(&T) -> String,
+) -> Result<(), String> {
+    let loaded = loaded.map_err(|errors| errors.to_string())?;
+    println!("ok: {}: {}", path.display(), summary(&loaded));
+    Ok(())
+}
+
+/// What a scenario that loaded holds: its plant, its program or mission, its rules and
+/// expectations (loading links and schedules them all, so a scenario that loads runs).
+fn scenario_summary(scenario: &Scenario) -> String {
+    let program = match &scenario.program {
+        ScenarioProgram::Rmpl(_) => "program",
+        ScenarioProgram::Mission(_) => "mission",
+    };
+    format!(
+        "scenario {} ({} {} on {}; {}, {})",
+        scenario.name,
+        program,
+        scenario.program_source.name,
+        scenario.plant_path,
+        count(scenario.script.rules().len(), "rule"),
+        count(scenario.expectations.len(), "expectation"),
+    )
 }
 
 /// The name of a RON file's top-level struct (`Plant`, `Ocsp`), skipping comments.
@@ -122,7 +178,7 @@ fn model_summary(path: &Path, plant: &Plant) -> String {
 fn check_program(path: &Path, plant: Option<(&Path, &Plant)>) -> Result<String, Failure> {
     if extension(path) != Some("rmpl") {
         return Err(Failure::bad_input(format!(
-            "error: cannot check {}: expected a plant model or OCSP (.ron) or an RMPL program (.rmpl)",
+            "error: cannot check {}: expected a .ron file (plant model, OCSP, mission, scenario) or an RMPL program (.rmpl)",
             path.display()
         )));
     }
