@@ -106,13 +106,22 @@ fn bad_campaigns_are_bad_input() {
 }
 
 /// The records of `dir`'s `runs.jsonl`, or of a recorded file, as JSON values without the
-/// machine-dependent `timing`.
+/// machine-dependent `timing`, and without each fault's `revealed_after`, which records made
+/// before it existed lack (it is a judgement of the draws, not a draw).
 fn values(path: &str) -> Vec<Value> {
     let text = std::fs::read_to_string(path).expect("the records are there");
     text.lines()
         .map(|line| {
             let mut record: Value = serde_json::from_str(line).expect("a JSON record");
-            record.as_object_mut().expect("an object").remove("timing");
+            let object = record.as_object_mut().expect("an object");
+            object.remove("timing");
+            if let Some(Value::Array(faults)) = object.get_mut("faults") {
+                for fault in faults {
+                    if let Some(fault) = fault.as_object_mut() {
+                        fault.remove("revealed_after");
+                    }
+                }
+            }
             record
         })
         .collect()
