@@ -62,6 +62,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!("{now:5.1} s  believed {mode} (the most likely state: p {p:.2})");
         }
         believed = modes;
+        // Events (goals asserted and achieved, diagnoses, …) worded as the mission log words
+        // them, with the plant's and the program's names.
+        for event in &step.events {
+            println!("{now:5.1} s  event {}", event.named(&executive));
+        }
         for command in step.commands_named(plant) {
             println!("{now:5.1} s  send {command}");
             device.command(&command);

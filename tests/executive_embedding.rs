@@ -501,6 +501,7 @@ fn the_embedding_example_runs() {
         "send driver.dcmd_in = open",
         "believed valve = open",
         "settled",
+        "goal asserted valve = open  (",
     ] {
         assert!(stdout.contains(line), "missing `{line}` in\n{stdout}");
     }
@@ -689,4 +690,71 @@ fn observations_discrepant_only_together_are_named_as_a_minimal_set() {
         line.contains("= split (p 1.00); evidence: pair.a = low & pair.b = high"),
         "{line}"
     );
+}
+
+/// DESIGN.md §10 (the embedding API) for a goal network: a mission loads in one call — the
+/// mission file names its plant model — and its events are worded with the plant's and the
+/// mission's names (`Event::named`), as the mission log words them, not with component ids and
+/// byte ranges.
+#[test]
+fn a_mission_loads_in_one_call_and_its_events_are_named() {
+    let mut executive = Executive::load_mission(std::path::Path::new("missions/thermostat.ron"))
+        .expect("the thermostat mission loads")
+        .build()
+        .expect("and builds");
+    assert_eq!(
+        executive.source().map(|s| s.name.as_str()),
+        Some("missions/thermostat.ron")
+    );
+    let reading = [NamedValue::new("sensor.reading", "cold")];
+    let mut named = Vec::new();
+    let mut bare = Vec::new();
+    for cycle in 0..3 {
+        let step = executive
+            .step(f64::from(cycle), &reading)
+            .expect("a cycle runs");
+        for event in &step.events {
+            named.push(event.named(&executive).to_string());
+            bare.push(event.to_string());
+        }
+    }
+    let named = named.join("\n");
+    assert!(named.contains("switch"), "{named}");
+    assert!(!named.contains("component "), "{named}");
+    assert!(bare.join("\n").contains("component "), "{bare:?}");
+}
+
+/// A mission that does not load is an error naming the file, not a panic; an error of every
+/// public surface composes with `?` into `Box<dyn Error + Send + Sync>` (the embedder's usual
+/// error type).
+#[test]
+fn load_errors_are_located_and_every_error_composes_with_question_mark() {
+    fn load(path: &str) -> Result<Executive, Box<dyn std::error::Error + Send + Sync>> {
+        Ok(Executive::load_mission(std::path::Path::new(path))?.build()?)
+    }
+    let error = load("missions/no_such_mission.ron")
+        .err()
+        .expect("no such file");
+    assert!(error.to_string().contains("no_such_mission.ron"), "{error}");
+    let error = load("models/thermostat.ron")
+        .err()
+        .expect("a plant is not a mission");
+    assert!(
+        error.to_string().contains("models/thermostat.ron:"),
+        "{error}"
+    );
+
+    fn composes() -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
+        let source = Source::read(std::path::Path::new("models/thermostat.ron"))?;
+        let plant = Plant::load(&source)?;
+        let mission =
+            kairos::goalnet::mission::load(std::path::Path::new("missions/thermostat.ron"))?;
+        let reconfiguration = kairos::reconfiguration::Reconfiguration::compile(&plant)?;
+        let scheduled = kairos::executive::ScheduledMission::schedule(mission, &reconfiguration)?;
+        let mut executive = Executive::builder(plant, scheduled).build()?;
+        executive.step(0.0, &[])?;
+        executive.submit(&kairos::executive::Submission::default())?;
+        Ok(())
+    }
+    composes().expect("the shipped thermostat mission runs");
 }

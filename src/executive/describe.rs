@@ -7,13 +7,13 @@
 //! that shows an event — the mission log, the trace, an embedder's own log — words it the same
 //! way without importing the report layer.
 
-use std::fmt::Write;
+use std::fmt::{self, Write};
 
 use crate::diagnostic::{Source, Span};
 use crate::estimation::Fallback;
 use crate::plant::{ComponentId, Plant};
 
-use super::{EventKind, Served};
+use super::{Event, EventKind, Executive, Served};
 
 /// One event as a (tag, text) pair: `("command", "PDE.cmd = on: PDE: off -> on")`. The log
 /// prints it; the trace stores the text next to the event's kind.
@@ -22,7 +22,13 @@ pub fn describe_event(
     program: &Source,
     event: &EventKind,
 ) -> (&'static str, String) {
-    describe(&Sources { plant, program }, event)
+    describe(
+        &Sources {
+            plant,
+            program: Some(program),
+        },
+        event,
+    )
 }
 
 /// What the wording of an event needs from outside it: names for its component ids and places
@@ -37,10 +43,11 @@ trait Names {
     fn text(&self, span: &Span) -> Option<String>;
 }
 
-/// The names of a scenario run: the plant's and the program's.
+/// The names of a run: the plant's, and the program's or mission's text when it is known (an
+/// executive built from a linked program without its text writes byte ranges for places).
 struct Sources<'a> {
     plant: &'a Plant,
-    program: &'a Source,
+    program: Option<&'a Source>,
 }
 
 impl Names for Sources<'_> {
@@ -49,13 +56,53 @@ impl Names for Sources<'_> {
     }
 
     fn at(&self, span: &Span) -> String {
-        let (line, col) = self.program.line_col(span.start);
-        format!("{}:{line}:{col}", self.program.name)
+        match self.program {
+            Some(program) => {
+                let (line, col) = program.line_col(span.start);
+                format!("{}:{line}:{col}", program.name)
+            }
+            None => Bare.at(span),
+        }
     }
 
     fn text(&self, span: &Span) -> Option<String> {
-        let text = self.program.text.get(span.clone())?;
+        let text = self.program?.text.get(span.clone())?;
         Some(text.trim().to_string())
+    }
+}
+
+/// An event worded with the names of its executive's plant and program, as the mission log
+/// words it: `[12.000 s] #12 REPAIR PDE.cmd = reset (PDE: resettable -> on) for engine =
+/// standby (programs/mars_edl.rmpl:20:3)`. Made by [`Event::named`].
+pub struct NamedEvent<'a> {
+    event: &'a Event,
+    names: Sources<'a>,
+}
+
+impl fmt::Display for NamedEvent<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (tag, text) = describe(&self.names, &self.event.kind);
+        write!(
+            f,
+            "[{:.3} s] #{} {tag} {text}",
+            self.event.time, self.event.cycle
+        )
+    }
+}
+
+impl Event {
+    /// This event worded with `executive`'s names: components by name, and source places as
+    /// `file:line:col` when the executive has its program's text ([`Executive::load`],
+    /// [`Executive::load_mission`] or [`ExecutiveBuilder::source`](super::ExecutiveBuilder::source)
+    /// keep it); byte ranges otherwise.
+    pub fn named<'a>(&'a self, executive: &'a Executive) -> NamedEvent<'a> {
+        NamedEvent {
+            event: self,
+            names: Sources {
+                plant: executive.plant(),
+                program: executive.source(),
+            },
+        }
     }
 }
 

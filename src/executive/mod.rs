@@ -40,12 +40,13 @@ mod submit;
 mod timeline;
 
 use std::collections::BTreeSet;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Goals submitted to a running mission ([`Executive::submit`]); defined with the goal network.
 pub use crate::goalnet::{Submission, SubmitError, SubmittedConstraint, SubmittedGoal};
 pub use control::ControlProgram;
-pub use describe::describe_event;
+pub use describe::{NamedEvent, describe_event};
 pub use events::{Event, EventKind, Served};
 pub use fingerprint::PROBABILITY_RESOLUTION;
 pub use load::LoadError;
@@ -54,6 +55,7 @@ pub use named::NamedEstimate;
 pub use observations::NamedValue;
 pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeline, Timelines};
 
+use crate::diagnostic::Source;
 use crate::estimation::{
     Belief, EstimationError, EstimationEvent, ModeEstimator, PlantEstimate, TimedMe, TimedMeOptions,
 };
@@ -196,9 +198,18 @@ pub struct ExecutiveBuilder {
     plant: Plant,
     program: ControlProgram,
     options: ExecutiveOptions,
+    source: Option<Arc<Source>>,
 }
 
 impl ExecutiveBuilder {
+    /// Keeps the text of the program or mission the executive runs, so that its events name
+    /// their source lines ([`Event::named`]). [`Executive::load`] and
+    /// [`Executive::load_mission`] set it.
+    pub fn source(mut self, source: Source) -> Self {
+        self.source = Some(Arc::new(source));
+        self
+    }
+
     /// Sets κ, the number of system states mode estimation tracks.
     pub fn kappa(mut self, kappa: usize) -> Self {
         self.options.kappa = kappa.max(1);
@@ -243,6 +254,7 @@ impl ExecutiveBuilder {
             plant,
             program,
             options,
+            source,
         } = self;
         check_linked(&plant, program.table())?;
         let theory = plant.theory()?;
@@ -258,6 +270,7 @@ impl ExecutiveBuilder {
             reconfiguration,
             estimator: TimedMe::new(estimation),
             control: program,
+            source,
             options,
             belief: None,
             most_likely: Vec::new(),
@@ -404,6 +417,9 @@ pub struct Executive {
     reconfiguration: Reconfiguration,
     estimator: TimedMe,
     control: ControlProgram,
+    /// The program's or mission's text, when the builder was given it (shared: exploration
+    /// clones executives by the thousand).
+    source: Option<Arc<Source>>,
     options: ExecutiveOptions,
     belief: Option<Belief>,
     /// ŝ of `belief`, computed once per update: the cycle reads it four times (mode changes,
@@ -436,6 +452,7 @@ impl Executive {
             plant,
             program: program.into(),
             options: ExecutiveOptions::default(),
+            source: None,
         }
     }
 
@@ -447,6 +464,12 @@ impl Executive {
     /// The RMPL program's automaton (`None` when the executive runs a mission).
     pub fn program(&self) -> Option<&Thca> {
         self.control.thca()
+    }
+
+    /// The text of the program or mission it runs, when it was given one
+    /// ([`ExecutiveBuilder::source`]).
+    pub fn source(&self) -> Option<&Source> {
+        self.source.as_deref()
     }
 
     /// The control program: the RMPL program or the mission, with its execution state.

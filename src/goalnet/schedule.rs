@@ -79,6 +79,39 @@ pub enum ScheduleError {
     },
 }
 
+/// The error without the network's names (ids stand for them, as an event's `Display`):
+/// [`display::explain`](super::display::explain) words it with goal, point and component names
+/// and the evidence.
+impl std::fmt::Display for ScheduleError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ScheduleError::Inconsistent(inconsistency) => write!(f, "{inconsistency}"),
+            ScheduleError::Unmergeable { sv, goals } => write!(
+                f,
+                "goals {} and {} on component {} can neither hold together nor be serialised",
+                goals[0].0, goals[1].0, sv.0
+            ),
+            ScheduleError::Unachievable { xgoal, .. } => write!(
+                f,
+                "an XGoal on component {} cannot be reached from the state it is projected to be in",
+                xgoal.sv.0
+            ),
+            ScheduleError::TransitionUnachievable { next, .. } => write!(
+                f,
+                "component {} cannot move from one XGoal into the next",
+                next.sv.0
+            ),
+            ScheduleError::DelegatedUnachievable { goal, sv, value } => write!(
+                f,
+                "goal {} cannot be achieved by the controller of {sv} from {sv} = {value}",
+                goal.0
+            ),
+        }
+    }
+}
+
+impl std::error::Error for ScheduleError {}
+
 /// Schedules `network` for a plant whose components are in `current` (a mode per component).
 pub fn schedule(
     network: &GoalNetwork,

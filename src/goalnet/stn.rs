@@ -42,7 +42,11 @@ pub struct Window {
 
 /// The network has no solution: the constraints of a negative cycle of the distance graph, in
 /// cycle order (each at most once).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "the temporal constraints are inconsistent: {} of them form a negative cycle",
+    cycle.len()
+)]
 pub struct Inconsistency {
     /// The constraints whose bounds add up to a negative cycle.
     pub cycle: Vec<ConstraintId>,
@@ -358,11 +362,13 @@ impl Stn {
 }
 
 /// Why grounding a point failed.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum GroundError {
     /// The point or the time is not acceptable (unknown point, NaN time).
+    #[error("the firing is refused: {0}")]
     Refused(StnError),
     /// Firing then contradicts the network (possible only for a forced firing, §2.4).
+    #[error("the firing contradicts the network: {0}")]
     Inconsistent(Inconsistency),
 }
 
