@@ -45,7 +45,7 @@ fn campaign(name: &str, runs: &str, extra: &[&str]) -> String {
     dir
 }
 
-/// Issue 18 acceptance: same seed ⇒ byte-identical results, across `--jobs` and shard splits.
+/// The campaign's acceptance: same seed ⇒ byte-identical results, across `--jobs` and shard splits.
 #[test]
 fn records_do_not_depend_on_jobs_or_shards() {
     let one = records(&campaign("jobs1", "8", &["--jobs", "1"]));
@@ -127,14 +127,14 @@ fn values(path: &str) -> Vec<Value> {
         .collect()
 }
 
-/// Issue 18 / BENCHMARKS.md "Campaigns": the model-driven plant asks its theory once per
-/// (modes, command) and keeps the answers, which must change no draw. The records of two
-/// campaigns made before the cache existed (`tests/records/`, commit 57d509f) are reproduced
-/// exactly: the propulsion campaign (three runs with a drawn fault — a stuck valve, a resettable
-/// PDE — whose fault modes leave observables open) and the noisy one with a forced fault. One
-/// line of the propulsion record was remade when the executive learned to act under diagnostic
-/// ambiguity: run 69 draws the same resettable PDE at 10 s, and now recovers
-/// (a retried reset and `open1`) instead of failing; its draws are unchanged.
+/// The model plant's cache (docs/design/campaigns.md; BENCHMARKS.md "Campaigns"): the model-driven
+/// plant asks its theory once per (modes, command) and keeps the answers, which must change no
+/// draw. The records of two campaigns made before the cache existed (`tests/records/`, commit
+/// 57d509f) are reproduced exactly: the propulsion campaign (three runs with a drawn fault — a
+/// stuck valve, a resettable PDE — whose fault modes leave observables open) and the noisy one with
+/// a forced fault. One line of the propulsion record was remade when the executive learned to act
+/// under diagnostic ambiguity: run 69 draws the same resettable PDE at 10 s, and now recovers (a
+/// retried reset and `open1`) instead of failing; its draws are unchanged.
 #[test]
 fn records_are_those_of_the_plant_before_its_cache() {
     let propulsion = out_dir("recorded-propulsion");
