@@ -26,9 +26,10 @@ use super::output::emit;
 
 /// Loads, schedules, optionally projects to `at`, and prints as text or DOT.
 pub fn run(path: &Path, at: Option<f64>, dot: bool) -> Result<(), Failure> {
-    if let Some(at) = at.filter(|t| !t.is_finite()) {
+    if let Some(at) = at.filter(|t| !(t.is_finite() && *t >= 0.0)) {
         return Err(Failure::bad_input(format!(
-            "error: --at {at}: expected a finite time in seconds"
+            "error: --at {at}: expected a finite time in seconds, at or after the mission's \
+             start (0)"
         )));
     }
     let mission = mission::load(path).map_err(Failure::bad_input)?;
