@@ -102,7 +102,8 @@ impl Manifest {
             self.options.keys().chain(other.options.keys()).collect();
         names.into_iter().find_map(|name| {
             let (a, b) = (self.options.get(name), other.options.get(name));
-            (a != b).then(|| (format!("--{name}"), show(&a), show(&b)))
+            let json = |v: Option<&Value>| v.map_or_else(|| "none".to_string(), Value::to_string);
+            (a != b).then(|| (format!("--{name}"), json(a), json(b)))
         })
     }
 }

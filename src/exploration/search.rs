@@ -192,9 +192,7 @@ impl<'s, 'p> Worker<'s, 'p> {
             if spine {
                 self.spine_cycle = node.cycle;
             }
-            if let Some(limit) = self.out_of_budget() {
-                self.cut_at = Some(self.spine_cycle);
-                self.limit = Some(limit);
+            if self.cut_if_out_of_budget() {
                 return;
             }
             let orders = (node.plant).delivery_orders(node.cycle, self.time(node.cycle));
@@ -203,6 +201,11 @@ impl<'s, 'p> Worker<'s, 'p> {
                 // The fired order without an optional rule is the node's own path.
                 let none = (k > 0).then(Vec::new);
                 for forced in none.into_iter().chain(Subsets::new(&candidates, left)) {
+                    // Many alternatives may end in their first cycle (a rule whose condition
+                    // does not hold): the budget is checked before each, not only on paths.
+                    if self.cut_if_out_of_budget() {
+                        return;
+                    }
                     if !self.owns(spine) {
                         continue;
                     }
@@ -277,6 +280,18 @@ impl<'s, 'p> Worker<'s, 'p> {
             }
             node.plant
                 .land(open.rule, landing::lower_bound(scenario, open));
+        }
+    }
+
+    /// True, with the cut recorded, when a limit is reached.
+    fn cut_if_out_of_budget(&mut self) -> bool {
+        match self.out_of_budget() {
+            Some(limit) => {
+                self.cut_at = Some(self.spine_cycle);
+                self.limit = Some(limit);
+                true
+            }
+            None => false,
         }
     }
 
