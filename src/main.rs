@@ -169,7 +169,7 @@ enum Command {
     /// parallel, tabulated (pass rate, failures with the seeds that replay them, diagnosis
     /// latencies, cycle times); or `campaign merge DIR...` to join shards.
     Campaign(cli::campaign::CampaignArgs),
-    /// Measure cycle times per phase (estimation, sequencer, reconfiguration, whole cycle):
+    /// Measure cycle times per phase (estimation, sequencer, reconfiguration, submissions, whole cycle):
     /// min / median / p99 / max of quiet and busy cycles separately, for sizing a flight
     /// computer. Either run a scenario, or replay an estimation log with `--plant` and `--log`
     /// (estimation alone, once per `--kappa`).

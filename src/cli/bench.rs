@@ -3,7 +3,8 @@
 //!
 //! - `kairos bench SCENARIO [--kappa K ...] [--json]` runs a scenario as `kairos run` does (no
 //!   log), once per κ given (the scenario's own κ when none is), and reports,
-//!   per phase (estimation, sequencer, reconfiguration, whole cycle), the minimum, median, 99th
+//!   per phase (estimation, sequencer, reconfiguration, goals submitted before the cycle, whole
+//!   cycle, submissions included), the minimum, median, 99th
 //!   percentile and maximum wall time of its *quiet* and *busy* cycles separately.
 //! - `kairos bench --plant MODEL --log LOG [--kappa K ...] [--json]` replays an estimation log
 //!   (the format of `kairos estimate`) through TimedME once per κ and reports the same figures
@@ -58,16 +59,22 @@ pub fn run(target: &BenchTarget, json: bool) -> Result<(), Failure> {
 }
 
 /// The phases a cycle's time is split into, in the order the report shows them.
-const PHASES: [&str; 4] = ["estimation", "sequencer", "reconfiguration", "cycle"];
+const PHASES: [&str; 5] = [
+    "estimation",
+    "sequencer",
+    "reconfiguration",
+    "submission",
+    "cycle",
+];
 
 /// The times of one kind of cycle (quiet or busy), per phase, in nanoseconds.
 #[derive(Default)]
 struct Samples {
-    phases: [Vec<u64>; 4],
+    phases: [Vec<u64>; 5],
 }
 
 impl Samples {
-    fn push(&mut self, times: [Duration; 4]) {
+    fn push(&mut self, times: [Duration; 5]) {
         for (samples, time) in self.phases.iter_mut().zip(times) {
             samples.push(u64::try_from(time.as_nanos()).unwrap_or(u64::MAX));
         }
@@ -152,7 +159,7 @@ fn bench_run(scenario: &simulation::Scenario) -> Result<(Section, u64), Failure>
         title: format!("scenario `{}`, κ = {}", scenario.name, scenario.kappa),
         quiet: Samples::default(),
         busy: Samples::default(),
-        phases: vec![0, 1, 2, 3],
+        phases: vec![0, 1, 2, 3, 4],
     };
     let mut previous: Option<Vec<NamedValue>> = None;
     let mut commanded = false;
@@ -165,6 +172,7 @@ fn bench_run(scenario: &simulation::Scenario) -> Result<(Section, u64), Failure>
             times.estimation,
             times.sequencer,
             times.reconfiguration,
+            times.submission,
             times.total,
         ];
         if busy {
@@ -234,7 +242,13 @@ fn replay_timed(
             let now = &records[index];
             let busy = before.commands.issued(plant).next().is_some()
                 || before.observation != now.observation;
-            let samples = [elapsed, Duration::ZERO, Duration::ZERO, elapsed];
+            let samples = [
+                elapsed,
+                Duration::ZERO,
+                Duration::ZERO,
+                Duration::ZERO,
+                elapsed,
+            ];
             if busy {
                 section.busy.push(samples);
             } else {
