@@ -798,3 +798,30 @@ impl Loader {
         observables
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::reference;
+
+    /// `docs/reference/plant.md` lists every field and variant this loader accepts, and no
+    /// other (the convention is in `diagnostic::reference`).
+    #[test]
+    fn the_reference_documents_every_field() {
+        let mut tracer = reference::tracer();
+        reference::add::<KindFile>(&mut tracer);
+        reference::add::<TimingFile>(&mut tracer);
+        reference::add::<PlantFile>(&mut tracer);
+        reference::assert_documented(
+            &reference::registry(tracer),
+            &[
+                ("Plant", "plant.md", "`Plant(...)`"),
+                ("Component", "plant.md", "`Component(...)`"),
+                ("Mode", "plant.md", "`Mode(...)`"),
+                ("KindFile", "plant.md", "Mode kinds"),
+                ("Transition", "plant.md", "Transitions:"),
+                ("TimingFile", "plant.md", "Timing laws"),
+            ],
+        );
+    }
+}
