@@ -53,7 +53,7 @@ pub(super) struct TypeFile {
 
 #[derive(Deserialize, Default, Clone, Copy)]
 #[serde(rename = "Response")]
-enum ResponseFile {
+pub(super) enum ResponseFile {
     Safing,
     ReElaborate,
     #[default]
