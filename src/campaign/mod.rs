@@ -212,3 +212,27 @@ fn fault_record(
         diagnosed_after,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::reference;
+
+    /// `docs/reference/campaign.md` lists every field and variant of a run record, and no
+    /// other.
+    #[test]
+    fn the_reference_documents_every_field() {
+        let mut tracer = reference::tracer();
+        reference::add::<RunVerdict>(&mut tracer);
+        reference::add::<RunRecord>(&mut tracer);
+        reference::assert_documented(
+            &reference::registry(tracer),
+            &[
+                ("RunRecord", "campaign.md", "A run: one line"),
+                ("RunVerdict", "campaign.md", "Verdicts"),
+                ("FaultRecord", "campaign.md", "Faults"),
+                ("Timing", "campaign.md", "Timing"),
+            ],
+        );
+    }
+}

@@ -257,3 +257,20 @@ pub fn replay_with(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::reference;
+
+    /// `docs/reference/estimation-log.md` lists every field a log line accepts, and no other.
+    #[test]
+    fn the_reference_documents_every_field() {
+        let mut tracer = reference::tracer();
+        reference::add::<RecordLine>(&mut tracer);
+        reference::assert_documented(
+            &reference::registry(tracer),
+            &[("RecordLine", "estimation-log.md", "The format")],
+        );
+    }
+}
