@@ -7,7 +7,8 @@
 //! asks of a run: its seed (to replay it: `kairos run SCENARIO --seed SEED`), its verdict, the
 //! first expectation that failed, the faults drawn and how long each took to be diagnosed, the
 //! cycles, and — apart, in [`Timing`], because they differ from machine to machine — its wall
-//! time and cycle times.
+//! time and cycle times. Reference for users (the records and the summary):
+//! `docs/reference/campaign.md`.
 
 mod histogram;
 pub mod plot;

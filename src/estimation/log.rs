@@ -1,4 +1,5 @@
-//! The command/observation log `kairos estimate` replays (JSON lines).
+//! The command/observation log `kairos estimate` replays (JSON lines). Reference for users:
+//! `docs/reference/estimation-log.md`.
 //!
 //! One JSON object per line, one line per cycle, in time order:
 //! ```text

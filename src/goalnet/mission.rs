@@ -1,4 +1,5 @@
-//! The mission file (DESIGN.md §15.4): a goal network in RON, bound to a plant model.
+//! The mission file (DESIGN.md §15.4): a goal network in RON, bound to a plant model. Reference
+//! for users: `docs/reference/mission.md`.
 //!
 //! ```ron
 //! Mission(

@@ -1,4 +1,5 @@
-//! The RON file format for a stand-alone OCSP (`kairos solve FILE.ron`).
+//! The RON file format for a stand-alone OCSP (`kairos solve FILE.ron`). Reference for users:
+//! `docs/reference/ocsp.md`.
 //!
 //! ```ron
 //! Ocsp(

@@ -1,4 +1,5 @@
-//! The RON format of plant models (DESIGN.md §6.1) and its loader.
+//! The RON format of plant models (DESIGN.md §6.1) and its loader. Reference for users:
+//! `docs/reference/plant.md`.
 //!
 //! ```ron
 //! Plant(

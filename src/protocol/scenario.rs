@@ -1,6 +1,7 @@
 //! The rover scenario file: a grid, the rover, the constraints the environment sends and what
 //! each must end with — the scenarios R1–R7 of mds-goal-networks.md §4.2 (`scenarios/rover/`),
-//! checked on every interleaving by `kairos explore`.
+//! checked on every interleaving by `kairos explore`. Reference for users:
+//! `docs/reference/rover-scenario.md`.
 //!
 //! ```ron
 //! RoverScenario(

@@ -1,6 +1,7 @@
 //! The RON shapes of scenario and script files, as serde reads them (the format is documented in
 //! the module documentation of [`crate::simulation`]). Nothing here is validated; the loader
 //! turns these into a [`Scenario`](super::Scenario) and reports every problem with its location.
+//! Reference for users: `docs/reference/scenario.md`.
 
 use serde::Deserialize;
 

@@ -1,5 +1,6 @@
 //! The mission file's goal types (mds-goal-networks.md §2.1, §2.6): each with
-//! its failure response and its elaborator's tactics.
+//! its failure response and its elaborator's tactics. Reference for users:
+//! `docs/reference/mission.md`.
 //!
 //! ```ron
 //! types: [
