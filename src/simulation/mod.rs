@@ -266,6 +266,7 @@
 
 mod expect;
 mod format;
+mod latent;
 mod load;
 mod load_deliver;
 mod load_expect;
