@@ -76,9 +76,15 @@ fn load_ron(path: &Path, scenarios: &[PathBuf]) {
         "Script" => {
             let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
             let included = scenarios.iter().any(|s| {
-                std::fs::read_to_string(s).is_ok_and(|text| text.contains(&format!("/{name}\"")) || text.contains(&format!("\"{name}\"")))
+                std::fs::read_to_string(s).is_ok_and(|text| {
+                    text.contains(&format!("/{name}\"")) || text.contains(&format!("\"{name}\""))
+                })
             });
-            assert!(included, "{}: no example scenario includes it", path.display());
+            assert!(
+                included,
+                "{}: no example scenario includes it",
+                path.display()
+            );
         }
         "Mission" => {
             kairos::goalnet::mission::load(path).unwrap_or_else(|e| panic!("{e}"));
@@ -113,7 +119,12 @@ fn load_records(path: &Path) {
     if let Ok(written) = std::fs::read_to_string(&summary) {
         let body: Vec<&str> = written.lines().skip(2).collect();
         let expected = Summary::of(&records).to_string();
-        assert_eq!(body.join("\n"), expected.trim_end(), "{}", summary.display());
+        assert_eq!(
+            body.join("\n"),
+            expected.trim_end(),
+            "{}",
+            summary.display()
+        );
     }
 }
 
@@ -238,7 +249,10 @@ fn the_index_lists_every_page() {
     for page in files(&root().join("docs/reference")) {
         let name = page.file_name().and_then(|n| n.to_str()).unwrap_or("");
         if name != "README.md" {
-            assert!(index.contains(&format!("({name})")), "README.md does not link {name}");
+            assert!(
+                index.contains(&format!("({name})")),
+                "README.md does not link {name}"
+            );
         }
     }
 }
