@@ -3,9 +3,12 @@
 //!
 //! The loader's serde types are traced with `serde-reflection` into a registry of containers
 //! (structs and enums by their serde name, with their fields and variants: exactly what
-//! deserialising accepts). Each container is assigned a section of a page — the text under the
-//! first heading whose title contains a given string, up to the next heading. The page marks a
-//! documented name with a table row whose first cell starts with it in backticks:
+//! deserialising accepts). The tracer explores an enum to its last variant only when the enum is
+//! traced itself, so a test adds each enum of its format ([`add`]) before the file's root type;
+//! one it forgets is named by [`registry`], not silently half-read. Each container is assigned a
+//! section of a page — the text under the one heading whose title contains a given string, up to
+//! the next heading. The page marks a documented name with a table row whose first cell starts
+//! with it in backticks:
 //! - a struct's field: `` | `name` | ... ``;
 //! - an enum's variant: `` | `Variant` | ... `` or `` | `Variant(...)` | ... ``; a variant with
 //!   named fields lists each as `field:` inside that first code span
