@@ -45,7 +45,7 @@ pub fn memory_budget(bytes: u64) -> Result<u64, Failure> {
 /// Seconds as a [`Duration`]: finite, positive and within what a `Duration` holds (about
 /// 5.8 × 10¹¹ years), so that no conversion panics.
 pub fn duration(seconds: f64) -> Result<Duration, String> {
-    if !(seconds > 0.0) {
+    if seconds.is_nan() || seconds <= 0.0 {
         return Err(format!("{seconds} s is not a positive number of seconds"));
     }
     Duration::try_from_secs_f64(seconds)

@@ -373,7 +373,7 @@ fn xgoals(
                 covers.then_some((id, goal))
             })
             .collect();
-        out.push(XGoal::merge(sv, a, b, domain, covering.into_iter()));
+        out.push(XGoal::merge(sv, a, b, domain, covering));
     }
     if let Some(k) =
         (0..goals.len()).find(|&k| !covered[k] && !fired.contains(&network.goal(goals[k]).end))
