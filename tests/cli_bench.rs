@@ -74,6 +74,34 @@ fn a_replay_log_is_measured_once_per_kappa() {
     }
 }
 
+/// Livingstone 2's breaker benchmark commands every cycle: every cycle is busy, and the mean
+/// over all cycles and the satisfiability questions asked per cycle are reported.
+#[test]
+fn a_replay_reports_its_mean_cycle_and_questions_asked() {
+    let (code, stdout, stderr) = kairos(&[
+        "bench",
+        "--json",
+        "--plant",
+        "models/l2_breakers_15.ron",
+        "--log",
+        "tests/logs/l2_breakers_15.jsonl",
+        "--kappa",
+        "3",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let report: Value = serde_json::from_str(&stdout).expect("one JSON object");
+    let section = &report["sections"][0];
+    let busy = check_kind(&section["busy"], &["estimation"]);
+    assert_eq!(busy, 1600, "100 cycles of 16 steps, each with a command");
+    let all = &section["all"];
+    assert_eq!(all["count"].as_u64(), Some(1600), "{all}");
+    let mean = all["mean_ns"].as_u64().expect("a mean");
+    let stats = &section["busy"]["phases"]["estimation"];
+    let (min, max) = (stats["min_ns"].as_u64(), stats["max_ns"].as_u64());
+    assert!(min <= Some(mean) && Some(mean) <= max, "{section}");
+    assert!(all["sat_calls"].as_u64().is_some_and(|n| n > 0), "{all}");
+}
+
 #[test]
 fn bench_needs_a_scenario_or_a_plant_and_a_log() {
     let (code, _, stderr) = kairos(&["bench", "--plant", "models/mars_lander.ron"]);

@@ -8,7 +8,11 @@
 //!   percentile and maximum wall time of its *quiet* and *busy* cycles separately.
 //! - `kairos bench --plant MODEL --log LOG [--kappa K ...] [--json]` replays an estimation log
 //!   (the format of `kairos estimate`) through TimedME once per κ and reports the same figures
-//!   for the estimation step alone.
+//!   for the estimation step alone, with the satisfiability questions asked per cycle.
+//!
+//! Each section ends with the mean over all its cycles, quiet and busy together: what a whole
+//! run costs per cycle (a log replayed with a command every cycle, as Livingstone 2's benchmark
+//! is, has only busy cycles).
 //!
 //! A cycle is **busy** when something new reaches the executive — a command was issued in the
 //! previous cycle, the observation differs from the previous cycle's, or (for a scenario) the
@@ -118,6 +122,8 @@ struct Section {
     title: String,
     quiet: Samples,
     busy: Samples,
+    /// Satisfiability questions asked by estimation over the replay (a log only).
+    sat_calls: Option<u64>,
     /// Phases that do not apply (estimation alone has no sequencer), left out of the report.
     phases: Vec<usize>,
 }
@@ -159,6 +165,7 @@ fn bench_run(scenario: &simulation::Scenario) -> Result<(Section, u64), Failure>
         title: format!("scenario `{}`, κ = {}", scenario.name, scenario.kappa),
         quiet: Samples::default(),
         busy: Samples::default(),
+        sat_calls: None,
         phases: vec![0, 1, 2, 3, 4],
     };
     let mut previous: Option<Vec<NamedValue>> = None;
@@ -204,6 +211,7 @@ fn bench_log(plant_path: &Path, log: &Path, kappas: &[usize]) -> Result<Report, 
             title: format!("estimation, TimedME κ = {kappa}"),
             quiet: Samples::default(),
             busy: Samples::default(),
+            sat_calls: Some(0),
             phases: vec![0],
         };
         replay_timed(&plant, &mut theory, &mut estimator, &records, &mut section)?;
@@ -234,11 +242,14 @@ fn replay_timed(
         theory,
         estimator,
         records,
-        &mut |index, _, elapsed| {
+        &mut |index, update, elapsed| {
             // Record i's update uses record i−1's commands; the initial belief is not a cycle.
             let Some(before) = index.checked_sub(1).map(|i| &records[i]) else {
                 return;
             };
+            if let Some(calls) = section.sat_calls.as_mut() {
+                *calls += update.stats.sat_calls;
+            }
             let now = &records[index];
             let busy = before.commands.issued(plant).next().is_some()
                 || before.observation != now.observation;
@@ -257,6 +268,30 @@ fn replay_timed(
         },
     )
     .map_err(|e| Failure::failed(format!("error: estimation stopped: {e}")))
+}
+
+/// Every cycle of a section, quiet and busy together.
+struct All {
+    count: usize,
+    /// The mean time of the whole cycle (or of estimation alone, for a log), nanoseconds.
+    mean: u64,
+}
+
+impl Section {
+    /// The mean over every cycle of the last phase measured (the whole cycle, or estimation
+    /// for a log): what a run of the log or scenario costs per cycle.
+    fn all(&self) -> All {
+        let phase = self.phases[self.phases.len() - 1];
+        let times = self.quiet.phases[phase]
+            .iter()
+            .chain(&self.busy.phases[phase]);
+        let count = self.quiet.count() + self.busy.count();
+        let total: u128 = times.map(|&t| u128::from(t)).sum();
+        All {
+            count,
+            mean: u64::try_from(total / count.max(1) as u128).unwrap_or(u64::MAX),
+        }
+    }
 }
 
 /// A duration in nanoseconds, for a person: `812 ns`, `18.4 µs`, `1.27 ms`, `2.10 s`.
@@ -303,6 +338,23 @@ impl Report {
                     ));
                 }
             }
+            let all = section.all();
+            if all.count > 0 {
+                out.push_str(&format!(
+                    "  {:<7} {:<16} {:>8} mean {}",
+                    "all",
+                    PHASES[section.phases[section.phases.len() - 1]],
+                    all.count,
+                    human(all.mean)
+                ));
+                if let Some(calls) = section.sat_calls {
+                    out.push_str(&format!(
+                        ", {:.1} satisfiability questions a cycle",
+                        calls as f64 / all.count as f64
+                    ));
+                }
+                out.push('\n');
+            }
         }
         out
     }
@@ -326,10 +378,12 @@ impl Report {
                         }
                         (kind, json!({"count": samples.count(), "phases": phases}))
                     });
+                let all = section.all();
                 json!({
                     "title": section.title,
                     kinds[0].0: kinds[0].1,
                     kinds[1].0: kinds[1].1,
+                    "all": {"count": all.count, "mean_ns": all.mean, "sat_calls": section.sat_calls},
                 })
             })
             .collect();
