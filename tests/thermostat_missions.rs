@@ -171,7 +171,7 @@ fn a_submitted_stay_warm_runs_after_the_first_and_a_contradicting_one_is_refused
             "[ 200.000 s 0:03:20.000] #200",
             "plant rule `operator asks for a second StayWarm` takes effect: submits stay-warm-2, heater1-2",
             "[ 250.000 s 0:04:10.000] #250",
-            "REFUSED freeze submitted by `operator asks to freeze during the hold`: the submission cannot be scheduled: unmergeable: on temperature, goals `stay-warm`",
+            "REFUSED freeze submitted by `operator asks to freeze during the hold`: the submission cannot be scheduled: unmergeable: on temperature, goal `freeze` (temperature = cold) cannot hold together with `stay-warm`",
             "[ 376.000 s 0:06:16.000] #376",
             "fired TP_E (window [376, 376])",
             "fired TP_S2 (window [376, 396])",
@@ -282,7 +282,7 @@ fn the_trace_carries_the_goal_network_events() {
 
 /// The lines of the goal controller's story in the log, `[time] tag text` with padding
 /// squeezed: tactics, responses, promotions, safing, mission goals' failures, and the firing of StayWarm's
-/// points (`TP_S`, `TP_E`, `stay-warm.TP_A…`).
+/// points (`TP_S`, `TP_E`, `stay-warm.TP_A`, `stay-warm#2.TP_A`).
 fn story(log: &str) -> Vec<String> {
     let mut time = String::new();
     let mut lines = Vec::new();
@@ -304,7 +304,7 @@ fn story(log: &str) -> Vec<String> {
             "GOAL" => line.contains("; ŝ has "),
             "fired" => {
                 ["TP_S", "TP_E", "TP_bgE", "safing"].contains(&words[1])
-                    || words[1].starts_with("stay-warm.TP_A")
+                    || (words[1].starts_with("stay-warm") && words[1].ends_with(".TP_A"))
             }
             _ => false,
         };
@@ -323,13 +323,7 @@ fn verdict(name: &str) -> Vec<String> {
 
 /// [`verdict`] of a mission log.
 fn verdict_of(log: &str) -> Vec<String> {
-    let one_choice = [
-        "know-all:",
-        "heater1:",
-        "heater2:",
-        "heater1′:",
-        "heater2′:",
-    ];
+    let one_choice = ["know-all:", "heater1:", "heater2:"];
     story(log)
         .into_iter()
         .filter(|l| !(l.contains(" chosen") && one_choice.iter().any(|g| l.contains(g))))
@@ -413,7 +407,7 @@ fn system_test_7_reelaborates_with_tactic_2() {
         "187.000 s RESPONSE stay-warm.heater1 failed: switch1 = stuck-open (p 1.00) → fail up → stay-warm re-elaborated with tactic 2 → promoted",
         "187.000 s tactic stay-warm: tactic 2 chosen",
         "187.000 s promoted the proposed network (re-elaboration of stay-warm)",
-        "188.000 s fired stay-warm.TP_A′",
+        "188.000 s fired stay-warm#2.TP_A",
         "366.000 s fired TP_E",
     ]);
     assert_eq!(verdict("system_test_7.ron"), expected);
@@ -430,7 +424,7 @@ fn system_test_8_reelaborates_with_tactic_2() {
         "187.000 s RESPONSE stay-warm.heater2 failed: switch2 = stuck-closed (p 1.00) → fail up → stay-warm re-elaborated with tactic 2 → promoted",
         "187.000 s tactic stay-warm: tactic 2 chosen",
         "187.000 s promoted the proposed network (re-elaboration of stay-warm)",
-        "188.000 s fired stay-warm.TP_A′",
+        "188.000 s fired stay-warm#2.TP_A",
         "366.000 s fired TP_E",
     ]);
     assert_eq!(verdict("system_test_8.ron"), expected);

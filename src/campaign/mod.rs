@@ -150,6 +150,7 @@ pub fn run_one(scenario: &Scenario, index: u64, seed: u64) -> RunRecord {
                     EventKind::GoalFailed { .. }
                     | EventKind::PlanFailed { .. }
                     | EventKind::MissionGoalFailed { .. }
+                    | EventKind::NetworkStalled { .. }
                     | EventKind::Safing { .. } => {
                         failure_reported = true;
                     }

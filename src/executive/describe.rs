@@ -390,14 +390,17 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
                  withdrawn, no further command; {sv} = {value}"
             ),
         ),
-        E::SubmissionRefused { by, goals, reason } => (
+        E::SubmissionRefused {
+            by, goals, reason, ..
+        } => (
             "REFUSED",
             format!("{} submitted by `{by}`: {reason}", goals.join(", ")),
         ),
         E::TemporalInconsistency { point, cycle } => (
             "TEMPORAL",
             format!(
-                "firing {point} contradicts the network: {}",
+                "firing {point} contradicts the network: {}; the constraints not fired are \
+                 withdrawn",
                 cycle.join("; ")
             ),
         ),
@@ -414,6 +417,18 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
         E::Promoted { cause } => ("promoted", format!("the proposed network ({cause})")),
         E::PromotionFailed { reason } => ("PROMOTION", format!("failed: {reason}")),
         E::Safing { cause } => ("SAFING", cause.clone()),
+        E::GoalRecovered {
+            goal,
+            mode,
+            probability,
+        } => (
+            "recovered",
+            format!("{goal} holds again; ŝ has {mode} (p {probability:.2})"),
+        ),
+        E::NetworkStalled { points } => ("STALLED", points.join("; ")),
+        E::SafeGoalDropped { goal, reason } => {
+            ("SAFE DROP", format!("safe goal {goal} dropped: {reason}"))
+        }
     }
 }
 

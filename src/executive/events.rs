@@ -278,6 +278,9 @@ pub enum EventKind {
         goals: Vec<String>,
         /// Why ([`SubmitError`](super::SubmitError) in words).
         reason: String,
+        /// The goals of the running network it conflicts with (every one, DESIGN.md §15.2);
+        /// empty when it was refused for another reason.
+        conflicts: Vec<String>,
     },
     /// Elaboration chose a tactic for a goal of the network it then promoted
     /// (mds-goal-networks.md §2.1).
@@ -323,6 +326,32 @@ pub enum EventKind {
     Safing {
         /// The failure that led there, explained, on one line.
         cause: String,
+    },
+    /// A goal of the mission's network that had failed holds again (DESIGN.md §15.2): it is
+    /// monitored again, and a new failure is reported and answered again.
+    GoalRecovered {
+        /// The goal's name.
+        goal: String,
+        /// The mode ŝ gives its state variable.
+        mode: String,
+        /// That mode's marginal probability.
+        probability: f64,
+    },
+    /// The mission's network has points left that nothing will fire (DESIGN.md §15.2: a
+    /// network that has stopped firing with time left says why); reported when that set
+    /// changes.
+    NetworkStalled {
+        /// Each stalled point and what it waits for, in words (`TP_E waits for TP_S, which
+        /// has not fired, past its latest time 161 s`).
+        points: Vec<String>,
+    },
+    /// A goal of the safe network could not be scheduled from the state safing found and was
+    /// dropped; the rest of the safe network runs (DESIGN.md §15.2: best effort).
+    SafeGoalDropped {
+        /// The goal's name.
+        goal: String,
+        /// Why, on one line (the scheduler's explanation).
+        reason: String,
     },
 }
 

@@ -23,8 +23,9 @@ use super::delegation::Delegations;
 use super::events::EventKind;
 use crate::estimation::PlantEstimate;
 use crate::goalnet::{
-    EstimateView, ExecutableNetwork, FailureReason, GoalController, GoalEvent, Mission,
-    MissionEvent, ScheduleError, TimePointId, Window, XGoal, display, judge_delegated, schedule,
+    EstimateView, ExecutableNetwork, FailureReason, GoalController, GoalEvent, GoalId, GoalNetwork,
+    Mission, MissionEvent, ScheduleError, TimePointId, Waiting, Window, XGoal, display,
+    judge_delegated, schedule,
 };
 use crate::goalnet::{Submission, SubmitError};
 use crate::logic::{Formula, ValueId};
@@ -395,7 +396,7 @@ impl MissionControl {
                 ..
             } => EventKind::ResponseTaken {
                 goal: explanation.goal.clone(),
-                response: response.name(),
+                response: response.map_or("none", |r| r.name()),
                 explanation: one_line(&explanation.to_string()),
             },
             MissionEvent::Promoted { cause } => EventKind::Promoted { cause },
@@ -404,6 +405,10 @@ impl MissionControl {
             },
             MissionEvent::Safing { cause } => EventKind::Safing {
                 cause: one_line(&cause),
+            },
+            MissionEvent::SafeGoalDropped { goal, reason } => EventKind::SafeGoalDropped {
+                goal,
+                reason: one_line(&reason),
             },
         };
         Some(kind)
@@ -437,34 +442,27 @@ impl MissionControl {
                 self.dispatched(executable.timeline(sv)?.xgoals.get(index)?)
             }
             GoalEvent::GoalFailed { goal: id, reason } => {
-                let goal = network.goal(id);
-                let delegated = (goal.delegate.map(|d| d.controller))
-                    .or_else(|| self.delegated.get(id.index()).copied().flatten());
-                if let Some(controller) = delegated {
-                    // The protocol's estimator is a sort conversion: its value is certain.
-                    let sv = &self.mission.controllers[controller].sv;
-                    return Some(EventKind::MissionGoalFailed {
-                        goal: goal.name.clone(),
-                        reason: failure_text(&reason, self.mission.knowledge_threshold),
-                        mode: format!("{sv} = {}", self.delegations.value(controller)),
-                        probability: 1.0,
-                    });
-                }
-                let sv = goal
-                    .sv
-                    .or_else(|| self.svs.get(id.index()).copied().flatten())
-                    .unwrap_or(ComponentId(0));
-                let mode = modes.get(sv.index()).copied().unwrap_or(ValueId(0));
+                let (mode, probability) = self.goal_mode(id, modes);
                 EventKind::MissionGoalFailed {
-                    goal: goal.name.clone(),
-                    reason: failure_text(&reason, self.mission.knowledge_threshold),
-                    mode: mode_name(plant, sv, mode),
-                    probability: self.beliefs[sv.index()]
-                        .get(mode.index())
-                        .copied()
-                        .unwrap_or(0.0),
+                    goal: network.goal(id).name.clone(),
+                    reason: failure_text(&reason, self.mission.knowledge_threshold, network),
+                    mode,
+                    probability,
                 }
             }
+            GoalEvent::GoalRecovered { goal: id } => {
+                let (mode, probability) = self.goal_mode(id, modes);
+                EventKind::GoalRecovered {
+                    goal: network.goal(id).name.clone(),
+                    mode,
+                    probability,
+                }
+            }
+            GoalEvent::NetworkStalled { stalled } => EventKind::NetworkStalled {
+                points: (stalled.iter())
+                    .map(|(point, waiting)| self.stall_text(*point, waiting, window(*point)))
+                    .collect(),
+            },
             GoalEvent::TemporalInconsistency {
                 point,
                 inconsistency,
@@ -481,13 +479,63 @@ impl MissionControl {
     }
 }
 
+impl MissionControl {
+    /// The mode ŝ (`modes`) gives a goal's state variable and its probability, as a failure or
+    /// a recovery names it: for a delegated goal, its controller's value (certain: the
+    /// protocol's estimator is a sort conversion).
+    fn goal_mode(&self, id: GoalId, modes: &[ValueId]) -> (String, f64) {
+        let network = &self.executable().network;
+        let goal = network.goal(id);
+        let delegated = (goal.delegate.map(|d| d.controller))
+            .or_else(|| self.delegated.get(id.index()).copied().flatten());
+        if let Some(controller) = delegated {
+            let sv = &self.mission.controllers[controller].sv;
+            return (
+                format!("{sv} = {}", self.delegations.value(controller)),
+                1.0,
+            );
+        }
+        let sv = goal
+            .sv
+            .or_else(|| self.svs.get(id.index()).copied().flatten())
+            .unwrap_or(ComponentId(0));
+        let mode = modes.get(sv.index()).copied().unwrap_or(ValueId(0));
+        let probability = (self.beliefs.get(sv.index()))
+            .and_then(|b| b.get(mode.index()))
+            .copied()
+            .unwrap_or(0.0);
+        (mode_name(&self.mission.plant, sv, mode), probability)
+    }
+
+    /// `TP_E: its latest time 376 s has passed and TP_S, which must fire first, has not`.
+    fn stall_text(&self, point: TimePointId, waiting: &Waiting, window: (f64, f64)) -> String {
+        let network = &self.executable().network;
+        let name = &network.point(point).name;
+        match waiting {
+            Waiting::NoWindow => format!("{name}: the network has no windows"),
+            Waiting::Point(q) => format!(
+                "{name}: its latest time {} s has passed and {}, which must fire first, has not",
+                window.1,
+                network.point(*q).name
+            ),
+            Waiting::Goal(g) => format!(
+                "{name}: it has no latest time and waits for {}, which has failed",
+                network.goal(*g).name
+            ),
+        }
+    }
+}
+
 /// Whether an event changes the windows an event reports (a firing grounds a point, a
 /// promotion reschedules).
 fn changes_windows(event: &MissionEvent) -> bool {
     matches!(
         event,
-        MissionEvent::Goal(GoalEvent::TimePointFired { .. } | GoalEvent::TimePointForced { .. })
-            | MissionEvent::Promoted { .. }
+        MissionEvent::Goal(
+            GoalEvent::TimePointFired { .. }
+                | GoalEvent::TimePointForced { .. }
+                | GoalEvent::TemporalInconsistency { .. }
+        ) | MissionEvent::Promoted { .. }
             | MissionEvent::Safing { .. }
     )
 }
@@ -511,6 +559,7 @@ fn promote(
             Some(error) => SubmitError::Refused {
                 error,
                 explanation: rejection.reason,
+                conflicts: rejection.conflicts,
             },
             None => SubmitError::NotElaborated(rejection.reason),
         }),
@@ -529,8 +578,13 @@ fn one_line(text: &str) -> String {
 }
 
 /// A failure's reason in words; the mode ŝ is in is shown beside it.
-fn failure_text(reason: &FailureReason, threshold: f64) -> String {
+fn failure_text(reason: &FailureReason, threshold: f64, network: &GoalNetwork) -> String {
     match reason {
+        FailureReason::Contradicted { point } => format!(
+            "{} fired where the network did not allow it (no cycle in its window)",
+            network.point(*point).name
+        ),
+        FailureReason::CannotProgress { why } => format!("it cannot progress: {why}"),
         FailureReason::Excursion(_) => "ŝ left the maintained set".to_string(),
         FailureReason::Unreachable(_) => "its set can no longer be reached".to_string(),
         FailureReason::EndForced(_) => "its end point was forced before the set was reached".into(),

@@ -137,16 +137,39 @@ fn modes(plant: &Plant, sv: ComponentId, values: &[ValueId]) -> String {
 pub fn explain(error: &ScheduleError, network: &GoalNetwork, plant: &Plant) -> String {
     match error {
         ScheduleError::Inconsistent(inconsistency) => inconsistent(inconsistency, network),
-        ScheduleError::Unmergeable { sv, goals } => {
-            let [a, b] = goals.map(|g| network.goal(g));
+        ScheduleError::Unmergeable {
+            sv,
+            goal,
+            conflicts,
+        } => {
+            let goal = network.goal(*goal);
+            let others: Vec<String> = (conflicts.iter())
+                .map(|g| network.goal(*g))
+                .map(|g| format!("`{}` ({})", g.name, g.text))
+                .collect();
             format!(
-                "unmergeable: on {}, goals `{}` ({}) and `{}` ({}) cannot hold together and \
-                 cannot be serialised either way",
+                "unmergeable: on {}, goal `{}` ({}) cannot hold together with {} and cannot be \
+                 serialised either way",
                 plant.component(*sv).name(),
-                a.name,
-                a.text,
-                b.name,
-                b.text
+                goal.name,
+                goal.text,
+                others.join(" nor with ")
+            )
+        }
+        ScheduleError::InThePast { points, now } => {
+            let points: Vec<String> = (points.iter())
+                .map(|p| {
+                    let window = network.stn().window(*p);
+                    let by = window.map_or_else(String::new, |w| {
+                        format!(" (window [{}, {}])", seconds(w.lb), seconds(w.ub))
+                    });
+                    format!("`{}`{by}", network.point(*p).name)
+                })
+                .collect();
+            format!(
+                "in the past: {} would have to fire before now ({} s)",
+                points.join(", "),
+                seconds(*now)
             )
         }
         ScheduleError::Unachievable { xgoal, from } => format!(
@@ -177,6 +200,17 @@ pub fn explain(error: &ScheduleError, network: &GoalNetwork, plant: &Plant) -> S
     }
 }
 
+/// The goals a scheduling error names as conflicting with the goal it could not place (every
+/// goal an unmergeable one cannot be serialised with), by name; none for other errors.
+pub fn conflicts(error: &ScheduleError, network: &GoalNetwork) -> Vec<String> {
+    match error {
+        ScheduleError::Unmergeable { conflicts, .. } => (conflicts.iter())
+            .map(|g| network.goal(*g).name.clone())
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
 fn inconsistent(inconsistency: &Inconsistency, network: &GoalNetwork) -> String {
     let mut out =
         String::from("inconsistent: the temporal constraints of this cycle cannot all hold");
@@ -184,6 +218,9 @@ fn inconsistent(inconsistency: &Inconsistency, network: &GoalNetwork) -> String 
         let c = network.stn().constraint(*id);
         let why = match &c.provenance {
             Provenance::Written(_) => "written".to_string(),
+            Provenance::Elaborated { goal, .. } => {
+                format!("written by the tactic of {}", network.goal(*goal).name)
+            }
             Provenance::AfterOrigin => "every point is at or after the origin".to_string(),
             Provenance::Fired => "the point fired".to_string(),
             Provenance::Scheduled { reason } => format!("scheduler: {reason}"),

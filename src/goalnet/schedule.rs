@@ -44,12 +44,16 @@ const ORDER_BUDGET: usize = 10_000;
 pub enum ScheduleError {
     /// The STN has no solution (before or after the scheduler's constraints).
     Inconsistent(Inconsistency),
-    /// Two goals on one SV cannot hold together and cannot be serialised either way.
+    /// A goal on one SV cannot hold together with others and cannot be serialised with them
+    /// either way.
     Unmergeable {
         /// The state variable.
         sv: ComponentId,
-        /// The two goals.
-        goals: [GoalId; 2],
+        /// The goal (the later of the first pair found).
+        goal: GoalId,
+        /// Every goal it conflicts with, in network order (DESIGN.md §15.2: a refusal names
+        /// every conflicting goal).
+        conflicts: Vec<GoalId>,
     },
     /// An XGoal cannot be reached from the state the SV is in.
     Unachievable {
@@ -66,6 +70,14 @@ pub enum ScheduleError {
         from: Vec<ValueId>,
         /// The XGoal that cannot be entered.
         next: Box<XGoal>,
+    },
+    /// Points a proposal would have fire before now (DESIGN.md §15.2; promotion step b, a point
+    /// whose window is in the past is refused).
+    InThePast {
+        /// The points, each new or with its latest time moved before now.
+        points: Vec<TimePointId>,
+        /// The time of the promotion.
+        now: f64,
     },
     /// A goal delegated to the controller of a state variable that is not a component cannot
     /// be achieved by it from the SV's value ([`judge_delegated`](super::judge_delegated)).
@@ -86,11 +98,29 @@ impl std::fmt::Display for ScheduleError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             ScheduleError::Inconsistent(inconsistency) => write!(f, "{inconsistency}"),
-            ScheduleError::Unmergeable { sv, goals } => write!(
-                f,
-                "goals {} and {} on component {} can neither hold together nor be serialised",
-                goals[0].0, goals[1].0, sv.0
-            ),
+            ScheduleError::Unmergeable {
+                sv,
+                goal,
+                conflicts,
+            } => {
+                let others: Vec<String> = conflicts.iter().map(|g| g.0.to_string()).collect();
+                write!(
+                    f,
+                    "goal {} on component {} can neither hold together nor be serialised with \
+                     goals {}",
+                    goal.0,
+                    sv.0,
+                    others.join(", ")
+                )
+            }
+            ScheduleError::InThePast { points, now } => {
+                let points: Vec<String> = points.iter().map(|p| p.0.to_string()).collect();
+                write!(
+                    f,
+                    "points {} would have to fire before now ({now} s)",
+                    points.join(", ")
+                )
+            }
             ScheduleError::Unachievable { xgoal, .. } => write!(
                 f,
                 "an XGoal on component {} cannot be reached from the state it is projected to be in",
@@ -139,7 +169,9 @@ pub fn schedule(
     Ok(ExecutableNetwork { network, timelines })
 }
 
-/// Serialises every pair of goals on `sv` whose constraints do not merge (§2.2 step 2d).
+/// Serialises every pair of goals on `sv` whose constraints do not merge (§2.2 step 2d). A goal
+/// that can be serialised with a goal neither way is reported with every goal it conflicts with
+/// so (as the network stands when the first conflict is found).
 fn serialise(
     network: &mut GoalNetwork,
     sv: ComponentId,
@@ -147,37 +179,65 @@ fn serialise(
 ) -> Result<(), ScheduleError> {
     for (i, &a) in goals.iter().enumerate() {
         for &b in &goals[i + 1..] {
-            let (ga, gb) = (network.goal(a), network.goal(b));
-            if !ga.constraint.merge(&gb.constraint).is_empty() {
-                continue;
-            }
-            let first = (
-                ga.end,
-                gb.start,
-                format!("end({}) ≤ start({})", ga.name, gb.name),
-            );
-            let second = (
-                gb.end,
-                ga.start,
-                format!("end({}) ≤ start({})", gb.name, ga.name),
-            );
-            let serialised = [first, second]
-                .into_iter()
-                .find_map(|(end, start, reason)| {
-                    let mut trial = network.stn().clone();
-                    let constraint =
-                        TemporalConstraint::before(end, start, Provenance::Scheduled { reason });
-                    trial.add_constraint(constraint).ok()?;
-                    trial.propagate().ok()?;
-                    Some(trial)
-                });
-            match serialised {
-                Some(stn) => *network.stn_mut() = stn,
-                None => return Err(ScheduleError::Unmergeable { sv, goals: [a, b] }),
+            match serialised(network, a, b) {
+                Pairing::Merge => {}
+                Pairing::Serialised(stn) => *network.stn_mut() = stn,
+                Pairing::Conflict => {
+                    let conflicts = (goals.iter().copied())
+                        .filter(|&c| {
+                            c != b && matches!(serialised(network, c, b), Pairing::Conflict)
+                        })
+                        .collect();
+                    return Err(ScheduleError::Unmergeable {
+                        sv,
+                        goal: b,
+                        conflicts,
+                    });
+                }
             }
         }
     }
     Ok(())
+}
+
+/// How two goals on one SV can share its timeline.
+enum Pairing {
+    /// Their constraints merge: no ordering needed.
+    Merge,
+    /// They do not merge; one ends before the other starts (the STN with that added).
+    Serialised(Stn),
+    /// They do not merge and cannot be serialised either way.
+    Conflict,
+}
+
+/// Whether goals `a` and `b` merge, or else the STN with `end(a) ≤ start(b)` or else
+/// `end(b) ≤ start(a)` added (the first consistent).
+fn serialised(network: &GoalNetwork, a: GoalId, b: GoalId) -> Pairing {
+    let (ga, gb) = (network.goal(a), network.goal(b));
+    if !ga.constraint.merge(&gb.constraint).is_empty() {
+        return Pairing::Merge;
+    }
+    let first = (
+        ga.end,
+        gb.start,
+        format!("end({}) ≤ start({})", ga.name, gb.name),
+    );
+    let second = (
+        gb.end,
+        ga.start,
+        format!("end({}) ≤ start({})", gb.name, ga.name),
+    );
+    let stn = [first, second]
+        .into_iter()
+        .find_map(|(end, start, reason)| {
+            let mut trial = network.stn().clone();
+            let constraint =
+                TemporalConstraint::before(end, start, Provenance::Scheduled { reason });
+            trial.add_constraint(constraint).ok()?;
+            trial.propagate().ok()?;
+            Some(trial)
+        });
+    stn.map_or(Pairing::Conflict, Pairing::Serialised)
 }
 
 /// A total order of the goals' points consistent with the STN, added to it (§2.2 step 2b).

@@ -21,6 +21,11 @@
 //!   of a 10,000-point chain took 1 s.
 //! - On a negative cycle, the cycle is extracted (Bellman–Ford with predecessor edges, walked
 //!   back into the cycle) and named by its constraints.
+//!
+//! A firing the network contradicts (a point that had to fire at a cycle past its window) is
+//! history and stays; the constraints it contradicts are *withdrawn* ([`Stn::withdraw`]): they
+//! stay in the list with their ids, so that an explanation made before still reads, but give
+//! the distance graph no edge and are not copied into a proposal.
 
 use std::collections::VecDeque;
 
@@ -89,6 +94,8 @@ pub struct Stn {
     distances: Option<Distances>,
     /// Edges added since the last propagation (relaxed incrementally).
     pending: Vec<EdgeIndex>,
+    /// Per constraint (by id), whether it was withdrawn ([`Stn::withdraw`]).
+    withdrawn: Vec<bool>,
 }
 
 impl Default for Stn {
@@ -109,6 +116,7 @@ impl Stn {
             // The first propagation is a full one (petgraph's Bellman–Ford).
             distances: None,
             pending: Vec::new(),
+            withdrawn: Vec::new(),
         }
     }
 
@@ -171,7 +179,49 @@ impl Stn {
             self.add_edge(to, from, -constraint.min, id);
         }
         self.constraints.push(constraint);
+        self.withdrawn.push(false);
         id
+    }
+
+    /// Withdraws constraints — a late firing contradicted them (DESIGN.md §15.2): they keep
+    /// their ids and stay in [`Stn::constraints`] (an explanation naming them still reads), but
+    /// no longer bound any point. The distance graph is rebuilt without them and propagated in
+    /// full.
+    pub fn withdraw(&mut self, ids: &[ConstraintId]) -> Result<(), Inconsistency> {
+        for id in ids {
+            if let Some(withdrawn) = self.withdrawn.get_mut(id.index()) {
+                *withdrawn = true;
+            }
+        }
+        let mut graph = DiGraph::with_capacity(self.point_count(), self.graph.edge_count());
+        for _ in 0..self.point_count() {
+            graph.add_node(());
+        }
+        self.graph = graph;
+        self.edge_constraint.clear();
+        self.pending.clear();
+        self.distances = None;
+        let edges: Vec<(NodeIndex, NodeIndex, f64, ConstraintId)> = (self.constraints.iter())
+            .zip(&self.withdrawn)
+            .enumerate()
+            .filter(|(_, (_, withdrawn))| !**withdrawn)
+            .flat_map(|(i, (c, _))| {
+                let (from, to) = (NodeIndex::new(c.from.index()), NodeIndex::new(c.to.index()));
+                let id = ConstraintId(i as u32);
+                let forward = c.max.is_finite().then_some((from, to, c.max, id));
+                let backward = c.min.is_finite().then_some((to, from, -c.min, id));
+                forward.into_iter().chain(backward)
+            })
+            .collect();
+        for (from, to, weight, id) in edges {
+            self.add_edge(from, to, weight, id);
+        }
+        self.propagate()
+    }
+
+    /// Whether a constraint was withdrawn ([`Stn::withdraw`]).
+    pub fn is_withdrawn(&self, id: ConstraintId) -> bool {
+        self.withdrawn.get(id.index()).copied().unwrap_or(false)
     }
 
     fn add_edge(&mut self, from: NodeIndex, to: NodeIndex, weight: f64, id: ConstraintId) {
@@ -341,7 +391,8 @@ impl Stn {
     /// with a minimum ≥ 0 (the firing rule of mds-goal-networks.md §2.4: "predecessors fired").
     pub fn predecessors(&self) -> Vec<Vec<TimePointId>> {
         let mut predecessors = vec![Vec::new(); self.point_count()];
-        for c in &self.constraints {
+        let kept = self.constraints.iter().zip(&self.withdrawn);
+        for c in kept.filter(|(_, withdrawn)| !**withdrawn).map(|(c, _)| c) {
             if c.min >= 0.0 && c.from != c.to && !predecessors[c.to.index()].contains(&c.from) {
                 predecessors[c.to.index()].push(c.from);
             }

@@ -96,14 +96,34 @@ pub enum SubmitError {
     #[error("the submission cannot be elaborated: {0}")]
     NotElaborated(String),
     /// The network with the submission cannot be scheduled (inconsistent, unmergeable,
-    /// unachievable).
+    /// unachievable, or a point it would have fire in the past).
     #[error("the submission cannot be scheduled: {explanation}")]
     Refused {
         /// The scheduler's error.
         error: ScheduleError,
         /// It in words, with the evidence (`goalnet::display::explain`).
         explanation: String,
+        /// Every goal a submitted goal conflicts with, by name (empty unless unmergeable).
+        conflicts: Vec<String>,
     },
+    /// A submission at a time before the last cycle's.
+    #[error("submitted at {now} s, before the last cycle ({last} s)")]
+    Late {
+        /// The time given.
+        now: f64,
+        /// The last cycle's time.
+        last: f64,
+    },
+}
+
+impl SubmitError {
+    /// The goals of the running network a refused submission conflicts with, by name.
+    pub fn conflicts(&self) -> &[String] {
+        match self {
+            SubmitError::Refused { conflicts, .. } => conflicts,
+            _ => &[],
+        }
+    }
 }
 
 impl Submission {

@@ -334,6 +334,12 @@ pub enum EventName {
     PromotionFailed,
     /// The safe network was promoted.
     Safing,
+    /// A mission goal that had failed holds again.
+    GoalRecovered,
+    /// The mission's network has points left that nothing will fire.
+    NetworkStalled,
+    /// A goal of the safe network was dropped (it could not be scheduled).
+    SafeGoalDropped,
 }
 
 impl EventName {
@@ -376,6 +382,9 @@ impl EventName {
             E::Promoted { .. } => EventName::Promoted,
             E::PromotionFailed { .. } => EventName::PromotionFailed,
             E::Safing { .. } => EventName::Safing,
+            E::GoalRecovered { .. } => EventName::GoalRecovered,
+            E::NetworkStalled { .. } => EventName::NetworkStalled,
+            E::SafeGoalDropped { .. } => EventName::SafeGoalDropped,
         }
     }
 }

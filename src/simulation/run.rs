@@ -151,7 +151,7 @@ pub fn run(
     let mut last_time;
     let stop = loop {
         let observation = plant.observe(time);
-        let refused = submit_due(plant.rules_mut(), &mut executive);
+        let refused = submit_due(plant.rules_mut(), &mut executive, time);
         let mut step = executive.step(time, &observation)?;
         report_refusals(&mut step, refused);
         let command: Vec<NamedValue> = step
@@ -324,23 +324,26 @@ pub(crate) fn build(scenario: &Scenario, options: RunOptions) -> Result<Executiv
     builder.build()
 }
 
-/// Submits to the executive the goals of the rules whose effect showed in this cycle's
-/// observation (`submit:`), before its cycle runs — so that the cycle schedules and dispatches
-/// them; the refusals, as events (what the rule submitted and why it was refused).
+/// Submits to the executive, at `time` (the cycle's), the goals of the rules whose effect
+/// showed in this cycle's observation (`submit:`), before its cycle runs — so that the cycle
+/// schedules and dispatches them; the refusals, as events (what the rule submitted, why it was
+/// refused, the running goals it conflicts with).
 pub(crate) fn submit_due(
     plant: &mut ScriptedPlant<'_>,
     executive: &mut Executive,
+    time: f64,
 ) -> Vec<EventKind> {
     let script = plant.script();
     plant
         .take_submissions()
         .into_iter()
         .filter_map(|(rule, submission)| {
-            let reason = executive.submit(submission).err()?;
+            let error = executive.submit(submission, time).err()?;
             Some(EventKind::SubmissionRefused {
                 by: script.rules()[rule].name.clone(),
                 goals: submission.goals.iter().map(|g| g.name.clone()).collect(),
-                reason: reason.to_string(),
+                reason: error.to_string(),
+                conflicts: error.conflicts().to_vec(),
             })
         })
         .collect()

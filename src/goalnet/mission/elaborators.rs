@@ -8,7 +8,8 @@
 //!     GoalType(name: "StayWarm", response: ReElaborate, budget: 3, tactics: [
 //!         Tactic(
 //!             name: "heater 1",                 // optional; default "tactic N"
-//!             // New points, fresh at every elaboration (`TP_A`, then `TP_A′`).
+//!             // New points, fresh at every elaboration (`stay-warm.TP_A`, then
+//!             // `stay-warm#2.TP_A`).
 //!             points: ["TP_A"],
 //!             // Between `start`/`end` (the parent's points) and the tactic's own points.
 //!             constraints: [Constraint(from: "TP_A", to: "start", min: 60.0, max: 150.0)],
