@@ -429,6 +429,14 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
         E::SafeGoalDropped { goal, reason } => {
             ("SAFE DROP", format!("safe goal {goal} dropped: {reason}"))
         }
+        E::XGoalWithdrawn { sv, goals } => (
+            "withdrawn",
+            format!(
+                "{}: no XGoal active since the promotion ({} no longer asked for)",
+                component(*sv),
+                goals.join(", ")
+            ),
+        ),
     }
 }
 

@@ -353,6 +353,15 @@ pub enum EventKind {
         /// Why, on one line (the scheduler's explanation).
         reason: String,
     },
+    /// A promotion (a re-elaboration, a submission, safing) left no XGoal active on a state
+    /// variable that had one: what it held is no longer asked for (DESIGN.md §15.2: the
+    /// promotion replaced the retired XGoals).
+    XGoalWithdrawn {
+        /// The state variable (a component).
+        sv: ComponentId,
+        /// The goals the withdrawn XGoal merged.
+        goals: Vec<String>,
+    },
 }
 
 /// A goal a command serves: the goal of the component the planner's descent started from

@@ -30,7 +30,7 @@ use crate::goalnet::{
 use crate::goalnet::{Submission, SubmitError};
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
-use crate::reconfiguration::Reconfiguration;
+use crate::reconfiguration::{FailureCause, GoalFailed, Reconfiguration};
 
 /// A loaded mission with its goal network scheduled: what [`Executive::builder`] runs as a
 /// mission (it converts into a [`ControlProgram`](super::ControlProgram)).
@@ -101,6 +101,9 @@ pub(super) struct MissionControl {
     delegations: Delegations,
     /// Per component, the marginal of each of its modes (reused from cycle to cycle).
     beliefs: Vec<Vec<f64>>,
+    /// Per state variable, the XGoal the events reported so far leave active: its end point and
+    /// goals (kept in step with the truth after a promotion, [`MissionControl::reconcile`]).
+    shown: Vec<(ComponentId, String, Vec<String>)>,
     /// Whether a cycle has been stepped: the first reports the XGoals active from the origin.
     started: bool,
     /// Whether completion has been reported.
@@ -130,6 +133,7 @@ impl MissionControl {
             delegated: Vec::new(),
             delegations,
             beliefs,
+            shown: Vec::new(),
             started: false,
             completed: false,
         };
@@ -147,6 +151,7 @@ impl MissionControl {
             controller.fingerprint(state);
         }
         self.pending.len().hash(state);
+        self.shown.hash(state);
         self.delegations.hash(state);
         self.started.hash(state);
         self.completed.hash(state);
@@ -209,8 +214,16 @@ impl MissionControl {
         let mut events = std::mem::take(&mut self.pending);
         events.extend(stepped);
         let refresh = events.iter().any(changes_windows);
+        let promoted = (events.iter()).any(|e| {
+            matches!(
+                e,
+                MissionEvent::Promoted { .. } | MissionEvent::Safing { .. }
+            )
+        });
         let mut kinds = delivered;
-        kinds.extend(self.describe_cycle(events, modes));
+        let mut described = self.describe_cycle(events, modes);
+        self.reconcile(&mut described, promoted);
+        kinds.extend(described);
         kinds.extend(sent);
         if refresh {
             self.refresh_windows();
@@ -225,6 +238,45 @@ impl MissionControl {
             c.configuration_goal(reconfiguration, controllable)
         });
         (kinds, goal)
+    }
+
+    /// Goal interpretation found the configuration goal unreachable (`failed`, worded as
+    /// `reason`): the active goals on the state variables its conflict names (every one, when
+    /// it names none) that ŝ does not satisfy cannot progress — they fail at the next cycle's
+    /// monitoring, and their responses are taken (DESIGN.md §15.2: a promoted tactic that
+    /// cannot progress is a failure with a response, not points forced one after another).
+    pub(super) fn cannot_progress(&mut self, failed: &GoalFailed, reason: &str) {
+        let Some(controller) = &mut self.controller else {
+            return;
+        };
+        let plant = &self.mission.plant;
+        let goal_svs = |goals: &[Formula]| {
+            let mut svs: Vec<ComponentId> = (goals.iter())
+                .flat_map(|g| g.variables())
+                .filter_map(|var| plant.component_of(var))
+                .collect();
+            svs.sort_unstable();
+            svs.dedup();
+            svs
+        };
+        // The components whose reach is responsible, among those the goal constrains; when
+        // none is (a stuck valve upstream of the engine), every part of the conflict.
+        let svs = match &failed.cause {
+            FailureCause::Unreachable { goals, components } => {
+                let svs = goal_svs(goals);
+                let responsible: Vec<ComponentId> = (svs.iter().copied())
+                    .filter(|sv| components.contains(sv))
+                    .collect();
+                Some(if responsible.is_empty() {
+                    svs
+                } else {
+                    responsible
+                })
+            }
+            FailureCause::Contradictory { goals } => Some(goal_svs(goals)),
+            FailureCause::NotEntailed | FailureCause::BadInput => None,
+        };
+        controller.cannot_progress(svs, reason.to_string());
     }
 
     /// Adds `submission` to a proposal — a copy of the running network — and promotes it
@@ -287,6 +339,72 @@ impl MissionControl {
             kinds.extend(self.dispatched_from_origin());
         }
         kinds
+    }
+
+    /// Keeps [`MissionControl::shown`] in step with the cycle's events and, after a promotion
+    /// (which changes the timelines without firing anything), with the truth: an SV whose active
+    /// XGoal is not the one the events left there gets its dispatch, an SV left with none an
+    /// `XGoalWithdrawn` — so the log, the trace and expectations never see a retired XGoal as
+    /// active.
+    fn reconcile(&mut self, kinds: &mut Vec<EventKind>, promoted: bool) {
+        for kind in kinds.iter() {
+            match kind {
+                EventKind::XGoalDispatched {
+                    sv,
+                    interval: (_, end),
+                    goals,
+                    ..
+                } => {
+                    self.shown.retain(|(s, _, _)| s != sv);
+                    self.shown.push((*sv, end.clone(), goals.clone()));
+                }
+                EventKind::TimePointFired { point, .. }
+                | EventKind::TimePointForced { point, .. } => {
+                    self.shown.retain(|(_, end, _)| end != point);
+                }
+                _ => {}
+            }
+        }
+        let Some(controller) = self.controller.as_ref().filter(|_| promoted) else {
+            return;
+        };
+        let execution = controller.execution();
+        let network = &execution.executable().network;
+        let truth: Vec<&XGoal> = (execution.executable().timelines.iter())
+            .filter_map(|t| execution.active(t.sv))
+            .collect();
+        let mut corrections = Vec::new();
+        for xgoal in &truth {
+            let end = &network.point(xgoal.end).name;
+            let goals: Vec<String> = (xgoal.constituents.iter())
+                .map(|g| network.goal(*g).name.clone())
+                .collect();
+            let same = |(sv, e, g): &&(ComponentId, String, Vec<String>)| {
+                *sv == xgoal.sv && e == end && *g == goals
+            };
+            if !self.shown.iter().any(|s| same(&s)) {
+                corrections.push(self.dispatched(xgoal));
+            }
+        }
+        for (sv, _, goals) in &self.shown {
+            if !truth.iter().any(|x| x.sv == *sv) {
+                corrections.push(EventKind::XGoalWithdrawn {
+                    sv: *sv,
+                    goals: goals.clone(),
+                });
+            }
+        }
+        if !corrections.is_empty() {
+            self.shown = (truth.iter())
+                .map(|x| {
+                    let goals = (x.constituents.iter())
+                        .map(|g| network.goal(*g).name.clone())
+                        .collect();
+                    (x.sv, network.point(x.end).name.clone(), goals)
+                })
+                .collect();
+            kinds.extend(corrections);
+        }
     }
 
     /// Sums the plant states' probabilities into each component's mode marginals.

@@ -906,6 +906,10 @@ impl Executive {
             return (Some(retry.goal_state), Some(retry.action));
         }
         let reason = self.ambiguity.explain(&self.plant, failed);
+        // A mission's goals that cannot progress fail, and are answered (DESIGN.md §15.2).
+        if let Program::Mission(mission) = &mut self.control.0 {
+            mission.cannot_progress(failed, &reason);
+        }
         if self.reported.goal_failure.as_ref() != Some(&reason) {
             log.push(EventKind::GoalFailed {
                 goal: goal.formula.display(self.plant.table()).to_string(),

@@ -135,6 +135,7 @@ impl<'s, 'p> Worker<'s, 'p> {
                     plant: &scenario.plant,
                     world: &scenario.script.world,
                     controls: &scenario.script.controls,
+                    program: &scenario.program_source,
                 },
             ),
             choices: Vec::new(),

@@ -211,6 +211,8 @@ pub(super) enum ExpectFile {
     Reported {
         event: EventName,
         #[serde(default)]
+        saying: Option<String>,
+        #[serde(default)]
         after: Option<f64>,
         #[serde(default)]
         by: Option<f64>,
@@ -218,6 +220,8 @@ pub(super) enum ExpectFile {
     AnyOf(Vec<ExpectFile>),
     NeverReported {
         event: EventName,
+        #[serde(default)]
+        saying: Option<String>,
         #[serde(default)]
         from: Option<f64>,
         #[serde(default)]
@@ -258,6 +262,43 @@ pub(super) enum ExpectFile {
         goal: Option<String>,
         time: f64,
     },
+    Recovered {
+        goal: String,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    NeverXGoalActive {
+        sv: String,
+        #[serde(default)]
+        goal: Option<String>,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+    Always {
+        that: ConditionFile,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+}
+
+/// A condition on one cycle, for `Always(that: ...)` (`simulation::condition`).
+#[derive(Deserialize)]
+pub(super) enum ConditionFile {
+    Plant(String),
+    Estimated(String),
+    Reported(EventName),
+    Active(String),
+    Not(Box<ConditionFile>),
+    All(Vec<ConditionFile>),
+    Any(Vec<ConditionFile>),
+    Implies(Box<ConditionFile>, Box<ConditionFile>),
+    Once(Box<ConditionFile>),
 }
 
 /// The kinds of executive event an expectation can name (`Reported(event: Diagnosis)`).
@@ -340,6 +381,8 @@ pub enum EventName {
     NetworkStalled,
     /// A goal of the safe network was dropped (it could not be scheduled).
     SafeGoalDropped,
+    /// A promotion took the active XGoal off a state variable.
+    XGoalWithdrawn,
 }
 
 impl EventName {
@@ -385,6 +428,7 @@ impl EventName {
             E::GoalRecovered { .. } => EventName::GoalRecovered,
             E::NetworkStalled { .. } => EventName::NetworkStalled,
             E::SafeGoalDropped { .. } => EventName::SafeGoalDropped,
+            E::XGoalWithdrawn { .. } => EventName::XGoalWithdrawn,
         }
     }
 }

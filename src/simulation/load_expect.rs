@@ -1,8 +1,9 @@
 //! Loading a scenario's expectations, each problem located in the scenario file.
 
 use super::ScenarioProgram;
+use super::condition::Condition;
 use super::expect::{Expectation, ExpectationKind, Window};
-use super::format::{DelayFile, ExpectFile};
+use super::format::{ConditionFile, DelayFile, ExpectFile};
 use super::load::{FileCtx, VarClasses, Vars, formula};
 use super::script::{Delay, Script};
 use crate::diagnostic::locate::Step;
@@ -215,12 +216,22 @@ impl ExpectLoader<'_> {
                 },
                 format!("program completed{}", eventual(*after, *by)),
             ),
-            F::Reported { event, after, by } => (
+            F::Reported {
+                event,
+                saying,
+                after,
+                by,
+            } => (
                 K::Reported {
                     event: *event,
+                    saying: self.saying(ctx, at, saying.as_deref())?,
                     window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                 },
-                format!("reported {event:?}{}", eventual(*after, *by)),
+                format!(
+                    "reported {event:?}{}{}",
+                    quoted(saying.as_deref()),
+                    eventual(*after, *by)
+                ),
             ),
             F::AnyOf(members) => {
                 let (members, labels) = self.members(ctx, at, members)?;
@@ -229,13 +240,60 @@ impl ExpectLoader<'_> {
                     format!("any of: {}", labels.join("; ")),
                 )
             }
-            F::NeverReported { event, from, to } => (
+            F::NeverReported {
+                event,
+                saying,
+                from,
+                to,
+            } => (
                 K::NeverReported {
                     event: *event,
+                    saying: self.saying(ctx, at, saying.as_deref())?,
                     window: self.window(ctx, at, ("from", *from), ("to", *to))?,
                 },
-                format!("never reported {event:?}{}", during(*from, *to)),
+                format!(
+                    "never reported {event:?}{}{}",
+                    quoted(saying.as_deref()),
+                    during(*from, *to)
+                ),
             ),
+            F::Recovered { goal, after, by } => (
+                K::Recovered {
+                    goal: self.network_goal(ctx, at, goal)?,
+                    window: self.window(ctx, at, ("after", *after), ("by", *by))?,
+                },
+                format!("mission goal {goal} recovered{}", eventual(*after, *by)),
+            ),
+            F::NeverXGoalActive { sv, goal, from, to } => {
+                self.names(ctx, at)?;
+                let component = self.component(ctx, at, sv)?;
+                let checked = match goal {
+                    Some(goal) => Some(self.network_goal(ctx, at, goal)?),
+                    None => None,
+                };
+                let with = goal
+                    .as_deref()
+                    .map_or_else(String::new, |g| format!(" with {g}"));
+                (
+                    K::NeverXGoalActive {
+                        sv: component,
+                        goal: checked,
+                        window: self.window(ctx, at, ("from", *from), ("to", *to))?,
+                    },
+                    format!("no XGoal{with} active on {sv}{}", during(*from, *to)),
+                )
+            }
+            F::Always { that, from, to } => {
+                let mut slots = 0;
+                let condition = self.condition(ctx, &field(at, "that"), that, &mut slots)?;
+                (
+                    K::Always {
+                        condition,
+                        window: self.window(ctx, at, ("from", *from), ("to", *to))?,
+                    },
+                    format!("always {}{}", describe(that), during(*from, *to)),
+                )
+            }
             F::Fired { point, after, by } => (
                 K::Fired {
                     point: self.point(ctx, at, point)?,
@@ -512,6 +570,93 @@ impl ExpectLoader<'_> {
         }
     }
 
+    /// `saying`: a non-empty part of an event's text.
+    fn saying(
+        &self,
+        ctx: &mut FileCtx,
+        at: &[Step<'_>],
+        saying: Option<&str>,
+    ) -> Option<Option<String>> {
+        match saying {
+            Some("") => {
+                ctx.error(
+                    &field(at, "saying"),
+                    "an empty `saying` says nothing",
+                    "a part of the event's text as the log prints it",
+                );
+                None
+            }
+            other => Some(other.map(str::to_string)),
+        }
+    }
+
+    /// A condition of `Always` at `path`; each `Once` takes the next of `slots`.
+    fn condition(
+        &self,
+        ctx: &mut FileCtx,
+        path: &[Step<'_>],
+        file: &ConditionFile,
+        slots: &mut usize,
+    ) -> Option<Condition> {
+        use ConditionFile as C;
+        let inner = |k: usize| [path, &[Step::Index(k)]].concat();
+        let formula = |ctx: &mut FileCtx, text: &str, vars| {
+            formula(
+                ctx,
+                &inner(0),
+                text,
+                &self.script.world,
+                vars,
+                &self.classes,
+            )
+        };
+        let condition = match file {
+            C::Plant(text) => Condition::Plant(formula(ctx, text, Vars::Held)?),
+            C::Estimated(text) => Condition::Estimated(formula(ctx, text, Vars::Modes)?),
+            C::Reported(event) => Condition::Reported(*event),
+            C::Active(goal) => {
+                let names = self.names(ctx, path)?;
+                let submitted = (self.submissions()).flat_map(|s| s.goals.iter().map(|g| &g.name));
+                if !(names.has_goal(goal) || submitted.clone().any(|g| g == goal)) {
+                    let all = names.goals.iter().chain(submitted).map(String::as_str);
+                    self.known(ctx, &inner(0), goal, all, "goal")?;
+                }
+                Condition::Active(goal.clone())
+            }
+            C::Not(c) => Condition::Not(Box::new(self.condition(ctx, &inner(0), c, slots)?)),
+            C::All(cs) | C::Any(cs) => {
+                let before = ctx.errors.len();
+                let members: Vec<Condition> = (cs.iter().enumerate())
+                    .filter_map(|(k, c)| {
+                        let at = [path, &[Step::Index(0), Step::Index(k)]].concat();
+                        self.condition(ctx, &at, c, slots)
+                    })
+                    .collect();
+                if ctx.errors.len() != before {
+                    return None;
+                }
+                match file {
+                    C::All(_) => Condition::All(members),
+                    _ => Condition::Any(members),
+                }
+            }
+            C::Implies(a, b) => {
+                let a = self.condition(ctx, &inner(0), a, slots);
+                let b = self.condition(ctx, &inner(1), b, slots);
+                Condition::Implies(Box::new(a?), Box::new(b?))
+            }
+            C::Once(c) => {
+                let condition = Box::new(self.condition(ctx, &inner(0), c, slots)?);
+                *slots += 1;
+                Condition::Once {
+                    condition,
+                    slot: *slots - 1,
+                }
+            }
+        };
+        Some(condition)
+    }
+
     /// A goal the program asserts, displayed as the executive reports it.
     fn goal(&self, ctx: &mut FileCtx, at: &[Step<'_>], text: &str) -> Option<String> {
         let formula = self.formula(ctx, at, "goal", text, Vars::Plant)?;
@@ -626,6 +771,32 @@ fn during(from: Option<f64>, to: Option<f64>) -> String {
         (Some(a), None) => format!(" from {a} s"),
         (None, Some(b)) => format!(" until {b} s"),
         (Some(a), Some(b)) => format!(" from {a} s to {b} s"),
+    }
+}
+
+/// ` saying "…"`, or nothing.
+fn quoted(saying: Option<&str>) -> String {
+    saying.map_or_else(String::new, |s| format!(" saying \"{s}\""))
+}
+
+/// A condition in words, for the label of `Always`: `(if stay-warm active then the plant has
+/// temp != cold)`.
+fn describe(condition: &ConditionFile) -> String {
+    use ConditionFile as C;
+    let list = |cs: &[ConditionFile], joint: &str| {
+        let parts: Vec<String> = cs.iter().map(describe).collect();
+        format!("({})", parts.join(joint))
+    };
+    match condition {
+        C::Plant(text) => format!("the plant has {text}"),
+        C::Estimated(text) => format!("ŝ has {text}"),
+        C::Reported(event) => format!("{event:?} reported"),
+        C::Active(goal) => format!("{goal} active"),
+        C::Not(c) => format!("not {}", describe(c)),
+        C::All(cs) => list(cs, " and "),
+        C::Any(cs) => list(cs, " or "),
+        C::Implies(a, b) => format!("(if {} then {})", describe(a), describe(b)),
+        C::Once(c) => format!("once {}", describe(c)),
     }
 }
 

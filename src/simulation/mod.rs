@@ -261,6 +261,7 @@
 //! Every problem in a scenario, script, model or program is reported with its file, line and
 //! column, the text and what was expected there.
 
+mod condition;
 mod expect;
 mod format;
 mod latent;
@@ -276,6 +277,7 @@ mod script;
 
 use std::time::Duration;
 
+pub use condition::Condition;
 pub(crate) use expect::{Checker, Names};
 pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
 pub use format::EventName;

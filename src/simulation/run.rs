@@ -139,6 +139,7 @@ pub fn run(
             plant: &scenario.plant,
             world: &scenario.script.world,
             controls: &scenario.script.controls,
+            program: &scenario.program_source,
         },
     );
     let mut clock = SimulatedClock::new(0.0, scenario.cycle);

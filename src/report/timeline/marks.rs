@@ -289,7 +289,7 @@ impl Builder<'_, '_> {
                 late_by,
             } => self.time_point(time, point, *window, Some(*late_by)),
             // A bar on its state variable's lane (`xgoals`).
-            EventKind::XGoalDispatched { .. } => {}
+            EventKind::XGoalDispatched { .. } | EventKind::XGoalWithdrawn { .. } => {}
             EventKind::MissionGoalFailed {
                 goal,
                 reason,
