@@ -294,10 +294,10 @@ impl MissionControl {
     ) -> Result<(), SubmitError> {
         let plant = &self.mission.plant;
         for goal in &submission.goals {
-            let fits = plant
-                .components()
-                .get(goal.sv.index())
-                .is_some_and(|c| c.modes().len() == goal.constraint.domain());
+            let fits = goal.sv.is_none_or(|sv| {
+                (plant.components().get(sv.index()))
+                    .is_some_and(|c| c.modes().len() == goal.constraint.domain())
+            });
             if !fits {
                 return Err(SubmitError::Domain(goal.name.clone()));
             }

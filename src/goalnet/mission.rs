@@ -320,24 +320,7 @@ impl Loader<'_> {
         let mut network = GoalNetwork::new();
         self.points(&mut network, file, &[Step::Field(field)]);
         self.constraints(&mut network, file, &[Step::Field(field)]);
-        for (index, spec) in file.macros.iter().enumerate() {
-            let item = Item::listed(field, "macros", index);
-            let header = Header {
-                name: &spec.name,
-                start: &spec.start,
-                end: &spec.end,
-                parent: spec.parent.as_deref(),
-                priority: spec.priority,
-            };
-            if let Some(goal) = self.header(&network, &item, &header) {
-                network.add_goal(goal(
-                    None,
-                    GoalKind::Unconstrained,
-                    ConstraintSet::unconstrained(0),
-                    String::new(),
-                ));
-            }
-        }
+        self.macros(&mut network, file, &[Step::Field(field)]);
         for (index, spec) in file.goals.iter().enumerate() {
             let item = Item::listed(field, "goals", index);
             self.goal(plant, &mut network, item, spec);
@@ -346,6 +329,31 @@ impl Loader<'_> {
             self.inconsistent(&network, field, &inconsistency);
         }
         network
+    }
+
+    /// The network's macros (goals with no state variable), the network being at `at` in the
+    /// file.
+    fn macros(&mut self, network: &mut GoalNetwork, file: &NetworkFile, at: &[Step]) {
+        for (index, spec) in file.macros.iter().enumerate() {
+            let item = Item {
+                prefix: [at, &[Step::Field("macros"), Step::Index(index)]].concat(),
+            };
+            let header = Header {
+                name: &spec.name,
+                start: &spec.start,
+                end: &spec.end,
+                parent: spec.parent.as_deref(),
+                priority: spec.priority,
+            };
+            if let Some(goal) = self.header(network, &item, &header) {
+                network.add_goal(goal(
+                    None,
+                    GoalKind::Unconstrained,
+                    ConstraintSet::unconstrained(0),
+                    String::new(),
+                ));
+            }
+        }
     }
 
     /// The network's points, the network being at `at` in the file.

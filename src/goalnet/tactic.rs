@@ -232,6 +232,12 @@ impl Elaborators {
         names
     }
 
+    /// Adds the names the tactics of type `t` give a goal named `goal` (a typed goal submitted
+    /// to the running mission), and their typed children's.
+    pub fn add_elaborated(&self, goal: &str, t: TypeId, names: &mut MissionNames) {
+        self.elaborated_names(goal, t, &mut Vec::new(), names);
+    }
+
     /// The names `goal`'s tactics (of type `t`) give, and their typed children's, depth first.
     fn elaborated_names(
         &self,

@@ -477,6 +477,7 @@ mod tests {
         reference::add::<DelayFile>(&mut tracer);
         reference::add::<TriggerFile>(&mut tracer);
         reference::add::<SimulatorFile>(&mut tracer);
+        reference::add::<ConditionFile>(&mut tracer);
         reference::add::<ExpectFile>(&mut tracer);
         reference::add::<ScriptFile>(&mut tracer);
         reference::add::<ScenarioFile>(&mut tracer);
@@ -491,6 +492,7 @@ mod tests {
                 ("DeliverFile", "scenario.md", "Deliveries"),
                 ("SimulatorFile", "scenario.md", "A model-driven plant"),
                 ("ExpectFile", "scenario.md", "Expectations"),
+                ("ConditionFile", "scenario.md", "Conditions"),
                 ("EventName", "scenario.md", "Event kinds"),
                 ("Network", "mission.md", "`Network(...)`"),
                 ("Constraint", "mission.md", "`Constraint(...)`"),

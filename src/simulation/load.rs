@@ -121,7 +121,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, LoadErrors> 
     let declared: Vec<String> = (parts.iter())
         .flat_map(|(_, part)| part.rules.iter().map(|rule| rule.name.clone()))
         .collect();
-    let mission = program.mission().map(|m| &m.mission().network);
+    let mission = program.mission().map(|m| m.mission());
     let mut script = super::load_script::script(&plant, mission, &mut parts, settings.end);
     drop(parts);
     script.pinned = super::load_script::pinned(&mut ctx, &file.choose, &script);

@@ -33,7 +33,15 @@ pub(super) fn expectations(
             .map_or_else(Vec::new, |t| program_goals(plant, t)),
         names: program.mission().map(|m| {
             let mission = m.mission();
-            mission.elaborators.names(&mission.network, &mission.safe)
+            let mut names = mission.elaborators.names(&mission.network, &mission.safe);
+            // What the tactics of a typed goal a rule submits will name.
+            let submitted = script.rules().iter().filter_map(|r| r.effect.submit.as_ref());
+            for goal in submitted.flat_map(|s| &s.goals) {
+                if let Some(t) = goal.goal_type {
+                    mission.elaborators.add_elaborated(&goal.name, t, &mut names);
+                }
+            }
+            names
         }),
         end,
     };

@@ -91,15 +91,19 @@ struct ChildFile {
 }
 
 /// A macro or goal of a network file, with where it is and the type it names.
-struct Listed<'a> {
-    list: &'static str,
-    index: usize,
-    name: &'a str,
-    goal_type: Option<&'a str>,
+pub(super) struct Listed<'a> {
+    /// `macros` or `goals`.
+    pub(super) list: &'static str,
+    /// Its index in that list.
+    pub(super) index: usize,
+    /// Its name.
+    pub(super) name: &'a str,
+    /// The goal type it names.
+    pub(super) goal_type: Option<&'a str>,
 }
 
-/// A network's macros, then its goals.
-fn listed(net: &super::NetworkFile) -> Vec<Listed<'_>> {
+/// A network's macros, then its goals (the order the loader adds them to the network).
+pub(super) fn listed(net: &super::NetworkFile) -> Vec<Listed<'_>> {
     let macros = net.macros.iter().enumerate().map(|(index, m)| Listed {
         list: "macros",
         index,
@@ -197,7 +201,8 @@ impl Loader<'_> {
         }
     }
 
-    fn goal_type(
+    /// The goal type `name` names, or a located error.
+    pub(super) fn goal_type(
         &mut self,
         elaborators: &Elaborators,
         path: &[Step],
