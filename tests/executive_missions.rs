@@ -71,7 +71,7 @@ fn close_switch1(executive: &Executive, at: f64, target: &str) -> Submission {
         goals: vec![
             SubmittedGoal {
                 name: "close-switch1".into(),
-                sv,
+                sv: Some(sv),
                 kind: GoalKind::Transition,
                 constraint: set.clone(),
                 text: String::new(),
@@ -79,10 +79,11 @@ fn close_switch1(executive: &Executive, at: f64, target: &str) -> Submission {
                 end: "TP_A".into(),
                 parent: None,
                 priority: 0,
+                goal_type: None,
             },
             SubmittedGoal {
                 name: "heater1".into(),
-                sv,
+                sv: Some(sv),
                 kind: GoalKind::Maintain,
                 constraint: set,
                 text: String::new(),
@@ -90,6 +91,7 @@ fn close_switch1(executive: &Executive, at: f64, target: &str) -> Submission {
                 end: "TP_E".into(),
                 parent: None,
                 priority: 0,
+                goal_type: None,
             },
         ],
     }

@@ -115,6 +115,7 @@ pub(super) struct RuleFile {
 pub(super) enum TriggerFile {
     Command(String),
     Estimate(String),
+    While(String),
     Time(f64),
     Cycle(i64),
     Optional {

@@ -35,10 +35,15 @@ pub(super) fn expectations(
             let mission = m.mission();
             let mut names = mission.elaborators.names(&mission.network, &mission.safe);
             // What the tactics of a typed goal a rule submits will name.
-            let submitted = script.rules().iter().filter_map(|r| r.effect.submit.as_ref());
+            let submitted = script
+                .rules()
+                .iter()
+                .filter_map(|r| r.effect.submit.as_ref());
             for goal in submitted.flat_map(|s| &s.goals) {
                 if let Some(t) = goal.goal_type {
-                    mission.elaborators.add_elaborated(&goal.name, t, &mut names);
+                    mission
+                        .elaborators
+                        .add_elaborated(&goal.name, t, &mut names);
                 }
             }
             names
@@ -795,9 +800,10 @@ fn describe(condition: &ConditionFile) -> String {
         let parts: Vec<String> = cs.iter().map(describe).collect();
         format!("({})", parts.join(joint))
     };
+    let squeezed = |text: &str| text.split_whitespace().collect::<Vec<_>>().join(" ");
     match condition {
-        C::Plant(text) => format!("the plant has {text}"),
-        C::Estimated(text) => format!("ŝ has {text}"),
+        C::Plant(text) => format!("the plant has {}", squeezed(text)),
+        C::Estimated(text) => format!("ŝ has {}", squeezed(text)),
         C::Reported(event) => format!("{event:?} reported"),
         C::Active(goal) => format!("{goal} active"),
         C::Not(c) => format!("not {}", describe(c)),

@@ -226,6 +226,9 @@ impl RuleLoader<'_> {
                 formula(ctx, &inner, text, self.world, Vars::Modes, self.classes)
                     .map(Trigger::Estimate)
             }
+            TriggerFile::While(text) => {
+                formula(ctx, &inner, text, self.world, Vars::Held, self.classes).map(Trigger::While)
+            }
             &TriggerFile::Time(at) => {
                 if !(at.is_finite() && at >= 0.0) {
                     ctx.error(

@@ -49,8 +49,15 @@ pub(crate) fn resolve_submission(
         .into_iter()
         .map(|item| {
             let name = item.goal_type?;
-            let path = [at, &[Step::Field(item.list), Step::Index(item.index), Step::Field("type")]]
-                .concat();
+            let path = [
+                at,
+                &[
+                    Step::Field(item.list),
+                    Step::Index(item.index),
+                    Step::Field("type"),
+                ],
+            ]
+            .concat();
             loader.goal_type(&mission.elaborators, &path, name)
         })
         .collect();
