@@ -24,8 +24,8 @@ use super::events::EventKind;
 use crate::estimation::PlantEstimate;
 use crate::goalnet::{
     EstimateView, ExecutableNetwork, FailureReason, GoalController, GoalEvent, GoalId, GoalNetwork,
-    Mission, MissionEvent, ScheduleError, TimePointId, Waiting, Window, XGoal, display,
-    judge_delegated, schedule,
+    Mission, MissionEvent, ScheduleError, TemporalConstraint, TimePointId, Waiting, Window, XGoal,
+    display, judge_delegated, schedule,
 };
 use crate::goalnet::{Submission, SubmitError};
 use crate::logic::{Formula, ValueId};
@@ -534,7 +534,6 @@ impl MissionControl {
 
     /// The executive's event for an event of the running network's execution.
     fn describe_goal_event(&self, event: GoalEvent, modes: &[ValueId]) -> Option<EventKind> {
-        let plant = &self.mission.plant;
         let executable = self.executable();
         let network = &executable.network;
         let name = |p: TimePointId| network.point(p).name.clone();
@@ -581,12 +580,9 @@ impl MissionControl {
                     .map(|(point, waiting)| self.stall_text(*point, waiting, window(*point)))
                     .collect(),
             },
-            GoalEvent::TemporalInconsistency {
-                point,
-                inconsistency,
-            } => {
-                let text =
-                    display::explain(&ScheduleError::Inconsistent(inconsistency), network, plant);
+            GoalEvent::TemporalInconsistency { point, cycle } => {
+                let cycle: Vec<&TemporalConstraint> = cycle.iter().collect();
+                let text = display::constraint_lines(&cycle, network);
                 EventKind::TemporalInconsistency {
                     point: name(point),
                     cycle: text.lines().skip(1).map(|l| l.trim().to_string()).collect(),

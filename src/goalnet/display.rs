@@ -8,7 +8,7 @@ use super::network::{ExecutableNetwork, GoalNetwork};
 use super::projection::Projection;
 use super::schedule::ScheduleError;
 use super::stn::Inconsistency;
-use super::temporal_constraint::Provenance;
+use super::temporal_constraint::{Provenance, TemporalConstraint};
 use super::xgoal::XGoal;
 use crate::logic::ValueId;
 use crate::plant::{ComponentId, Plant};
@@ -212,10 +212,21 @@ pub fn conflicts(error: &ScheduleError, network: &GoalNetwork) -> Vec<String> {
 }
 
 fn inconsistent(inconsistency: &Inconsistency, network: &GoalNetwork) -> String {
-    let mut out =
-        String::from("inconsistent: the temporal constraints of this cycle cannot all hold");
-    for id in &inconsistency.cycle {
-        let c = network.stn().constraint(*id);
+    let stn = network.stn();
+    let cycle: Vec<&TemporalConstraint> = (inconsistency.cycle.iter())
+        .map(|id| stn.constraint(*id))
+        .collect();
+    format!(
+        "inconsistent: the temporal constraints of this cycle cannot all hold{}",
+        constraint_lines(&cycle, network)
+    )
+}
+
+/// The constraints, a line each, with where each came from: `\n  origin → TP_X ∈ [99, 99.5]
+/// (submitted)`.
+pub fn constraint_lines(constraints: &[&TemporalConstraint], network: &GoalNetwork) -> String {
+    let mut out = String::new();
+    for c in constraints {
         let why = match &c.provenance {
             Provenance::Written(_) => "written".to_string(),
             Provenance::Elaborated { goal, .. } => {

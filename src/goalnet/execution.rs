@@ -55,7 +55,7 @@ use super::controller::GoalController;
 use super::goal::{GoalId, GoalKind};
 use super::network::ExecutableNetwork;
 use super::stn::{GroundError, Inconsistency};
-use super::temporal_constraint::Provenance;
+use super::temporal_constraint::{Provenance, TemporalConstraint};
 use super::time_point::TimePointId;
 use super::xgoal::XGoal;
 use crate::logic::{Formula, ValueId};
@@ -162,8 +162,9 @@ pub enum GoalEvent {
     TemporalInconsistency {
         /// The point.
         point: TimePointId,
-        /// The negative cycle.
-        inconsistency: Inconsistency,
+        /// The constraints of the negative cycle, as they were (a promotion later in the cycle
+        /// renumbers the network's constraints; point and goal ids stay).
+        cycle: Vec<TemporalConstraint>,
     },
     /// Points are left that nothing will fire (reported when the set changes).
     NetworkStalled {
@@ -712,10 +713,11 @@ impl Execution {
             }
         }
         self.predecessors = self.executable.network.stn().predecessors();
-        events.push(GoalEvent::TemporalInconsistency {
-            point,
-            inconsistency,
-        });
+        let stn = self.executable.network.stn();
+        let cycle = (inconsistency.cycle.iter())
+            .map(|id| stn.constraint(*id).clone())
+            .collect();
+        events.push(GoalEvent::TemporalInconsistency { point, cycle });
         let bounded: Vec<GoalId> = (self.executable.network.goals().iter().enumerate())
             .filter(|(_, g)| g.sv.is_some() || g.delegate.is_some())
             .filter(|(_, g)| g.start == point || g.end == point)
@@ -775,6 +777,9 @@ impl Execution {
     /// held back by a goal that is failing.
     fn stalled_points(&self, now: f64) -> Vec<(TimePointId, Waiting)> {
         let stn = self.executable.network.stn();
+        // Only a failing goal holds a point back for ever: without one, no search of the
+        // timelines (this runs every cycle).
+        let any_failing = self.failing.iter().any(Option::is_some);
         let mut stalled = Vec::new();
         for i in 0..self.fired.len() {
             let point = TimePointId(i as u32);
@@ -790,7 +795,11 @@ impl Execution {
                 .copied();
             if now > window.ub + TIME_EPSILON {
                 stalled.push((point, unfired.map_or(Waiting::NoWindow, Waiting::Point)));
-            } else if window.ub.is_infinite() && unfired.is_none() && now >= window.lb {
+            } else if any_failing
+                && window.ub.is_infinite()
+                && unfired.is_none()
+                && now >= window.lb
+            {
                 let failed = self.failed_holding_back(point);
                 stalled.extend(failed.map(|g| (point, Waiting::Goal(g))));
             }
