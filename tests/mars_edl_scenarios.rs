@@ -16,10 +16,12 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/mars_edl";
 
 /// The scenarios this file runs, one test each.
-const SCENARIOS: [&str; 11] = [
+const SCENARIOS: [&str; 13] = [
     "nominal.ron",
     "descent_mission.ron",
     "descent_flameout.ron",
+    "descent_valve2_stuck_closed.ron",
+    "descent_mpl_spike.ron",
     "engine_stuck_heating.ron",
     "engine_power_loss.ron",
     "pde_resettable.ron",
@@ -373,4 +375,53 @@ fn a_flame_out_fails_the_engine_goal_and_safes_the_descent() {
             "{point} fired:\n{log}"
         );
     }
+}
+
+/// Valve 2 stuck closed in the powered descent as a goal network (DESIGN.md §15.2): goal
+/// interpretation finds `engine = firing` unreachable, so `ignite` cannot progress — it fails,
+/// and its response (fail up to the descent's root: safing) is taken, rather than TP_fire being
+/// forced seconds later. The safe network is scheduled best effort: its two goals on valve 2
+/// (stuck closed, not `closed`) are dropped with their reason, valve 1 is closed.
+#[test]
+fn valve_2_stuck_closed_safes_the_descent_best_effort() {
+    let log = run("descent_valve2_stuck_closed.ron");
+    assert_in_order(
+        &log,
+        &[
+            "DIAGNOSIS valve2 = stuck-closed",
+            "[ 17105.000 s 4:45:05.000]",
+            "GOAL FAILED ignite: it cannot progress:",
+            "RESPONSE ignite failed: engine = standby (p 1.00) → fail up → PoweredDescent is a root → safing",
+            "SAFING ignite failed",
+            "SAFE DROP safe goal close-valve2 dropped: unachievable:",
+            "SAFE DROP safe goal valve2-closed dropped: unachievable:",
+            "fired safing (window [17105, 17105])",
+            "command PDE.cmd = close1 (valve1: open -> closed) for goal close-valve1",
+            "fired isolated",
+            "PASS: 17 expectations hold",
+        ],
+    );
+    assert!(!log.contains("FORCED"), "{log}");
+}
+
+/// The Mars Polar Lander's spike (thesis §1.1, §7.2.3) against the powered descent as a goal
+/// network: the latched touchdown flag is reset once the descent begins (`touchdown-armed`),
+/// so touchdown is declared at the real one, not a cycle after the 12 m trigger.
+#[test]
+fn a_latched_touchdown_spike_is_reset_and_the_engine_burns_to_touchdown() {
+    let log = run("descent_mpl_spike.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 17061.000 s 4:44:21.000]",
+            "believed touchdown_sensor: not-triggered -> triggered (p 1.00)",
+            "fired TP_bs",
+            "command touchdown_sensor.cmd = reset (touchdown_sensor: triggered -> not-triggered) for goal touchdown-armed",
+            "fired TP_12m",
+            "[ 17157.000 s 4:45:57.000]",
+            "fired TP_td",
+            "command PDE.cmd = on (PDE: off -> on) for goal engine-off",
+            "PASS: 15 expectations hold",
+        ],
+    );
 }

@@ -410,15 +410,19 @@ impl Execution {
         reconfiguration: &Reconfiguration,
     ) -> Vec<GoalEvent> {
         let mut events = Vec::new();
+        let mut blocked = Vec::new();
         for reported in std::mem::take(&mut self.reported) {
             match reported {
                 Reported::Goal(goal, reason) => self.fail(goal, reason, &mut events),
-                Reported::Blocked(svs, why) => {
-                    self.blocked(svs.as_deref(), &why, estimate, &mut events)
-                }
+                Reported::Blocked(svs, why) => blocked.push((svs, why)),
             }
         }
         self.monitor(estimate, reconfiguration, &mut events);
+        // After monitoring: a goal monitoring finds failing is reported with its own reason
+        // (ŝ left the set), not as one that cannot progress.
+        for (svs, why) in blocked {
+            self.blocked(svs.as_deref(), &why, estimate, &mut events);
+        }
         events
     }
 
