@@ -204,3 +204,40 @@ fn kairos_explore_exits_by_what_it_found() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("a number of states"), "{stderr}");
 }
+
+/// DESIGN.md §15.2 and the thermostat's exploration scenario: switch 1 may stick open or closed
+/// at any cycle of the run (one fault a path), the device played faithfully at any cycle
+/// (`scenarios/thermostat/physics.ron`). On every path: no safing while a working heater could
+/// keep the device warm, no warmth lost without a goal failure reported, none lost at all once
+/// the device has been warm while StayWarm holds, and StayWarm's end fires — shown by the
+/// scenario's `Always` invariants.
+#[test]
+fn no_thermostat_path_safes_or_loses_warmth_with_one_stuck_switch() {
+    let scenario = scenario("scenarios/thermostat/explore_a_stuck_switch.ron");
+    let explored = explore(&scenario, &options(1, 2), &|_| {}).expect("explores");
+    assert_eq!(explored.cut_at, None, "every path covered");
+    // Each rule at each of the 521 cycles (its condition holds until the switch sticks), and
+    // the path with no fault.
+    assert_eq!(explored.paths.complete(), 2 * 521 + 1);
+    assert!(
+        explored.counterexamples.is_empty(),
+        "{:?}",
+        explored.counterexamples
+    );
+}
+
+/// The invariant is judged, not vacuous: on a mission that safes at 61 s with both heaters
+/// able to work, `Always(that: Implies(Reported(Safing), Not(Plant(…a heater works…))))` fails
+/// at that cycle; and `Once` remembers — a device never warm keeps `Not(Once(…warm))` true.
+#[test]
+fn an_invariant_on_the_plant_s_true_state_catches_safing_with_a_working_heater() {
+    let scenario = scenario("tests/scenarios/invariant_safes_with_a_working_heater.ron");
+    let outcome = simulation::run(&scenario, RunOptions::default(), &mut |_| {}).expect("runs");
+    let reasons: Vec<String> = (outcome.verdicts.iter())
+        .map(|v| match &v.outcome {
+            simulation::Outcome::Failed { reason } => reason.clone(),
+            simulation::Outcome::Met { .. } => "met".to_string(),
+        })
+        .collect();
+    assert_eq!(reasons, ["not at 61.000 s", "met"]);
+}
