@@ -23,7 +23,9 @@ impl Executive {
         } else {
             self.most_likely.clone()
         };
-        if let Some(last) = self.last_time.filter(|last| !(now >= *last)) {
+        // NaN is not at or after anything: refused too.
+        let before = |last: &f64| now.partial_cmp(last).is_none_or(|o| o.is_lt());
+        if let Some(last) = self.last_time.filter(before) {
             return Err(SubmitError::Late { now, last });
         }
         match &mut self.control.0 {

@@ -192,7 +192,7 @@ impl MissionNames {
             })
             .collect();
         let plain = plain.join(".");
-        names.iter().any(|n| *n == plain)
+        names.contains(&plain)
     }
 
     /// Whether a point can have this name.

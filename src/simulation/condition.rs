@@ -96,15 +96,16 @@ impl Condition {
             Condition::Reported(name) => cycle.step.events.iter().any(|e| (cycle.is)(*name, e)),
             Condition::Active(goal) => (cycle.active)(goal),
             Condition::Not(c) => !c.holds(cycle, memory),
-            // Every member is evaluated (no short-circuit), so every `Once` below keeps count.
-            Condition::All(cs) => cs
-                .iter()
-                .map(|c| c.holds(cycle, memory))
-                .fold(true, |all, held| all && held),
-            Condition::Any(cs) => cs
-                .iter()
-                .map(|c| c.holds(cycle, memory))
-                .fold(false, |any, held| any || held),
+            // Every member is evaluated (collected first, no short-circuit), so every `Once`
+            // below keeps count.
+            Condition::All(cs) => {
+                let held: Vec<bool> = cs.iter().map(|c| c.holds(cycle, memory)).collect();
+                held.iter().all(|h| *h)
+            }
+            Condition::Any(cs) => {
+                let held: Vec<bool> = cs.iter().map(|c| c.holds(cycle, memory)).collect();
+                held.iter().any(|h| *h)
+            }
             Condition::Implies(a, b) => {
                 let (a, b) = (a.holds(cycle, memory), b.holds(cycle, memory));
                 !a || b
