@@ -503,3 +503,43 @@ impl Relaxation<'_> {
         true
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! Withdrawing constraints a late firing contradicted (DESIGN.md §15.2).
+
+    use super::*;
+
+    fn constraint(from: u32, to: u32, min: f64, max: f64) -> TemporalConstraint {
+        let (from, to) = (TimePointId(from), TimePointId(to));
+        TemporalConstraint::new(from, to, min, max, Provenance::Written(0..0))
+    }
+
+    /// A point bounded to [10.2, 10.7] grounded at 11: inconsistent; withdrawing the written
+    /// window makes the network consistent again with the firing kept, the constraint keeps its
+    /// id (an explanation naming it still reads) and no longer bounds anything, and a point after
+    /// the fired one gets its window from the firing.
+    #[test]
+    fn a_withdrawn_constraint_keeps_its_id_and_bounds_nothing() {
+        let mut stn = Stn::new();
+        let (a, b) = (stn.add_point(), stn.add_point());
+        let window = stn.add_constraint(constraint(0, 1, 10.2, 10.7)).unwrap();
+        stn.add_constraint(constraint(1, 2, 0.0, 5.0)).unwrap();
+        stn.propagate().unwrap();
+        let Err(GroundError::Inconsistent(inconsistency)) = stn.ground(a, 11.0) else {
+            panic!("a firing outside the window contradicts the network");
+        };
+        assert!(inconsistency.cycle.contains(&window));
+        stn.withdraw(&[window]).expect("consistent without it");
+        assert!(stn.is_withdrawn(window));
+        assert_eq!(stn.constraint(window).max, 10.7, "kept as it was");
+        assert_eq!(stn.window(a), Some(Window { lb: 11.0, ub: 11.0 }));
+        assert_eq!(stn.window(b), Some(Window { lb: 11.0, ub: 16.0 }));
+        assert!(!stn.predecessors()[b.index()].is_empty());
+        assert!(
+            stn.predecessors()[a.index()]
+                .iter()
+                .all(|p| *p == TimePointId::ORIGIN)
+        );
+    }
+}

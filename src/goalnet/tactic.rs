@@ -265,3 +265,26 @@ impl Elaborators {
         path.pop();
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! The names a scenario's expectations may use (docs/design/goal-networks.md, "Names").
+
+    use super::MissionNames;
+
+    /// An elaboration count on any segment, and primes, are set aside: `stay-warm#2.TP_A` is a
+    /// name `stay-warm.TP_A` stands for; a `#` not followed by digits is not a count.
+    #[test]
+    fn elaboration_counts_and_primes_are_set_aside() {
+        let names = MissionNames {
+            points: vec!["stay-warm.TP_A".into(), "stay-warm.heater1.TP_H".into()],
+            goals: vec!["stay-warm.heater1".into()],
+        };
+        assert!(names.has_point("stay-warm#2.TP_A"));
+        assert!(names.has_point("stay-warm#3.heater1#2.TP_H"));
+        assert!(names.has_point("stay-warm.TP_A′"));
+        assert!(names.has_goal("stay-warm#12.heater1"));
+        assert!(!names.has_goal("stay-warm#x.heater1"));
+        assert!(!names.has_point("stay-warm#2.TP_B"));
+    }
+}

@@ -123,3 +123,69 @@ impl Condition {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! `Once` keeps its memory whatever the connectives around it decide.
+
+    use super::*;
+    use crate::simulation::testing::engine_camera;
+
+    /// `All([Reported(Diagnosis), Once(Estimated("engine = off"))])`: at the first cycle the
+    /// first member is false, yet `Once` notes that the engine is off; at a later cycle, the
+    /// engine no longer off, `Once` still holds.
+    #[test]
+    fn once_is_evaluated_under_a_false_member() {
+        let scenario = engine_camera("");
+        let plant = &scenario.plant;
+        let world = &scenario.script.world;
+        let engine = plant.component_named("engine").unwrap();
+        let mode = |name| plant.component(engine).mode_named(name).unwrap();
+        let off = Formula::is(plant.component(engine).mode_var(), mode("off"));
+        let condition = Condition::All(vec![
+            Condition::Reported(EventName::Diagnosis),
+            Condition::Once {
+                condition: Box::new(Condition::Estimated(off)),
+                slot: 0,
+            },
+        ]);
+        let once = match &condition {
+            Condition::All(members) => members[1].clone(),
+            _ => unreachable!(),
+        };
+        let mut memory = vec![false; condition.slots()];
+        let step = |modes| Step {
+            cycle: 0,
+            time: 0.0,
+            command: Vec::new(),
+            goal: None,
+            goal_state: None,
+            action: None,
+            most_likely: modes,
+            estimates: Vec::new(),
+            marking: Vec::new(),
+            events: Vec::new(),
+            completed: false,
+            times: Default::default(),
+        };
+        let camera = plant.component_named("camera").unwrap();
+        let camera_off = plant.component(camera).mode_named("off").unwrap();
+        let mut modes = vec![ValueId(0); plant.components().len()];
+        modes[engine.index()] = mode("off");
+        modes[camera.index()] = camera_off;
+        let first = step(modes.clone());
+        let cycle = |step| Cycle {
+            plant,
+            world,
+            step,
+            held: &|_| None,
+            active: &|_| false,
+            is: |name, event| EventName::of(&event.kind) == name,
+        };
+        assert!(!condition.holds(&cycle(&first), &mut memory));
+        assert_eq!(memory, [true], "noted under the false first member");
+        modes[engine.index()] = mode("heating");
+        let later = step(modes);
+        assert!(once.holds(&cycle(&later), &mut memory), "remembered");
+    }
+}

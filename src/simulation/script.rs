@@ -868,6 +868,39 @@ mod tests {
         assert!(plant.is_quiet(100.0));
     }
 
+    /// A `While` rule fires when its condition comes to hold and drops its pending effect when
+    /// it stops: the engine's heat lasting 3 cycles makes it nominal, an interruption at the
+    /// second cycle cancels that, and the condition back fires it again.
+    #[test]
+    fn a_while_rule_lands_only_if_its_condition_lasts() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} hidden: {{ "heat": ["off", "on"] }},
+            rules: [
+                Rule(name: "on", on: Cycle(1), set: {{ "heat": "on" }}),
+                Rule(name: "off", on: Cycle(2), set: {{ "heat": "off" }}),
+                Rule(name: "on again", on: Cycle(3), set: {{ "heat": "on" }}),
+                Rule(name: "warms", on: While("heat = on"), after: Cycles(3),
+                     set: {{ "engine.temp": "nominal" }}),
+            ]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        let temps: Vec<Option<String>> = (0..8)
+            .map(|i| {
+                let report = plant.observe(f64::from(i));
+                observed(&report, "engine.temp").map(str::to_string)
+            })
+            .collect();
+        let low = Some("low".to_string());
+        let nominal = Some("nominal".to_string());
+        assert_eq!(
+            temps[..6],
+            vec![low; 6],
+            "the first heating was cut at cycle 2"
+        );
+        assert_eq!(temps[6], nominal, "3 cycles after it came back at cycle 3");
+        assert_eq!(plant.times_fired(3), 2);
+    }
+
     #[test]
     fn a_command_for_no_control_is_refused() {
         let scenario = engine_camera(INITIAL);
