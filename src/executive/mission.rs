@@ -30,7 +30,7 @@ use crate::goalnet::{
 use crate::goalnet::{Submission, SubmitError};
 use crate::logic::{Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
-use crate::reconfiguration::{FailureCause, GoalFailed, Reconfiguration};
+use crate::reconfiguration::Reconfiguration;
 
 /// A loaded mission with its goal network scheduled: what [`Executive::builder`] runs as a
 /// mission (it converts into a [`ControlProgram`](super::ControlProgram)).
@@ -238,45 +238,6 @@ impl MissionControl {
             c.configuration_goal(reconfiguration, controllable)
         });
         (kinds, goal)
-    }
-
-    /// Goal interpretation found the configuration goal unreachable (`failed`, worded as
-    /// `reason`): the active goals on the state variables its conflict names (every one, when
-    /// it names none) that ŝ does not satisfy cannot progress — they fail at the next cycle's
-    /// monitoring, and their responses are taken (DESIGN.md §15.2: a promoted tactic that
-    /// cannot progress is a failure with a response, not points forced one after another).
-    pub(super) fn cannot_progress(&mut self, failed: &GoalFailed, reason: &str) {
-        let Some(controller) = &mut self.controller else {
-            return;
-        };
-        let plant = &self.mission.plant;
-        let goal_svs = |goals: &[Formula]| {
-            let mut svs: Vec<ComponentId> = (goals.iter())
-                .flat_map(|g| g.variables())
-                .filter_map(|var| plant.component_of(var))
-                .collect();
-            svs.sort_unstable();
-            svs.dedup();
-            svs
-        };
-        // The components whose reach is responsible, among those the goal constrains; when
-        // none is (a stuck valve upstream of the engine), every part of the conflict.
-        let svs = match &failed.cause {
-            FailureCause::Unreachable { goals, components } => {
-                let svs = goal_svs(goals);
-                let responsible: Vec<ComponentId> = (svs.iter().copied())
-                    .filter(|sv| components.contains(sv))
-                    .collect();
-                Some(if responsible.is_empty() {
-                    svs
-                } else {
-                    responsible
-                })
-            }
-            FailureCause::Contradictory { goals } => Some(goal_svs(goals)),
-            FailureCause::NotEntailed | FailureCause::BadInput => None,
-        };
-        controller.cannot_progress(svs, reason.to_string());
     }
 
     /// Adds `submission` to a proposal — a copy of the running network — and promotes it
@@ -698,7 +659,6 @@ fn failure_text(reason: &FailureReason, threshold: f64, network: &GoalNetwork) -
             "{} fired where the network did not allow it (no cycle in its window)",
             network.point(*point).name
         ),
-        FailureReason::CannotProgress { why } => format!("it cannot progress: {why}"),
         FailureReason::Excursion(_) => "ŝ left the maintained set".to_string(),
         FailureReason::Unreachable(_) => "its set can no longer be reached".to_string(),
         FailureReason::EndForced(_) => "its end point was forced before the set was reached".into(),

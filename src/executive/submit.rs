@@ -17,7 +17,17 @@ impl Executive {
     /// at or after the last cycle's (a time before it is refused): new points fire no earlier,
     /// and a point whose window would lie before it is refused (DESIGN.md §15.2). Before the
     /// first cycle ŝ is the plant's most likely initial state.
+    ///
+    /// The time it takes is the next cycle's: [`PhaseTimes::submission`](super::PhaseTimes),
+    /// counted in its total and so against its deadline.
     pub fn submit(&mut self, submission: &Submission, now: f64) -> Result<(), SubmitError> {
+        let started = std::time::Instant::now();
+        let outcome = self.submit_now(submission, now);
+        self.submission_time += started.elapsed();
+        outcome
+    }
+
+    fn submit_now(&mut self, submission: &Submission, now: f64) -> Result<(), SubmitError> {
         let modes = if self.most_likely.is_empty() {
             self.plant.most_likely_initial()
         } else {

@@ -14,8 +14,7 @@
 //!    (a few rounds; what is left is answered first thing the next cycle).
 //!
 //! **One path answers every failure, exactly once** (DESIGN.md §15.2): monitoring's, firing's,
-//! a delegated goal's controller's, and mode reconfiguration's (a goal that cannot progress)
-//! all go through [`GoalController::step`]'s answer, and each `GoalFailed` gets one
+//! and a delegated goal's controller's all go through [`GoalController::step`]'s answer, and each `GoalFailed` gets one
 //! `ResponseTaken`: its chain, or — in a mission that declares no goal types, or once safing has
 //! been invoked — that no response is taken and why. A goal that fails again after recovering
 //! is answered again (a re-elaboration within its type's budget).
@@ -216,13 +215,6 @@ impl GoalController {
     /// [`GoalController::step`].
     pub fn end_delegated(&mut self, goal: GoalId, failure: Option<FailureReason>) {
         self.execution.end_delegated(goal, failure);
-    }
-
-    /// Mode reconfiguration found the configuration goal unreachable (see
-    /// [`Execution::cannot_progress`]): the goals that cannot progress fail, and are answered,
-    /// at the next [`GoalController::step`].
-    pub fn cannot_progress(&mut self, svs: Option<Vec<ComponentId>>, why: String) {
-        self.execution.cannot_progress(svs, why);
     }
 
     /// The configuration goal of the running network (see [`Execution::configuration_goal`]).
@@ -744,14 +736,16 @@ fn failures_in(events: &[GoalEvent]) -> Vec<(GoalId, FailureReason)> {
 
 /// The goals a scheduling error blames, that dropping them could fix: an unachievable
 /// XGoal's constituents, the goals of an XGoal that cannot be entered, a goal that merges with
-/// none of those it overlaps, a delegated goal its controller cannot achieve. A temporal
-/// inconsistency blames no goal.
+/// none of those it overlaps, a delegated goal its controller cannot achieve, a goal the
+/// constraints force reversed or over no time. A temporal inconsistency blames no goal.
 fn culprits(error: &ScheduleError) -> Vec<GoalId> {
     match error {
         ScheduleError::Unachievable { xgoal, .. } => xgoal.constituents.clone(),
         ScheduleError::TransitionUnachievable { next, .. } => next.constituents.clone(),
         ScheduleError::Unmergeable { goal, .. } => vec![*goal],
-        ScheduleError::DelegatedUnachievable { goal, .. } => vec![*goal],
+        ScheduleError::DelegatedUnachievable { goal, .. }
+        | ScheduleError::Reversed { goal, .. }
+        | ScheduleError::EmptyInterval { goal } => vec![*goal],
         ScheduleError::Inconsistent(_) | ScheduleError::InThePast { .. } => Vec::new(),
     }
 }

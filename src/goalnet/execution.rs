@@ -40,10 +40,13 @@
 //! component) is on no timeline: its controller judges it. [`Execution::end_delegated`] says that
 //! the controller ended its constraint; until then the goal's end point is not ready (it is
 //! forced at its latest time, and the goal fails); a failure the controller reports is reported
-//! by the next monitoring, like any other, so the failure responses apply to it. Likewise
-//! [`Execution::cannot_progress`]: mode reconfiguration found the configuration goal
-//! unreachable, and the next monitoring fails the active goals on the state variables it named
-//! that ŝ does not satisfy.
+//! by the next monitoring, like any other, so the failure responses apply to it.
+//!
+//! Goal interpretation finding the configuration goal unreachable does not fail a goal by
+//! itself: without alternatives among redundant components its verdict can be wrong while the
+//! plant progresses (the thermostat's switch 1 stuck open, switch 2 warming the device), and
+//! failing — re-elaborating — on it broke runs that were going right. A tactic that cannot
+//! progress fails at its end point's forcing, with its response.
 //!
 //! The **configuration goal** is the conjunction of the active Maintain and Transition XGoals'
 //! control sets on controllable state variables — the running network's only: a promotion
@@ -99,25 +102,16 @@ pub enum FailureReason {
         /// The point.
         point: TimePointId,
     },
-    /// Mode reconfiguration found the configuration goal unreachable: the goal, not yet
-    /// satisfied, cannot progress.
-    CannotProgress {
-        /// Goal interpretation's reason.
-        why: String,
-    },
 }
 
 impl FailureReason {
     /// Whether a goal failed for this reason is judged again by monitoring, and recovers when
-    /// it holds: a failure monitoring found, or a goal that could not progress and has since
-    /// reached its set. A forced end, a contradicted firing and a controller's verdict are over.
+    /// it holds: a failure monitoring found. A forced end, a contradicted firing and a
+    /// controller's verdict are over.
     fn recovers(&self) -> bool {
         matches!(
             self,
-            FailureReason::Excursion(_)
-                | FailureReason::Unreachable(_)
-                | FailureReason::NotKnown
-                | FailureReason::CannotProgress { .. }
+            FailureReason::Excursion(_) | FailureReason::Unreachable(_) | FailureReason::NotKnown
         )
     }
 }
@@ -201,23 +195,12 @@ pub struct Execution {
     retired: Vec<bool>,
     /// Per goal, whether the controller of a delegated goal has ended its constraint.
     ended: Vec<bool>,
-    /// Failures reported from outside monitoring (a delegated goal's controller, mode
-    /// reconfiguration), for the next monitoring.
-    reported: Vec<Reported>,
+    /// Failures a delegated goal's controller reported, for the next monitoring.
+    reported: Vec<(GoalId, FailureReason)>,
     /// The time of the last [`Execution::advance`]: the next cycle is expected one period on.
     last_advance: Option<f64>,
     /// The stalled points last reported.
     stalled: Vec<TimePointId>,
-}
-
-/// A failure reported from outside monitoring, for the next monitoring to fail its goals.
-#[derive(Debug, Clone, PartialEq)]
-enum Reported {
-    /// A delegated goal's controller ended its constraint unachieved.
-    Goal(GoalId, FailureReason),
-    /// The configuration goal was unreachable: the unsatisfied active goals on these state
-    /// variables (all, when `None`) cannot progress.
-    Blocked(Option<Vec<ComponentId>>, String),
 }
 
 impl Execution {
@@ -236,11 +219,8 @@ impl Execution {
         }
         self.retired.hash(state);
         self.ended.hash(state);
-        for reported in &self.reported {
-            match reported {
-                Reported::Goal(goal, _) => (0u8, goal).hash(state),
-                Reported::Blocked(svs, why) => (1u8, svs, why).hash(state),
-            }
+        for (goal, _) in &self.reported {
+            goal.hash(state);
         }
         self.last_advance.map(f64::to_bits).hash(state);
         self.stalled.hash(state);
@@ -358,17 +338,8 @@ impl Execution {
     pub fn end_delegated(&mut self, goal: GoalId, failure: Option<FailureReason>) {
         if let Some(ended) = self.ended.get_mut(goal.index()) {
             *ended = true;
-            self.reported
-                .extend(failure.map(|f| Reported::Goal(goal, f)));
+            self.reported.extend(failure.map(|f| (goal, f)));
         }
-    }
-
-    /// Mode reconfiguration found the configuration goal unreachable, for `why`: the next
-    /// monitoring fails the active goals on `svs` (every state variable, when `None`) that ŝ
-    /// does not satisfy — they cannot progress (DESIGN.md §15.2: a promoted tactic that cannot
-    /// progress is a failure with a response).
-    pub fn cannot_progress(&mut self, svs: Option<Vec<ComponentId>>, why: String) {
-        self.reported.push(Reported::Blocked(svs, why));
     }
 
     /// Whether the controller of a delegated goal has ended its constraint.
@@ -410,19 +381,10 @@ impl Execution {
         reconfiguration: &Reconfiguration,
     ) -> Vec<GoalEvent> {
         let mut events = Vec::new();
-        let mut blocked = Vec::new();
-        for reported in std::mem::take(&mut self.reported) {
-            match reported {
-                Reported::Goal(goal, reason) => self.fail(goal, reason, &mut events),
-                Reported::Blocked(svs, why) => blocked.push((svs, why)),
-            }
+        for (goal, reason) in std::mem::take(&mut self.reported) {
+            self.fail(goal, reason, &mut events);
         }
         self.monitor(estimate, reconfiguration, &mut events);
-        // After monitoring: a goal monitoring finds failing is reported with its own reason
-        // (ŝ left the set), not as one that cannot progress.
-        for (svs, why) in blocked {
-            self.blocked(svs.as_deref(), &why, estimate, &mut events);
-        }
         events
     }
 
@@ -519,14 +481,7 @@ impl Execution {
                 let verdict = judge(goal.kind, &goal.constraint);
                 match (verdict, failing) {
                     (Some(reason), None) => failures.push((id, reason)),
-                    (None, Some(reason)) if reason.recovers() => {
-                        let reached = goal.constraint.satisfied_by(mode, belief, self.threshold);
-                        let progressed =
-                            !matches!(reason, FailureReason::CannotProgress { .. }) || reached;
-                        if progressed {
-                            recoveries.push(id);
-                        }
-                    }
+                    (None, Some(reason)) if reason.recovers() => recoveries.push(id),
                     _ => {}
                 }
             }
@@ -534,38 +489,6 @@ impl Execution {
         for goal in recoveries {
             self.failing[goal.index()] = None;
             events.push(GoalEvent::GoalRecovered { goal });
-        }
-        for (goal, reason) in failures {
-            self.fail(goal, reason, events);
-        }
-    }
-
-    /// Fails the active goals on `svs` that ŝ does not satisfy: the configuration goal they are
-    /// part of is unreachable.
-    fn blocked(
-        &mut self,
-        svs: Option<&[ComponentId]>,
-        why: &str,
-        estimate: EstimateView,
-        events: &mut Vec<GoalEvent>,
-    ) {
-        let mut failures = Vec::new();
-        for xgoal in self.active_xgoals() {
-            let named = svs.is_none_or(|svs| svs.contains(&xgoal.sv));
-            let controlled = matches!(xgoal.kind, GoalKind::Maintain | GoalKind::Transition)
-                && !xgoal.constraint.is_control_free();
-            if !named || !controlled {
-                continue;
-            }
-            let mode = estimate.modes[xgoal.sv.index()];
-            for &id in &xgoal.constituents {
-                let goal = self.executable.network.goal(id);
-                let pursued = matches!(goal.kind, GoalKind::Maintain | GoalKind::Transition);
-                if pursued && !goal.constraint.admits(mode) {
-                    let why = why.to_string();
-                    failures.push((id, FailureReason::CannotProgress { why }));
-                }
-            }
         }
         for (goal, reason) in failures {
             self.fail(goal, reason, events);

@@ -95,7 +95,9 @@ pub(super) fn copy(
     let stn = network.stn();
     for (i, c) in stn.constraints().iter().enumerate() {
         let derived = match &c.provenance {
-            Provenance::AfterOrigin | Provenance::Scheduled { .. } => true,
+            Provenance::AfterOrigin | Provenance::Scheduled { .. } | Provenance::GoalInterval => {
+                true
+            }
             Provenance::Elaborated { goal, .. } => {
                 unelaborated.get(goal.index()).copied().unwrap_or(false)
             }
