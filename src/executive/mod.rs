@@ -31,6 +31,7 @@ mod describe;
 mod events;
 mod evidence;
 mod fingerprint;
+pub mod fprime;
 mod load;
 mod mission;
 mod named;
