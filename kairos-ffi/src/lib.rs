@@ -58,7 +58,7 @@ pub use step::{
     KAIROS_STEP_SEARCH_CUT, KAIROS_STEP_SETTLED, KAIROS_VALUE_NUMBER, KAIROS_VALUE_SYMBOL,
     KairosObservation, KairosStep, KairosStepSummary, kairos_step, kairos_step_command,
     kairos_step_estimate_mode, kairos_step_estimate_probability, kairos_step_event,
-    kairos_step_free, kairos_step_mode, kairos_step_summary,
+    kairos_step_fprime_command, kairos_step_free, kairos_step_mode, kairos_step_summary,
 };
 
 /// The version of this library (`0.1.0`), a static string.
