@@ -318,6 +318,8 @@ impl Checker<'_> {
     }
 
     fn channels(&mut self, files: &[ChannelFile]) -> Vec<BoundChannel> {
+        // An observable left unbound by a channel entry in error is not reported twice.
+        let before = self.errors.len();
         let mut bound: Vec<BoundChannel> = Vec::new();
         for (i, file) in files.iter().enumerate() {
             let at = |field| [Step::Field("telemetry"), Step::Index(i), Step::Field(field)];
@@ -348,7 +350,7 @@ impl Checker<'_> {
             .map(|&var| table.variable(var).name())
             .filter(|name| !bound.iter().any(|b| b.observable == *name))
             .collect();
-        if !unbound.is_empty() && self.errors.is_empty() {
+        if !unbound.is_empty() && self.errors.len() == before {
             let message = format!("no channel reports {}", unbound.join(", "));
             self.error(
                 &[Step::Field("telemetry")],
@@ -485,6 +487,7 @@ impl Checker<'_> {
     }
 
     fn commands(&mut self, files: &[CommandFile]) -> Vec<BoundCommand> {
+        let before = self.errors.len();
         let mut bound: Vec<BoundCommand> = Vec::new();
         for (i, file) in files.iter().enumerate() {
             let at = |field| [Step::Field("commands"), Step::Index(i), Step::Field(field)];
@@ -541,7 +544,7 @@ impl Checker<'_> {
                 }
             }
         }
-        if !unbound.is_empty() && self.errors.is_empty() {
+        if !unbound.is_empty() && self.errors.len() == before {
             let message = format!("no command sends {}", unbound.join(", "));
             self.error(
                 &[Step::Field("commands")],
