@@ -92,6 +92,14 @@ impl KairosFprimeCommand {
     };
 }
 
+/// What an argument index out of range reads as.
+const NO_ARG: KairosFprimeArg = KairosFprimeArg {
+    kind: KairosArgKind::None,
+    integer: 0,
+    real: 0.0,
+    text: std::ptr::null(),
+};
+
 /// An F´ command kept by a step.
 pub(crate) struct StoredCommand {
     opcode: u32,
@@ -141,12 +149,7 @@ impl StoredCommand {
                 real: *real,
                 text: text.as_ref().map_or(std::ptr::null(), |t| t.as_ptr()),
             },
-            None => KairosFprimeArg {
-                kind: KairosArgKind::None,
-                integer: 0,
-                real: 0.0,
-                text: std::ptr::null(),
-            },
+            None => NO_ARG,
         }
     }
 }
@@ -334,13 +337,5 @@ pub unsafe extern "C" fn kairos_step_fprime_arg(
 ) -> KairosFprimeArg {
     // SAFETY: the caller's contract.
     let command = unsafe { crate::step::borrow(step) }.and_then(|s| s.fprime.get(index));
-    match command {
-        Some(command) => command.arg(arg),
-        None => StoredCommand {
-            opcode: 0,
-            name: CString::default(),
-            args: Vec::new(),
-        }
-        .arg(0),
-    }
+    command.map_or(NO_ARG, |command| command.arg(arg))
 }

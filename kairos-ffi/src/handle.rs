@@ -111,8 +111,12 @@ unsafe fn create(
     }
 }
 
-fn options_or_default(options: *const KairosOptions) -> KairosOptions {
-    // SAFETY: NULL or a valid `KairosOptions`, by each entry point's contract.
+/// The options at `options`, or the defaults for NULL.
+///
+/// # Safety
+/// `options` is NULL or points to a valid `KairosOptions`.
+unsafe fn options_or_default(options: *const KairosOptions) -> KairosOptions {
+    // SAFETY: NULL or a valid `KairosOptions` (the contract).
     unsafe { options.as_ref() }.copied().unwrap_or_default()
 }
 
@@ -142,7 +146,8 @@ pub unsafe extern "C" fn kairos_executive_load(
     out: *mut *mut KairosExecutive,
     error: *mut *mut c_char,
 ) -> KairosStatus {
-    let options = options_or_default(options);
+    // SAFETY: NULL or valid (this function's contract).
+    let options = unsafe { options_or_default(options) };
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
         create(out, error, || {
@@ -168,7 +173,8 @@ pub unsafe extern "C" fn kairos_executive_load_text(
     out: *mut *mut KairosExecutive,
     error: *mut *mut c_char,
 ) -> KairosStatus {
-    let options = options_or_default(options);
+    // SAFETY: NULL or valid (this function's contract).
+    let options = unsafe { options_or_default(options) };
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
         create(out, error, || {
@@ -198,7 +204,8 @@ pub unsafe extern "C" fn kairos_executive_load_mission(
     out: *mut *mut KairosExecutive,
     error: *mut *mut c_char,
 ) -> KairosStatus {
-    let options = options_or_default(options);
+    // SAFETY: NULL or valid (this function's contract).
+    let options = unsafe { options_or_default(options) };
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
         create(out, error, || {
@@ -223,7 +230,8 @@ pub unsafe extern "C" fn kairos_executive_load_mission_text(
     out: *mut *mut KairosExecutive,
     error: *mut *mut c_char,
 ) -> KairosStatus {
-    let options = options_or_default(options);
+    // SAFETY: NULL or valid (this function's contract).
+    let options = unsafe { options_or_default(options) };
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
         create(out, error, || {

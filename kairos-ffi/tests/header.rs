@@ -29,10 +29,7 @@ fn the_committed_header_is_the_generated_one() {
     if committed != generated {
         let line = (committed.lines().zip(generated.lines()))
             .position(|(a, b)| a != b)
-            .map_or_else(
-                || committed.lines().count().min(generated.lines().count()),
-                |n| n,
-            );
+            .unwrap_or_else(|| committed.lines().count().min(generated.lines().count()));
         panic!(
             "include/kairos.h differs from what cbindgen generates (first at line {}): \
              run `KAIROS_BLESS=1 cargo test -p kairos-ffi --test header` and commit it",

@@ -656,12 +656,12 @@ fn argument(arg: &ArgFile, ty: &FprimeType) -> Result<FprimeArg, String> {
             }
             _ => Ok(FprimeArg::Str(s.clone())),
         },
-        (_, ty) => Err(format!("{}", expected_arg(ty))),
+        (_, ty) => Err(expected_arg(ty).to_string()),
     }
 }
 
 /// How an argument of type `ty` is written.
-pub(super) fn expected_arg(ty: &FprimeType) -> &'static str {
+fn expected_arg(ty: &FprimeType) -> &'static str {
     match ty {
         FprimeType::Integer { .. } => "Int(n)",
         FprimeType::Float { .. } => "Float(x)",
@@ -679,5 +679,68 @@ fn integer_range(signed: bool, bits: u32) -> (i128, i128) {
         (-(1i128 << (bits - 1)), (1i128 << (bits - 1)) - 1)
     } else {
         (0, (1i128 << bits) - 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn binding() -> Binding {
+        let dictionary = Source::new(
+            "PropulsionTopologyDictionary.json",
+            include_str!("../../../models/fprime/PropulsionTopologyDictionary.json"),
+        );
+        let dictionary = Dictionary::load(&dictionary).expect("the committed dictionary loads");
+        let plant = Source::new(
+            "propulsion.ron",
+            include_str!("../../../models/propulsion.ron"),
+        );
+        let plant = Plant::load(&plant).expect("the plant loads");
+        let binding = Source::new(
+            "propulsion.binding.ron",
+            include_str!("../../../models/fprime/propulsion.binding.ron"),
+        );
+        Binding::load(&binding, &dictionary, &plant).expect("the committed binding checks")
+    }
+
+    /// DESIGN.md §10, §13 at the F´ boundary: a constant becomes the observable's value; a value
+    /// that is no constant reaches the executive as a value it rejects (an event); an unbound
+    /// numeric channel is ignored; a wrong type or an unknown id is an error.
+    #[test]
+    fn telemetry_becomes_observations_events_or_errors() {
+        let binding = binding();
+        let observe = |id, value| binding.observe(id, value);
+        assert_eq!(
+            observe(0x120, TelemetryValue::Enum(1)),
+            Ok(Some(NamedValue::new("valve1.outlet", "high")))
+        );
+        assert_eq!(
+            observe(0x120, TelemetryValue::Enum(7)),
+            Ok(Some(NamedValue::new(
+                "valve1.outlet",
+                "7 (no constant of Prop.Pressure)"
+            )))
+        );
+        assert_eq!(observe(0x125, TelemetryValue::Float(f64::NAN)), Ok(None));
+        assert!(matches!(
+            observe(0x120, TelemetryValue::Float(1.0)),
+            Err(TelemetryError::WrongType { .. })
+        ));
+        assert_eq!(
+            observe(0x999, TelemetryValue::Enum(0)),
+            Err(TelemetryError::UnknownChannel(0x999))
+        );
+    }
+
+    /// A control value is sent as its command with its arguments; the idle value as nothing.
+    #[test]
+    fn control_values_are_sent_as_their_commands() {
+        let binding = binding();
+        let open2 = binding
+            .command(&NamedValue::new("PDE.cmd", "open2"))
+            .expect("bound");
+        assert_eq!(open2.to_string(), "Prop.prop.VALVE_OPEN(2) [opcode 0x123]");
+        assert_eq!(binding.command(&NamedValue::new("PDE.cmd", "none")), None);
     }
 }
