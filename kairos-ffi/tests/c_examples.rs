@@ -61,13 +61,19 @@ fn compiler(variable: &str, default: &str) -> String {
     std::env::var(variable).unwrap_or_else(|_| default.to_string())
 }
 
+/// The C example, compiled once for all the tests that run it: the tests run in parallel, and
+/// writing the program while another test executes it fails ("text file busy").
 fn c_example() -> PathBuf {
-    compile(
-        &compiler("CC", "cc"),
-        &["-std=c11"],
-        "examples/c/embed.c",
-        "embed",
-    )
+    static PROGRAM: OnceLock<PathBuf> = OnceLock::new();
+    let compiled = || {
+        compile(
+            &compiler("CC", "cc"),
+            &["-std=c11"],
+            "examples/c/embed.c",
+            "embed",
+        )
+    };
+    PROGRAM.get_or_init(compiled).clone()
 }
 
 const DRIVER_VALVE: [&str; 2] = ["models/driver_valve.ron", "programs/valve_open.rmpl"];
