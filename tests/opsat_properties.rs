@@ -7,8 +7,7 @@ mod support;
 mod seeded;
 use kairos::logic::{Formula, ValueId, VarId};
 use kairos::opsat::{
-    Budget, ConflictStore, Consistency, Literal, Ocsp, SatBackend, SearchOptions, Solution,
-    TheoryOptions,
+    Budget, ConflictStore, Consistency, Literal, Ocsp, SearchOptions, Solution, TheoryOptions,
 };
 use proptest::prelude::*;
 use support::random_ocsp::{RandomOcsp, random_ocsp, random_ocsp_with_assumptions};
@@ -50,22 +49,17 @@ fn assert_prefix_up_to_ties(found: &[Solution], expected: &[(Vec<usize>, f64)]) 
 
 fn all_option_combinations() -> Vec<(TheoryOptions, SearchOptions)> {
     let mut out = Vec::new();
-    for backend in [SatBackend::Batsat, SatBackend::Varisat] {
-        for minimize_conflicts in [true, false] {
-            for use_conflicts in [true, false] {
-                for decompose in [true, false] {
-                    out.push((
-                        TheoryOptions {
-                            backend,
-                            minimize_conflicts,
-                        },
-                        SearchOptions {
-                            use_conflicts,
-                            decompose,
-                            budget: Budget::default(),
-                        },
-                    ));
-                }
+    for minimize_conflicts in [true, false] {
+        for use_conflicts in [true, false] {
+            for decompose in [true, false] {
+                out.push((
+                    TheoryOptions { minimize_conflicts },
+                    SearchOptions {
+                        use_conflicts,
+                        decompose,
+                        budget: Budget::default(),
+                    },
+                ));
             }
         }
     }
@@ -266,7 +260,7 @@ proptest! {
         minimize in any::<bool>(),
     ) {
         let literals = random_literals(&problem, &picks);
-        let options = TheoryOptions { minimize_conflicts: minimize, ..TheoryOptions::default() };
+        let options = TheoryOptions { minimize_conflicts: minimize };
         let (mut theory, _) = problem.build(options);
         match theory.consistent(&literals) {
             Consistency::Consistent => prop_assert!(brute_consistent(&problem, &literals)),

@@ -3,9 +3,9 @@
 //! A handle is used by one thread at a time: every call that takes it reads or changes the
 //! executive, and nothing in it is shared with another handle (no global state), so two
 //! handles run on two threads without any coordination. Moving a handle to another thread
-//! between calls is sound once the executive is `Send`; the assertion at the end of this file
-//! checks that at compile time, and is switched off (one `#[cfg]` line) until mode estimation's
-//! caches are shared by `Arc` rather than `Rc`.
+//! between calls is sound because everything in it is `Send` (the executive, its names, its
+//! binding); the assertion at the end of this file checks that at compile time, and
+//! `tests/threads.rs` steps a handle from a thread other than the one that made it.
 
 use std::ffi::{CString, c_char};
 use std::path::Path;
@@ -343,8 +343,5 @@ const _: () = {
     assert_sync::<crate::step::KairosStep>();
 };
 
-// A handle may move between threads between calls once the executive is `Send`. Remove the
-// `#[cfg]` line below when it is (mode estimation's caches `Arc` instead of `Rc`, its SAT solver
-// `Send`); until then `--cfg kairos_executive_send` shows what is missing.
-#[cfg(kairos_executive_send)]
+// A handle may move between threads between calls (one call at a time): it is `Send`.
 const _: () = assert_send::<KairosExecutive>();

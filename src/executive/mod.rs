@@ -451,6 +451,15 @@ pub struct Executive {
     submission_time: Duration,
 }
 
+// An executive moves between threads (one call at a time, DESIGN.md §10): an embedding host
+// steps it from whichever thread runs its flight loop, and the C ABI's handle is one executive.
+// Everything it owns is therefore `Send` — shared caches by `Arc`, the SAT solver boxed as
+// `dyn SatSolver + Send` — and this fails to compile if a change makes it otherwise.
+const _: () = {
+    const fn assert_send<T: Send>() {}
+    assert_send::<Executive>();
+};
+
 impl Executive {
     /// Starts building an executive for `program`: an RMPL program's [`Thca`], which must have
     /// been linked against `plant`'s variables (`rmpl::load` with `LinkOptions { plant:
