@@ -25,7 +25,7 @@ fn options(use_conflicts: bool) -> SearchOptions {
         decompose: true,
         budget: Budget {
             max_nodes: Some(PLAIN_NODE_CAP),
-            max_time: None,
+            ..Budget::default()
         },
     }
 }

@@ -189,8 +189,7 @@ typedef struct KairosOptions {
   // Non-zero: the bounded-time mode (the module documentation of `options.rs` and
   // docs/embedding.md say what it bounds); needs a deadline.
   uint32_t bounded;
-  // The estimator's time budget per OPSAT enumeration, in seconds; 0 for none, or, in the
-  // bounded-time mode, for the one derived from the deadline.
+  // The estimator's time budget per OPSAT enumeration, in seconds; 0 for none.
   double estimation_time_budget_s;
   // The estimator's budget in search nodes per OPSAT enumeration; 0 for none.
   uint64_t estimation_node_budget;

@@ -3,21 +3,20 @@
 //!
 //! # The bounded-time mode, and what it bounds
 //!
-//! With `bounded` set, the estimator's time budget is derived from the cycle deadline unless one
-//! is given: `cycle_deadline_s / (2 κ)` per OPSAT enumeration. A normal cycle runs at most one
-//! enumeration per tracked state (κ), so its searches together take about half the deadline,
-//! leaving the rest to the sequencer and the planner. When a budget stops a search, the belief is
-//! the best found so far and the step says so (`KAIROS_STEP_SEARCH_CUT`); a cycle that took longer
-//! than the deadline says so too (`KAIROS_STEP_DEADLINE_OVERRUN`, with its elapsed time).
+//! With `bounded` set, mode estimation must end half the cycle deadline after the cycle starts
+//! (`ExecutiveOptions::estimation_deadline`): every OPSAT search of the cycle's estimation — one
+//! per tracked state, and any re-estimation of the history window or fall-back expansion — stops
+//! at that one instant, and the belief is the best found so far. The other half is left to the
+//! sequencer, the planner and this library. When the instant (or a per-search budget) stops a
+//! search the step says so (`KAIROS_STEP_SEARCH_CUT` and a search-cut event); a cycle that took
+//! longer than the deadline says so too (`KAIROS_STEP_DEADLINE_OVERRUN`, with its elapsed time).
 //!
-//! What is guaranteed, precisely: each OPSAT enumeration of mode estimation stops at the first
-//! search node it starts after its budget ran out (the node's SAT call is not interrupted). Not
-//! guaranteed: the cycle's total. A cycle may run more enumerations than κ — when truncation may
-//! have cost the truth, TimedME estimates its last 16 to 32 steps again tracking 8κ states
-//! (docs/design/estimation.md, "The history window"), and an observation no tracked state
-//! explains triggers a fall-back expansion — and building the OCSPs, goal interpretation and the
-//! planner's look-ups have no budget. The deadline is a measured bound, reported when missed, not
-//! an enforced one; docs/embedding.md has the figures.
+//! What is guaranteed, precisely: no OPSAT search of mode estimation starts a node after the
+//! instant (the node's SAT call is not interrupted, and building a search's problem is not
+//! timed). Mode estimation is the phase whose cost varies by orders of magnitude (a quiet cycle
+//! takes microseconds, a diagnosis milliseconds); the sequencer and the planner's look-ups have
+//! no budget, so the cycle's total is bounded by measurement, and reported when missed, not
+//! enforced. `kairos-ffi/tests/bounded.rs` checks the mode; docs/embedding.md has the figures.
 
 use std::time::Duration;
 
@@ -38,8 +37,7 @@ pub struct KairosOptions {
     /// Non-zero: the bounded-time mode (the module documentation of `options.rs` and
     /// docs/embedding.md say what it bounds); needs a deadline.
     pub bounded: u32,
-    /// The estimator's time budget per OPSAT enumeration, in seconds; 0 for none, or, in the
-    /// bounded-time mode, for the one derived from the deadline.
+    /// The estimator's time budget per OPSAT enumeration, in seconds; 0 for none.
     pub estimation_time_budget_s: f64,
     /// The estimator's budget in search nodes per OPSAT enumeration; 0 for none.
     pub estimation_node_budget: u64,
@@ -83,10 +81,12 @@ impl KairosOptions {
             ));
         }
         let deadline = seconds(self.cycle_deadline_s, "cycle_deadline_s")?;
-        let mut budget = Budget {
+        let budget = Budget {
             max_nodes: (self.estimation_node_budget > 0).then_some(self.estimation_node_budget),
             max_time: seconds(self.estimation_time_budget_s, "estimation_time_budget_s")?,
+            until: None,
         };
+        let mut builder = builder.kappa(self.kappa as usize).estimation_budget(budget);
         if self.bounded != 0 {
             let Some(deadline) = deadline else {
                 return Err(Failure::new(
@@ -94,9 +94,8 @@ impl KairosOptions {
                     "the bounded-time mode needs a cycle deadline (cycle_deadline_s > 0)",
                 ));
             };
-            budget.max_time = budget.max_time.or(Some(deadline / (2 * self.kappa)));
+            builder = builder.estimation_deadline(deadline / 2);
         }
-        let mut builder = builder.kappa(self.kappa as usize).estimation_budget(budget);
         if let Some(deadline) = deadline {
             builder = builder.cycle_deadline(deadline);
         }

@@ -146,6 +146,12 @@ impl TimedMe {
     pub fn options(&self) -> TimedMeOptions {
         self.options
     }
+
+    /// Sets OPSAT's budget for the updates that follow (the executive gives each cycle's
+    /// searches their deadline: [`Budget::until`]).
+    pub fn set_budget(&mut self, budget: Budget) {
+        self.options.budget = budget;
+    }
 }
 
 impl ModeEstimator for TimedMe {
