@@ -15,12 +15,12 @@ fn root() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
 }
 
-/// `target/<profile>`, from this test's own executable (`target/<profile>/deps/<test>`): the
-/// static library is there.
-fn profile_dir() -> PathBuf {
+/// `target/<profile>/deps`, from this test's own executable (`target/<profile>/deps/<test>`):
+/// the static library the test's build compiled is there. (`cargo build` also copies it to
+/// `target/<profile>`, but `cargo test` does not: a copy there may be an older build's.)
+fn deps_dir() -> PathBuf {
     let exe = std::env::current_exe().expect("the test knows where it is");
     exe.parent()
-        .and_then(Path::parent)
         .expect("the test runs from target/<profile>/deps")
         .to_path_buf()
 }
@@ -28,14 +28,14 @@ fn profile_dir() -> PathBuf {
 /// Compiles `source` with `compiler` and the flags, linked with the static library; the path of
 /// the program.
 fn compile(compiler: &str, flags: &[&str], source: &str, name: &str) -> PathBuf {
-    let profile = profile_dir();
-    let library = profile.join("libkairos_ffi.a");
+    let deps = deps_dir();
+    let library = deps.join("libkairos_ffi.a");
     assert!(
         library.exists(),
         "{} is built by cargo test",
         library.display()
     );
-    let out_dir = profile.join("c-examples");
+    let out_dir = deps.with_file_name("c-examples");
     std::fs::create_dir_all(&out_dir).expect("target/<profile>/c-examples is writable");
     let program = out_dir.join(name);
     let output = Command::new(compiler)
