@@ -468,8 +468,9 @@ pub struct Executive {
 
 // An executive moves between threads (one call at a time, DESIGN.md §10): an embedding host
 // steps it from whichever thread runs its flight loop, and the C ABI's handle is one executive.
-// Everything it owns is therefore `Send` — shared caches by `Arc`, the SAT solver boxed as
-// `dyn SatSolver + Send` — and this fails to compile if a change makes it otherwise.
+// Everything it owns is therefore `Send` — mode estimation's shared caches by `Arc`, the theory
+// on batsat with callbacks of its own (`opsat/sat.rs`) — and this fails to compile if a change
+// makes it otherwise.
 const _: () = {
     const fn assert_send<T: Send>() {}
     assert_send::<Executive>();
