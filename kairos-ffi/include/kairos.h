@@ -145,6 +145,10 @@ typedef enum KairosEventKind {
   KAIROS_EVENT_KIND_PROMOTED = 32,
   KAIROS_EVENT_KIND_PROMOTION_FAILED = 33,
   KAIROS_EVENT_KIND_SAFING = 34,
+  KAIROS_EVENT_KIND_GOAL_RECOVERED = 35,
+  KAIROS_EVENT_KIND_NETWORK_STALLED = 36,
+  KAIROS_EVENT_KIND_SAFE_GOAL_DROPPED = 37,
+  KAIROS_EVENT_KIND_X_GOAL_WITHDRAWN = 38,
 } KairosEventKind;
 
 // An executive and what the C ABI keeps beside it. Opaque to C.
@@ -381,6 +385,7 @@ const char *kairos_executive_last_error(const struct KairosExecutive *handle);
 
 // Submits goals to the running mission: `network` is a `Network(points: [...], constraints:
 // [...], goals: [...])` written as in a mission file (its goals may name the mission's points).
+// It is made at the last cycle's time (0 before the first): its new points fire no earlier.
 // `KAIROS_STATUS_LOAD` when it does not read or resolve (the message locates every problem),
 // `KAIROS_STATUS_SUBMIT` when the mission refuses it (the running network is unchanged) or the
 // executive runs an RMPL program.

@@ -48,6 +48,10 @@ pub enum KairosEventKind {
     Promoted = 32,
     PromotionFailed = 33,
     Safing = 34,
+    GoalRecovered = 35,
+    NetworkStalled = 36,
+    SafeGoalDropped = 37,
+    XGoalWithdrawn = 38,
 }
 
 impl KairosEventKind {
@@ -88,6 +92,10 @@ impl KairosEventKind {
             EventKind::Promoted { .. } => K::Promoted,
             EventKind::PromotionFailed { .. } => K::PromotionFailed,
             EventKind::Safing { .. } => K::Safing,
+            EventKind::GoalRecovered { .. } => K::GoalRecovered,
+            EventKind::NetworkStalled { .. } => K::NetworkStalled,
+            EventKind::SafeGoalDropped { .. } => K::SafeGoalDropped,
+            EventKind::XGoalWithdrawn { .. } => K::XGoalWithdrawn,
         }
     }
 }

@@ -285,6 +285,7 @@ pub unsafe extern "C" fn kairos_executive_last_error(
 
 /// Submits goals to the running mission: `network` is a `Network(points: [...], constraints:
 /// [...], goals: [...])` written as in a mission file (its goals may name the mission's points).
+/// It is made at the last cycle's time (0 before the first): its new points fire no earlier.
 /// `KAIROS_STATUS_LOAD` when it does not read or resolve (the message locates every problem),
 /// `KAIROS_STATUS_SUBMIT` when the mission refuses it (the running network is unchanged) or the
 /// executive runs an RMPL program.
@@ -312,7 +313,8 @@ pub unsafe extern "C" fn kairos_submit(
                 mission,
             )
             .map_err(|e| Failure::new(KairosStatus::Load, e.to_string()))?;
-            (handle.executive.submit(&submission)).map_err(|e| {
+            let now = handle.executive.last_time().unwrap_or(0.0);
+            (handle.executive.submit(&submission, now)).map_err(|e| {
                 Failure::new(
                     KairosStatus::Submit,
                     format!("the submission was refused: {e}"),

@@ -520,6 +520,11 @@ impl Executive {
         self.belief.as_ref()
     }
 
+    /// The time of the last cycle (`None` before the first).
+    pub fn last_time(&self) -> Option<f64> {
+        self.last_time
+    }
+
     /// The state timelines and the command and observation histories.
     pub fn timelines(&self) -> &Timelines {
         &self.timelines

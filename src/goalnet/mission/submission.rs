@@ -116,5 +116,5 @@ pub fn parse_submission(
     let file: NetworkFile = options
         .from_str(&source.text)
         .map_err(|e| located(vec![ron_error(source, &e)]))?;
-    resolve_submission(source, &[], &mission.plant, &mission.network, &file).map_err(located)
+    resolve_submission(source, &[], mission, &file).map_err(located)
 }
