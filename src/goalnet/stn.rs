@@ -21,6 +21,18 @@
 //!   of a 10,000-point chain took 1 s.
 //! - On a negative cycle, the cycle is extracted (Bellman–Ford with predecessor edges, walked
 //!   back into the cycle) and named by its constraints.
+//! - **The scheduler's trials** ([`Stn::try_constraint`], [`Stn::undo`]): a constraint is added
+//!   to the network itself and relaxed from, with what the relaxation changed kept to undo it;
+//!   the latest times (a Dijkstra over the whole graph) wait for the next [`Stn::propagate`].
+//!   For a constraint with one edge `u → v` the test for a negative cycle is exact — the cycle
+//!   must pass through the new edge, so it exists iff the relaxation improves `u` again — and
+//!   costs no more than the relaxation. A trial thus costs the points whose earliest time it
+//!   moves, not a copy of the network and a full propagation; a refused one leaves the network
+//!   as it was, edge lists included (petgraph removes the last edges in place).
+//! - **Rigid components** ([`Stn::rigid_components`]): the points the network fixes relative
+//!   to each other are the strongly connected components of the edges the earliest times make
+//!   tight, found in one pass; the scheduler asks whether two consecutive points coincide with
+//!   it instead of a Bellman–Ford per pair.
 
 use std::collections::VecDeque;
 
@@ -373,7 +385,7 @@ impl Stn {
     /// The earliest time of a point as of the last successful propagation, or of the last trial
     /// ([`Stn::try_constraint`]); `None` before one, after an inconsistency, or for a point added
     /// since.
-    pub fn earliest(&self, point: TimePointId) -> Option<f64> {
+    pub(crate) fn earliest(&self, point: TimePointId) -> Option<f64> {
         let distances = self.distances.as_ref()?;
         distances.to_origin.get(point.index()).map(|d| -d)
     }
