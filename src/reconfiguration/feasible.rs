@@ -19,9 +19,16 @@
 //!   names it.
 //! - Within a causal unit (a cycle of influence), a sub-goal on a component not yet computed is
 //!   trusted only when that component is already in the mode needed (conservative).
+//! - A move with several candidates (transitions between the same two modes, alternative
+//!   requirements of a guard: DESIGN.md §9, redundancy) is possible when one of them is: a bus
+//!   fed by regulator A or B stays reachable while either regulator can be switched on. A
+//!   sub-goal already met in the current state — by its mode or by one that serves as well, a
+//!   switch stuck open for `open` — needs nothing. A blocked move keeps, per candidate, what
+//!   it lacks, for the goal failure's reason.
 
 use super::policy::{ConcurrentPolicy, PolicyStep};
 use super::reachability::members;
+use super::requirement::Requirement;
 use crate::logic::ValueId;
 use crate::plant::{ComponentId, ModeKind, Plant};
 
@@ -34,6 +41,20 @@ pub(crate) struct Feasible {
     pub finals: Vec<Vec<bool>>,
     /// Components whose helper modes limited each component's (the causes of a restriction).
     pub blocked_by: Vec<Vec<ComponentId>>,
+    /// Per component, the moves it could not make: each with, per alternative way of making it
+    /// (DESIGN.md §9, redundancy), the sub-goals that cannot be had.
+    pub blocked_moves: Vec<Vec<BlockedMove>>,
+}
+
+/// A move of a component that no alternative makes possible from the current state.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct BlockedMove {
+    /// The mode it would leave.
+    pub source: ValueId,
+    /// The mode it would enter.
+    pub target: ValueId,
+    /// Per alternative, the sub-goals on components upstream that cannot be achieved.
+    pub alternatives: Vec<Vec<(ComponentId, ValueId)>>,
 }
 
 /// Computes the feasible modes for the state `current` (one mode per component).
@@ -48,24 +69,27 @@ pub(crate) fn feasible(
         helpers: vec![Vec::new(); n],
         finals: vec![Vec::new(); n],
         blocked_by: vec![Vec::new(); n],
+        blocked_moves: vec![Vec::new(); n],
     };
     for &c in upstream_first {
         let policy = &policies[c.index()];
         let kinds: Vec<ModeKind> = plant.component(c).modes().iter().map(|m| m.kind).collect();
-        let (helpers, finals, blocked) = {
+        let (helpers, finals, blocked, moves) = {
             let mut walker = Walker {
                 policy,
                 state: &state,
                 current,
                 blocked: Vec::new(),
+                moves: Vec::new(),
             };
             let helpers = walker.helpers(current[c.index()], &kinds);
             let finals = walker.finals(current[c.index()], &helpers);
-            (helpers, finals, walker.blocked)
+            (helpers, finals, walker.blocked, walker.moves)
         };
         state.helpers[c.index()] = helpers;
         state.finals[c.index()] = finals;
         state.blocked_by[c.index()] = blocked;
+        state.blocked_moves[c.index()] = moves;
     }
     state
 }
@@ -76,29 +100,57 @@ struct Walker<'a> {
     state: &'a Feasible,
     current: &'a [ValueId],
     blocked: Vec<ComponentId>,
+    moves: Vec<BlockedMove>,
 }
 
 impl Walker<'_> {
-    /// A step's sub-goals are all achievable.
+    /// Some candidate of the move `step` makes (a transition between its two modes, with one
+    /// of its alternative requirements) has every sub-goal met in the current state or
+    /// achievable; otherwise the move is recorded as blocked, with what each candidate lacks.
     fn step_ok(&mut self, step: &PolicyStep) -> bool {
-        let Ok(requirement) = &step.requirement else {
-            return false;
-        };
-        for &(u, v) in &requirement.modes {
-            let helpers = &self.state.helpers[u.index()];
-            let ok = if helpers.is_empty() {
-                self.current[u.index()] == v
-            } else {
-                helpers[v.index()]
-            };
-            if !ok {
-                if !self.blocked.contains(&u) {
-                    self.blocked.push(u);
-                }
-                return false;
+        let mut lacking = Vec::new();
+        for (_, requirement) in self.policy.candidates_between(step.source, step.target) {
+            let missing: Vec<(ComponentId, ValueId)> = requirement
+                .modes
+                .iter()
+                .copied()
+                .filter(|&(u, v)| !self.achievable(requirement, u, v))
+                .collect();
+            if missing.is_empty() {
+                return true;
+            }
+            if !lacking.contains(&missing) {
+                lacking.push(missing);
             }
         }
-        true
+        for &(u, _) in lacking.iter().flatten() {
+            if !self.blocked.contains(&u) {
+                self.blocked.push(u);
+            }
+        }
+        let known = self
+            .moves
+            .iter()
+            .any(|m| m.source == step.source && m.target == step.target);
+        if !known && !lacking.is_empty() {
+            self.moves.push(BlockedMove {
+                source: step.source,
+                target: step.target,
+                alternatives: lacking,
+            });
+        }
+        false
+    }
+
+    /// The sub-goal `u = v` of `requirement` is met now (by `v` or a mode that serves as well)
+    /// or `v` is a helper mode of `u`.
+    fn achievable(&self, requirement: &Requirement, u: ComponentId, v: ValueId) -> bool {
+        let here = self.current[u.index()];
+        if requirement.is_met(u, v, here) {
+            return true;
+        }
+        let helpers = &self.state.helpers[u.index()];
+        !helpers.is_empty() && helpers[v.index()]
     }
 
     /// The planner reaches `to` from `from` by following the policy.

@@ -17,10 +17,12 @@
 
 use super::Reconfiguration;
 use super::goal::{GoalState, check_state};
-use super::policy::{PolicyEntry, PolicyStep};
+use std::collections::HashMap;
+
+use super::policy::{ConcurrentPolicy, PolicyEntry, PolicyStep};
 use super::requirement::Requirement;
 use crate::logic::{ValueId, VarId};
-use crate::plant::{Commands, ComponentId, InputError, Plant, TransitionLaw};
+use crate::plant::{Commands, ComponentId, InputError, ModeKind, Plant, TransitionLaw};
 
 /// A command toward the goal: control assignments for this cycle.
 #[derive(Debug, Clone, PartialEq)]
@@ -305,6 +307,9 @@ struct Planner<'a> {
     goal: &'a GoalState,
     /// The levels of the current descent, from its root (to catch cycles and to measure it).
     trail: Vec<Link>,
+    /// Whether a component can be brought to a mode from ŝ, as found this cycle (filled only
+    /// for moves with several candidates).
+    usable: HashMap<(ComponentId, ValueId), bool>,
 }
 
 impl<'a> Planner<'a> {
@@ -318,6 +323,7 @@ impl<'a> Planner<'a> {
             current,
             goal,
             trail: Vec::new(),
+            usable: HashMap::new(),
         }
     }
 
@@ -340,14 +346,16 @@ impl<'a> Planner<'a> {
                 );
             }
             let here = self.current[c.index()];
-            let policy = self.reconfiguration.policy(c);
-            let (step, irreversible) = match policy.entry(here, target) {
-                PolicyEntry::Next { step, irreversible } => (&policy.steps()[step], irreversible),
+            let reconfiguration = self.reconfiguration;
+            let policy = reconfiguration.policy(c);
+            let (step_index, irreversible) = match policy.entry(here, target) {
+                PolicyEntry::Next { step, irreversible } => (step, irreversible),
                 PolicyEntry::Stay => return Action::Achieved,
                 PolicyEntry::Failure => {
                     return self.fail(c, target, "no plannable path leads there");
                 }
             };
+            let step = &policy.steps()[step_index];
             let mut link = Link {
                 component: c,
                 distance: policy.distance(here, target).unwrap_or(usize::MAX),
@@ -355,25 +363,23 @@ impl<'a> Planner<'a> {
                 pending: None,
             };
             let explicit = self.goal.mode(c) == target && self.goal.is_named(c);
-            let requirement = match &step.requirement {
-                _ if irreversible && !explicit => {
-                    Err("the step would be irreversible and the goal does not name the target")
-                }
-                Ok(requirement) => Ok(requirement),
-                Err(_) => Err("the next step's guard cannot be established"),
+            let chosen = match &step.requirement {
+                _ if irreversible && !explicit => Err(
+                    "the step would be irreversible and the goal does not name the target"
+                        .to_string(),
+                ),
+                Ok(_) => self.choose(policy, step_index),
+                Err(_) => Err("the next step's guard cannot be established".to_string()),
             };
-            let requirement = match requirement {
-                Ok(requirement) => requirement,
+            let (step, requirement) = match chosen {
+                Ok(chosen) => chosen,
                 Err(why) => {
                     self.trail.push(link);
-                    return self.fail(c, target, why);
+                    return self.fail(c, target, &why);
                 }
             };
             // Sub-goals are stored most downstream first (see `Reconfiguration::compile`).
-            let unmet = requirement
-                .modes
-                .iter()
-                .position(|&(u, v)| self.current[u.index()] != v);
+            let unmet = requirement.unmet(self.current).next().map(|(i, _)| i);
             link.sub_goals.clone_from(&requirement.modes);
             link.pending = Some(unmet.map_or(0, |i| requirement.modes.len() - i));
             self.trail.push(link);
@@ -382,6 +388,125 @@ impl<'a> Planner<'a> {
                 None => return self.act(c, step, requirement),
             }
         }
+    }
+
+    /// The way to take the move `step` names (DESIGN.md §9, redundancy): of its candidates (the
+    /// transitions between the two modes and each one's alternative requirements), those whose
+    /// unmet sub-goals can all be achieved from ŝ; among them the ones that need no component
+    /// ŝ believes faulty, then the fewest sub-goals the goal state wants elsewhere (each would
+    /// be undone after the move), then the fewest unmet sub-goals, then the first compiled
+    /// (cheapest). The choice depends only on ŝ and the goal state: under nominal execution the chosen candidate's unmet
+    /// sub-goals are met one by one and the others' cannot fall below its count without a
+    /// change of ŝ the plan did not make, so the planner does not switch back and forth. A move
+    /// with one candidate is taken as it is (its sub-goals fail on their own if they must).
+    fn choose(
+        &mut self,
+        policy: &'a ConcurrentPolicy,
+        step: usize,
+    ) -> Result<(&'a PolicyStep, &'a Requirement), String> {
+        let steps = policy.steps();
+        let mut candidates = policy.candidates(step);
+        let first = candidates.next();
+        let Some(first) = first else {
+            return Err("the next step's guard cannot be established".to_string());
+        };
+        if candidates.next().is_none() {
+            return Ok((&steps[first.0], first.1));
+        }
+        let current = self.current;
+        let goal = self.goal;
+        let mut best: Option<((bool, usize, usize, usize), (usize, &'a Requirement))> = None;
+        for (order, (i, requirement)) in policy.candidates(step).enumerate() {
+            // Sub-goals the goal state wants elsewhere would be undone once the move is made:
+            // the planner prefers the way that leaves every helper where the goal state has it.
+            let undone = requirement
+                .modes
+                .iter()
+                .filter(|&&(u, v)| !requirement.is_met(u, v, goal.mode(u)))
+                .count();
+            let mut faulty = false;
+            let mut unmet = 0;
+            let mut usable = true;
+            for (_, (u, v)) in requirement.unmet(current) {
+                unmet += 1;
+                faulty |= self.is_faulty(u);
+                if !self.usable(u, v, 0) {
+                    usable = false;
+                    break;
+                }
+            }
+            let key = (faulty, undone, unmet, order);
+            if usable && best.as_ref().is_none_or(|(k, _)| key < *k) {
+                best = Some((key, (i, requirement)));
+            }
+        }
+        match best {
+            Some((_, (i, requirement))) => Ok((&steps[i], requirement)),
+            None => Err(self.no_candidate(policy, step)),
+        }
+    }
+
+    /// True when ŝ has `u` in a fault mode.
+    fn is_faulty(&self, u: ComponentId) -> bool {
+        let component = self.reconfiguration.plant().component(u);
+        component.mode(self.current[u.index()]).kind == ModeKind::Fault
+    }
+
+    /// True when the planner can bring `u` to `v` from ŝ: every move on its policy's path has a
+    /// candidate whose unmet sub-goals can be achieved in turn (a circular need cannot).
+    fn usable(&mut self, u: ComponentId, v: ValueId, depth: usize) -> bool {
+        if let Some(&known) = self.usable.get(&(u, v)) {
+            return known;
+        }
+        if depth > self.current.len() {
+            return false;
+        }
+        self.usable.insert((u, v), false);
+        let reconfiguration = self.reconfiguration;
+        let policy = reconfiguration.policy(u);
+        let current = self.current;
+        let ok = policy
+            .walk(current[u.index()], v, |step| {
+                policy
+                    .candidates_between(step.source, step.target)
+                    .any(|(_, requirement)| {
+                        requirement
+                            .unmet(current)
+                            .all(|(_, (w, m))| w != u && self.usable(w, m, depth + 1))
+                    })
+            })
+            .is_some();
+        self.usable.insert((u, v), ok);
+        ok
+    }
+
+    /// Why no candidate of the move `step` names can be used: each alternative with the
+    /// sub-goals it cannot have.
+    fn no_candidate(&mut self, policy: &'a ConcurrentPolicy, step: usize) -> String {
+        let reconfiguration = self.reconfiguration;
+        let plant = reconfiguration.plant();
+        let current = self.current;
+        let mut ways = Vec::new();
+        for (_, requirement) in policy.candidates(step) {
+            let blocked: Vec<String> = requirement
+                .unmet(current)
+                .filter(|&(_, (u, v))| !self.usable(u, v, 0))
+                .map(|(_, (u, v))| {
+                    let component = plant.component(u);
+                    format!(
+                        "{} = {} ({} is {})",
+                        component.name(),
+                        component.mode(v).name,
+                        component.name(),
+                        component.mode(current[u.index()]).name
+                    )
+                })
+                .collect();
+            if !blocked.is_empty() && !ways.contains(&blocked.join(" and ")) {
+                ways.push(blocked.join(" and "));
+            }
+        }
+        format!("no way to establish its guard: {}", ways.join(", or "))
     }
 
     /// The step's command, or a wait when it needs none.
