@@ -114,7 +114,7 @@ fn served(names: &dyn Names, serves: &[Served]) -> String {
         .map(|served| match served {
             Served::Program { goal, span } => format!("{goal} ({})", names.at(span)),
             Served::Mission { goal } => format!("goal {goal}"),
-            Served::Intended { goal } => format!("{goal} (the intended configuration)"),
+            Served::Intended { goal } => goal.clone(),
         })
         .collect();
     if goals.is_empty() {
@@ -414,6 +414,30 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
         E::Promoted { cause } => ("promoted", format!("the proposed network ({cause})")),
         E::PromotionFailed { reason } => ("PROMOTION", format!("failed: {reason}")),
         E::Safing { cause } => ("SAFING", cause.clone()),
+        E::GoalContradicted {
+            goal,
+            command,
+            component: c,
+            mode,
+        } => (
+            "CONTRADICTED",
+            format!(
+                "withheld {}: it would move {} out of {mode}, which {goal} requires",
+                command.join(", "),
+                component(*c)
+            ),
+        ),
+        E::Chatter {
+            component: c,
+            mode,
+            cycles,
+        } => (
+            "CHATTER",
+            format!(
+                "{} commanded back into {mode}, which it was commanded out of {cycles} cycles ago",
+                component(*c)
+            ),
+        ),
     }
 }
 

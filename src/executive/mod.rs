@@ -30,6 +30,7 @@ mod delegation;
 mod describe;
 mod events;
 mod evidence;
+mod faithful;
 mod fingerprint;
 mod load;
 mod mission;
@@ -67,6 +68,7 @@ use crate::reconfiguration::{
 };
 use crate::sequencer::{self, ConfigurationGoal, LocationId, Sense, SequencerError, Thca};
 use control::Program;
+use faithful::Faithful;
 use observations::LastObservation;
 use oracle::{AnswerCache, CachedOracle, VersionedEstimate};
 
@@ -84,7 +86,13 @@ pub struct ExecutiveOptions {
     /// When the goal is unreachable from ŝ: how probable another tracked plant state must be to
     /// be acted on, and how many commands per goal may be sent on such states.
     pub ambiguity: AmbiguityOptions,
+    /// N of the `Chatter` event (DESIGN.md §9): a component commanded back into a mode it was
+    /// commanded out of within this many cycles, with no diagnosis in between, chatters.
+    pub chatter_cycles: u64,
 }
+
+/// The default of [`ExecutiveOptions::chatter_cycles`].
+pub const CHATTER_CYCLES: u64 = 10;
 
 impl Default for ExecutiveOptions {
     fn default() -> Self {
@@ -94,6 +102,7 @@ impl Default for ExecutiveOptions {
             estimation_budget: Budget::default(),
             retention: Retention::default(),
             ambiguity: AmbiguityOptions::default(),
+            chatter_cycles: CHATTER_CYCLES,
         }
     }
 }
@@ -241,6 +250,13 @@ impl ExecutiveBuilder {
         self
     }
 
+    /// Sets N of the `Chatter` event: how many cycles a component must stay out of a mode it
+    /// was commanded out of before a command back into it is not chatter.
+    pub fn chatter_cycles(mut self, cycles: u64) -> Self {
+        self.options.chatter_cycles = cycles;
+        self
+    }
+
     /// Sets every option at once.
     pub fn options(mut self, options: ExecutiveOptions) -> Self {
         self.options = options;
@@ -281,6 +297,7 @@ impl ExecutiveBuilder {
             interpretation: None,
             ambiguity: Ambiguity::default(),
             intended: None,
+            faithful: Faithful::new(plant.components().len()),
             reported: Reported::default(),
             confidence_atoms,
             timelines,
@@ -435,6 +452,9 @@ pub struct Executive {
     /// The hypotheses other than ŝ acted on for the current goal.
     ambiguity: Ambiguity,
     intended: Option<GoalState>,
+    /// Helpers to bring back, recent commanded moves, the last contradiction reported
+    /// (`faithful.rs`).
+    faithful: Faithful,
     reported: Reported,
     confidence_atoms: Vec<(VarId, ValueId)>,
     timelines: Timelines,
@@ -527,7 +547,8 @@ impl Executive {
         let estimated = Instant::now();
         let goal = self.sequence(now, &mut log)?;
         let sequenced = Instant::now();
-        let (goal_state, action) = self.reconfigure(goal.as_ref(), &mut log);
+        let (goal_state, mut action) = self.reconfigure(goal.as_ref(), &mut log);
+        self.keep_faithful(&mut action, goal.as_ref(), &mut log);
         let purpose = Purpose {
             goal: goal.as_ref(),
             intended: goal_state.as_ref(),
@@ -840,23 +861,43 @@ impl Executive {
         // (ARCHITECTURE.md, reconfiguration decisions).
         if let Some(intended) = &mut self.intended {
             self.reconfiguration.settle_in_place(intended, &modes);
+            self.faithful.settle(&modes, intended.modes());
         }
-        if let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) {
-            match self.interpret(goal, &modes) {
-                Ok(goal_state) => {
-                    self.reported.goal_failure = None;
-                    self.intended = Some(self.reconfiguration.settle(&goal_state, &modes));
-                }
-                Err(failed) => return self.retry_or_fail(goal, &modes, &failed, log),
-            }
-        } else {
+        if log.events.iter().any(|e| matches!(e.kind, EventKind::Safing { .. })) {
+            self.faithful.forget_helpers();
+        }
+        let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) else {
+            // No goal: only helpers a plan moved are brought back (`faithful.rs`).
             self.reported.goal_failure = None;
+            return self.restore_helpers(&modes);
+        };
+        match self.interpret(goal, &modes) {
+            Ok(goal_state) => {
+                self.reported.goal_failure = None;
+                self.intended = Some(self.reconfiguration.settle(&goal_state, &modes));
+            }
+            Err(failed) => return self.retry_or_fail(goal, &modes, &failed, log),
         }
         let Some(intended) = &self.intended else {
             return (None, None);
         };
         let action = self.reconfiguration.next_action(&modes, intended);
         (Some(intended.clone()), Some(action))
+    }
+
+    /// With no goal asserted: the planner's action toward bringing the helpers back to their
+    /// intended modes, every other component where ŝ has it; nothing to do without helpers.
+    fn restore_helpers(&self, modes: &[ValueId]) -> (Option<GoalState>, Option<Action>) {
+        let Some(intended) = &self.intended else {
+            return (None, None);
+        };
+        if !self.faithful.has_helpers() {
+            return (Some(intended.clone()), Some(Action::Achieved));
+        }
+        let target = self.faithful.keep(modes, Some(intended.modes()));
+        let target = GoalState::new(&self.plant, target, &[]);
+        let action = self.reconfiguration.next_action(modes, &target);
+        (Some(target), Some(action))
     }
 
     /// The goal is unreachable from ŝ: the planner's command from another tracked plant state
@@ -916,12 +957,11 @@ impl Executive {
         (None, None)
     }
 
-    /// The configuration goal interpretation keeps where the goal allows: the intended one, or
-    /// ŝ before there is one.
+    /// The configuration goal interpretation keeps where the goal allows: ŝ, except for the
+    /// helpers still to be brought back to their intended modes (`faithful.rs`).
     fn keep(&self, modes: &[ValueId]) -> Vec<ValueId> {
-        self.intended
-            .as_ref()
-            .map_or_else(|| modes.to_vec(), |state| state.modes().to_vec())
+        let intended = self.intended.as_ref().map(GoalState::modes);
+        self.faithful.keep(modes, intended)
     }
 
     /// Goal interpretation of `goal` from ŝ, keeping the intended configuration where the goal
@@ -958,6 +998,77 @@ impl Executive {
                 cause: crate::reconfiguration::FailureCause::BadInput,
             }),
         }
+    }
+
+    /// DESIGN.md §9's invariants on the cycle's command (`faithful.rs`): withheld, and reported
+    /// `GoalContradicted`, when it leaves a mode an active goal requires; reported `Chatter`
+    /// when it commands a component back into a mode it was commanded out of within N cycles
+    /// with no diagnosis in between; a component it moves for a goal it does not name is
+    /// remembered as a helper to bring back.
+    fn keep_faithful(
+        &mut self,
+        action: &mut Option<Action>,
+        goal: Option<&ConfigurationGoal>,
+        log: &mut EventLog,
+    ) {
+        if log.events.iter().any(|e| matches!(e.kind, EventKind::Diagnosis { .. })) {
+            self.faithful.diagnosed();
+        }
+        let Some(Action::Command(command)) = action.as_ref() else {
+            self.faithful.contradicted = None;
+            return;
+        };
+        let plant = &self.plant;
+        let table = plant.table();
+        let goals = active_goals(goal);
+        let modes = &self.most_likely;
+        if let Some(broken) = faithful::contradicted(plant, goals, modes, command.component, command.to)
+        {
+            let component = plant.component(command.component);
+            let key = (
+                broken.display(table).to_string(),
+                (command.assignments.iter())
+                    .map(|&(x, v)| table.assignment(x, v).to_string())
+                    .collect::<Vec<_>>(),
+            );
+            if self.faithful.contradicted.as_ref() != Some(&key) {
+                log.push(EventKind::GoalContradicted {
+                    goal: key.0.clone(),
+                    command: key.1.clone(),
+                    component: command.component,
+                    mode: component.mode(command.from).name.clone(),
+                });
+                self.faithful.contradicted = Some(key);
+            }
+            let reason = format!(
+                "the command would move {} out of {}, which the goal {} requires",
+                component.name(),
+                component.mode(command.from).name,
+                broken.display(table)
+            );
+            *action = Some(Action::Failure(crate::reconfiguration::PlanFailure {
+                component: Some(command.component),
+                reason,
+            }));
+            return;
+        }
+        self.faithful.contradicted = None;
+        let (c, from, to) = (command.component, command.from, command.to);
+        let window = self.options.chatter_cycles;
+        if let Some(cycles) = self.faithful.commanded(log.cycle, window, (c, from, to)) {
+            log.push(EventKind::Chatter {
+                component: c,
+                mode: plant.component(c).mode(to).name.clone(),
+                cycles,
+            });
+        }
+        let named = self.intended.as_ref().is_some_and(|s| s.is_named(c)) || command.serves == c;
+        let served = plant.component(command.serves);
+        let for_goal = goal.map_or_else(
+            || format!("{} = {}", served.name(), served.mode(self.intended.as_ref().map_or(to, |s| s.mode(command.serves))).name),
+            |g| g.formula.display(table).to_string(),
+        );
+        self.faithful.moved(c, Some(for_goal), named);
     }
 
     /// Turns the planner's action into μ(i), reports it, and remembers it for estimation.
@@ -1040,12 +1151,40 @@ impl Executive {
                 .collect(),
         };
         if served.is_empty() {
-            served.extend(purpose.intended.map(|state| Served::Intended {
-                goal: table.assignment(var, state.mode(component)).to_string(),
+            served.extend(purpose.intended.map(|state| {
+                let mode = table.assignment(var, state.mode(component)).to_string();
+                let goal = match (&self.faithful.helpers[component.index()], purpose.goal) {
+                    (Some(moved_for), _) => format!("{mode}, bringing back a helper moved for {moved_for}"),
+                    (None, Some(g)) => format!("{mode} in the goal state of {}", g.formula.display(table)),
+                    (None, None) => mode,
+                };
+                Served::Intended { goal }
             }));
         }
         served
     }
+}
+
+/// The active goals of a cycle (DESIGN.md §9): the configuration goal's conjuncts as the
+/// program asserted them, or, for a mission (whose goal has none listed), the top-level
+/// conjuncts of its formula — one per active XGoal.
+fn active_goals(goal: Option<&ConfigurationGoal>) -> Vec<&Formula> {
+    fn split<'f>(formula: &'f Formula, out: &mut Vec<&'f Formula>) {
+        match formula {
+            Formula::And(parts) => parts.iter().for_each(|p| split(p, out)),
+            Formula::True => {}
+            other => out.push(other),
+        }
+    }
+    let mut goals = Vec::new();
+    if let Some(goal) = goal {
+        if goal.conjuncts.is_empty() {
+            split(&goal.formula, &mut goals);
+        } else {
+            goals.extend(goal.conjuncts.iter().map(|c| &c.formula));
+        }
+    }
+    goals
 }
 
 /// What a cycle's action is for: the configuration goal g(i) and the intended configuration

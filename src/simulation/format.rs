@@ -334,6 +334,10 @@ pub enum EventName {
     PromotionFailed,
     /// The safe network was promoted.
     Safing,
+    /// A command would have left a mode an active goal requires (withheld).
+    GoalContradicted,
+    /// A component was commanded back into a mode it was commanded out of within N cycles.
+    Chatter,
 }
 
 impl EventName {
@@ -376,6 +380,8 @@ impl EventName {
             E::Promoted { .. } => EventName::Promoted,
             E::PromotionFailed { .. } => EventName::PromotionFailed,
             E::Safing { .. } => EventName::Safing,
+            E::GoalContradicted { .. } => EventName::GoalContradicted,
+            E::Chatter { .. } => EventName::Chatter,
         }
     }
 }

@@ -1,0 +1,227 @@
+//! Goal-faithful commands (DESIGN.md §9): what the executive checks of every command it issues,
+//! and what it remembers to do so.
+//!
+//! - **The intended configuration covers only what goals asked for.** While a goal is
+//!   asserted, goal interpretation keeps every component the goal does not name where ŝ has it
+//!   — not where an earlier goal state had it — unless it is a *helper*: a component the
+//!   planner moved for a goal and has not yet brought back to its mode in the goal state (the
+//!   PDE switched on for the engine's heating, to be switched off again). A component that
+//!   changed by itself (a temperature, a payload that lost its supply, the end of a timed
+//!   transition) is therefore never "restored" by a command no goal asked for. When no goal is
+//!   asserted the planner only brings helpers back. For a mission, a state variable without an
+//!   active XGoal is unconstrained (DESIGN.md §15.3), and after safing nothing but the safe
+//!   network's goals commands: safing forgets the helpers.
+//! - **No command leaves a mode an active goal requires.** An active goal (a conjunct of the
+//!   configuration goal: an asserted RMPL goal or maintenance condition, or a dispatched
+//!   XGoal's constraint) *requires* a component's mode when it holds in ŝ and would not hold
+//!   with that component moved where the command sends it, every other component as ŝ has it.
+//!   Such a command is withheld (the cycle idles) and reported `GoalContradicted`, once until
+//!   it changes: a goal that holds is not broken to serve another. A goal that does not hold yet
+//!   may pass through the move (reaching it is what the plan is for). The check reads goals
+//!   over modes; a goal over attributes (`valve.flow = nominal`) is decided by the model, which
+//!   the check does not consult, and is not checked here.
+//! - **No chatter.** A component commanded back into a mode it was commanded out of within the
+//!   last N cycles (N = [`ExecutiveOptions::chatter_cycles`](super::ExecutiveOptions), 10 by
+//!   default), with no diagnosis in between, is reported `Chatter`. It is not withheld (the
+//!   plant may need it), but it is a defect of the plan or of the model: every scenario fails on
+//!   it unless it says it expects it.
+
+use crate::logic::{Atom, Formula, ValueId};
+use crate::plant::{ComponentId, Plant};
+
+/// What the executive remembers between cycles to keep its commands goal-faithful.
+#[derive(Debug, Clone, Default, Hash)]
+pub(super) struct Faithful {
+    /// Per component, the goal (as text) it was moved for as a helper, until it is back in its
+    /// mode of the intended configuration; `None` for a component no plan moved away.
+    pub helpers: Vec<Option<String>>,
+    /// The recent commanded moves: (cycle, component, the mode it was commanded out of).
+    pub commanded: Vec<(u64, ComponentId, ValueId)>,
+    /// The last contradiction reported (goal, command), so that a command withheld cycle after
+    /// cycle is reported once.
+    pub contradicted: Option<(String, Vec<String>)>,
+}
+
+impl Faithful {
+    /// A fresh record for a plant of `components` components.
+    pub fn new(components: usize) -> Faithful {
+        Faithful {
+            helpers: vec![None; components],
+            commanded: Vec::new(),
+            contradicted: None,
+        }
+    }
+
+    /// The configuration goal interpretation keeps where the goal allows: a helper's mode in
+    /// the intended configuration, ŝ for every other component.
+    pub fn keep(&self, modes: &[ValueId], intended: Option<&[ValueId]>) -> Vec<ValueId> {
+        let mut keep = modes.to_vec();
+        if let Some(intended) = intended {
+            for (c, helper) in self.helpers.iter().enumerate() {
+                if helper.is_some() {
+                    if let (Some(k), Some(&m)) = (keep.get_mut(c), intended.get(c)) {
+                        *k = m;
+                    }
+                }
+            }
+        }
+        keep
+    }
+
+    /// True when some helper is still away from its intended mode.
+    pub fn has_helpers(&self) -> bool {
+        self.helpers.iter().any(Option::is_some)
+    }
+
+    /// Forgets the helpers that are back in their intended modes.
+    pub fn settle(&mut self, modes: &[ValueId], intended: &[ValueId]) {
+        for ((helper, here), goal) in self.helpers.iter_mut().zip(modes).zip(intended) {
+            if here == goal {
+                *helper = None;
+            }
+        }
+    }
+
+    /// Forgets every helper (safing: only the safe network commands from now on).
+    pub fn forget_helpers(&mut self) {
+        self.helpers.iter_mut().for_each(|h| *h = None);
+    }
+
+    /// Remembers that `component`, commanded for `goal`, is a helper until it is back in its
+    /// intended mode (a component the goal names is not a helper: it is where the goal wants
+    /// it).
+    pub fn moved(&mut self, component: ComponentId, goal: Option<String>, named: bool) {
+        if named {
+            return;
+        }
+        if let Some(slot) = self.helpers.get_mut(component.index()) {
+            if slot.is_none() {
+                *slot = goal;
+            }
+        }
+    }
+
+    /// Records a commanded move of `component` out of `from` into `to` at `cycle`; returns the
+    /// number of cycles since it was commanded out of `to`, when that is within `window`
+    /// cycles: chatter. A diagnosis in between (`forget_before`) clears the record.
+    pub fn commanded(
+        &mut self,
+        cycle: u64,
+        window: u64,
+        (component, from, to): (ComponentId, ValueId, ValueId),
+    ) -> Option<u64> {
+        self.commanded
+            .retain(|&(at, _, _)| cycle.saturating_sub(at) <= window);
+        let back = self
+            .commanded
+            .iter()
+            .rev()
+            .find(|&&(_, c, left)| c == component && left == to)
+            .map(|&(at, _, _)| cycle - at);
+        self.commanded.push((cycle, component, from));
+        back
+    }
+
+    /// A diagnosis: what was commanded before it is no chatter (the plan changed because ŝ did).
+    pub fn diagnosed(&mut self) {
+        self.commanded.clear();
+    }
+}
+
+/// The active goal among `goals` that moving `component` from its mode in `modes` to `to`
+/// would break: one that holds in `modes` (decided by the modes alone) and would not hold after
+/// the move (see the module doc).
+pub(super) fn contradicted<'g>(
+    plant: &Plant,
+    goals: impl IntoIterator<Item = &'g Formula>,
+    modes: &[ValueId],
+    component: ComponentId,
+    to: ValueId,
+) -> Option<&'g Formula> {
+    let before = |atom: &Atom| mode_atom(plant, modes, None, atom);
+    let after = |atom: &Atom| mode_atom(plant, modes, Some((component, to)), atom);
+    let var = plant.component(component).mode_var();
+    goals.into_iter().find(|goal| {
+        goal.variables().contains(&var)
+            && goal.eval(&before) == Some(true)
+            && goal.eval(&after) == Some(false)
+    })
+}
+
+/// The truth of a mode atom in `modes` (with `moved` applied); `None` for any other atom.
+fn mode_atom(
+    plant: &Plant,
+    modes: &[ValueId],
+    moved: Option<(ComponentId, ValueId)>,
+    atom: &Atom,
+) -> Option<bool> {
+    let Atom::Is(x, v) = *atom else {
+        return None;
+    };
+    let c = plant.component_of(x)?;
+    let mode = match moved {
+        Some((m, to)) if m == c => to,
+        _ => *modes.get(c.index())?,
+    };
+    Some(mode == v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Faithful, contradicted};
+    use crate::logic::{ValueId, parse_formula};
+    use crate::plant::{ComponentId, Plant};
+    use std::path::Path;
+
+    fn thermostat() -> Plant {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/thermostat.ron");
+        let text = std::fs::read_to_string(&path).expect("the thermostat model is shipped");
+        let source = crate::diagnostic::Source::new(path.display().to_string(), text);
+        Plant::load(&source).expect("the thermostat loads")
+    }
+
+    /// DESIGN.md §9: a command that leaves a mode a holding goal requires contradicts it; one
+    /// within a disjunction the goal allows, or toward a goal not yet held, does not.
+    #[test]
+    fn a_holding_goal_requires_its_modes() {
+        let plant = thermostat();
+        let table = plant.table();
+        let closed_open = parse_formula("switch1 = closed and switch2 = open", table).expect("goal");
+        let warm = parse_formula("temperature = warm-low or temperature = warm", table).expect("goal");
+        let mode = |c: &str, m: &str| {
+            let id = plant.component_named(c).expect("component");
+            (id, plant.component(id).mode_named(m).expect("mode"))
+        };
+        let state = |pairs: &[(&str, &str)]| -> Vec<ValueId> {
+            let mut s = vec![ValueId(0); plant.components().len()];
+            for (c, m) in pairs {
+                let (id, v) = mode(c, m);
+                s[id.index()] = v;
+            }
+            s
+        };
+        let holding = state(&[("switch1", "closed"), ("switch2", "open"), ("temperature", "warm-low")]);
+        let goals = [closed_open.clone(), warm.clone()];
+        let (s1, open) = mode("switch1", "open");
+        assert_eq!(contradicted(&plant, &goals, &holding, s1, open), Some(&closed_open));
+        let (t, w) = mode("temperature", "warm");
+        assert_eq!(contradicted(&plant, &goals, &holding, t, w), None);
+        let reaching = state(&[("switch1", "open"), ("switch2", "closed")]);
+        let (s2, open2) = mode("switch2", "open");
+        assert_eq!(contradicted(&plant, &goals, &reaching, s2, open2), None);
+    }
+
+    /// A component commanded back into the mode it left within the window is chatter; after a
+    /// diagnosis, or past the window, it is not.
+    #[test]
+    fn chatter_is_a_return_within_the_window() {
+        let mut faithful = Faithful::new(2);
+        let c = ComponentId(0);
+        let (a, b) = (ValueId(0), ValueId(1));
+        assert_eq!(faithful.commanded(1, 10, (c, a, b)), None);
+        assert_eq!(faithful.commanded(4, 10, (c, b, a)), Some(3));
+        faithful.diagnosed();
+        assert_eq!(faithful.commanded(5, 10, (c, a, b)), None);
+        assert_eq!(faithful.commanded(20, 10, (c, b, a)), None);
+    }
+}
