@@ -24,10 +24,32 @@
 //!   last N cycles (N = [`ExecutiveOptions::chatter_cycles`](super::ExecutiveOptions), 10 by
 //!   default), with no diagnosis in between, is reported `Chatter`. It is not withheld (the
 //!   plant may need it), but it is a defect of the plan or of the model: every scenario fails on
-//!   it unless it says it expects it.
+//!   it unless it says it expects it. One return is the plan's own and no chatter: a helper's
+//!   *excursion* — moved out of its mode in the intended configuration to serve another
+//!   component's step, then brought back (§6.3.3: the PDE switched on to relay the engine's
+//!   commands, off again once the engine fires). Leaving a mode *toward* the intended
+//!   configuration and being commanded back is chatter: that is the planner undoing itself.
+//!   Chatter is the executive working against itself for the same goals: a return commanded
+//!   for another configuration goal than the move out (the program moved on to its next goal,
+//!   a mission safed or re-elaborated) is the goals' change, not chatter.
 
 use crate::logic::{Atom, Formula, ValueId};
 use crate::plant::{ComponentId, Plant};
+
+/// A commanded move, remembered for the chatter check.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub(super) struct CommandedMove {
+    /// The cycle it was commanded in.
+    pub cycle: u64,
+    /// The component moved.
+    pub component: ComponentId,
+    /// The mode it was commanded out of.
+    pub left: ValueId,
+    /// True for a helper's excursion away from its intended mode.
+    pub excursion: bool,
+    /// The configuration goal it was commanded for, as text (`None` with none asserted).
+    pub goal: Option<String>,
+}
 
 /// What the executive remembers between cycles to keep its commands goal-faithful.
 #[derive(Debug, Clone, Default, Hash)]
@@ -35,8 +57,8 @@ pub(super) struct Faithful {
     /// Per component, the goal (as text) it was moved for as a helper, until it is back in its
     /// mode of the intended configuration; `None` for a component no plan moved away.
     pub helpers: Vec<Option<String>>,
-    /// The recent commanded moves: (cycle, component, the mode it was commanded out of).
-    pub commanded: Vec<(u64, ComponentId, ValueId)>,
+    /// The recent commanded moves.
+    pub commanded: Vec<CommandedMove>,
     /// The last contradiction reported (goal, command), so that a command withheld cycle after
     /// cycle is reported once.
     pub contradicted: Option<(String, Vec<String>)>,
@@ -101,24 +123,23 @@ impl Faithful {
         }
     }
 
-    /// Records a commanded move of `component` out of `from` into `to` at `cycle`; returns the
-    /// number of cycles since it was commanded out of `to`, when that is within `window`
-    /// cycles: chatter. A diagnosis in between (`forget_before`) clears the record.
-    pub fn commanded(
-        &mut self,
-        cycle: u64,
-        window: u64,
-        (component, from, to): (ComponentId, ValueId, ValueId),
-    ) -> Option<u64> {
+    /// Records `moved` (a component commanded out of `moved.left`) and whether it chatters:
+    /// the number of cycles since the component was commanded out of `to` for the same goal
+    /// other than by an excursion, when that is within `window` cycles (see the module doc). A
+    /// diagnosis in between ([`Faithful::diagnosed`]) clears the record.
+    pub fn commanded(&mut self, moved: CommandedMove, to: ValueId, window: u64) -> Option<u64> {
+        let cycle = moved.cycle;
         self.commanded
-            .retain(|&(at, _, _)| cycle.saturating_sub(at) <= window);
+            .retain(|m| cycle.saturating_sub(m.cycle) <= window);
         let back = self
             .commanded
             .iter()
             .rev()
-            .find(|&&(_, c, left)| c == component && left == to)
-            .map(|&(at, _, _)| cycle - at);
-        self.commanded.push((cycle, component, from));
+            .find(|m| {
+                m.component == moved.component && m.left == to && !m.excursion && m.goal == moved.goal
+            })
+            .map(|m| cycle - m.cycle);
+        self.commanded.push(moved);
         back
     }
 
@@ -168,7 +189,7 @@ fn mode_atom(
 
 #[cfg(test)]
 mod tests {
-    use super::{Faithful, contradicted};
+    use super::{CommandedMove, Faithful, contradicted};
     use crate::logic::{ValueId, parse_formula};
     use crate::plant::{ComponentId, Plant};
     use std::path::Path;
@@ -212,16 +233,33 @@ mod tests {
     }
 
     /// A component commanded back into the mode it left within the window is chatter; after a
-    /// diagnosis, or past the window, it is not.
+    /// diagnosis, past the window, or after a helper's excursion, it is not.
     #[test]
     fn chatter_is_a_return_within_the_window() {
         let mut faithful = Faithful::new(2);
         let c = ComponentId(0);
         let (a, b) = (ValueId(0), ValueId(1));
-        assert_eq!(faithful.commanded(1, 10, (c, a, b)), None);
-        assert_eq!(faithful.commanded(4, 10, (c, b, a)), Some(3));
+        let goal = Some("g".to_string());
+        let mut at = |faithful: &mut Faithful, cycle, left, to, excursion, goal: &Option<String>| {
+            let moved = CommandedMove {
+                cycle,
+                component: c,
+                left,
+                excursion,
+                goal: goal.clone(),
+            };
+            faithful.commanded(moved, to, 10)
+        };
+        assert_eq!(at(&mut faithful, 1, a, b, false, &goal), None);
+        assert_eq!(at(&mut faithful, 4, b, a, false, &goal), Some(3));
         faithful.diagnosed();
-        assert_eq!(faithful.commanded(5, 10, (c, a, b)), None);
-        assert_eq!(faithful.commanded(20, 10, (c, b, a)), None);
+        assert_eq!(at(&mut faithful, 5, a, b, false, &goal), None);
+        assert_eq!(at(&mut faithful, 20, b, a, false, &goal), None);
+        // A helper's excursion and its return: the plan's own.
+        assert_eq!(at(&mut faithful, 30, a, b, true, &goal), None);
+        assert_eq!(at(&mut faithful, 33, b, a, false, &goal), None);
+        // Back for another goal: the goals changed.
+        assert_eq!(at(&mut faithful, 35, a, b, false, &goal), None);
+        assert_eq!(at(&mut faithful, 36, b, a, false, &Some("h".to_string())), None);
     }
 }

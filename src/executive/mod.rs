@@ -1055,7 +1055,16 @@ impl Executive {
         self.faithful.contradicted = None;
         let (c, from, to) = (command.component, command.from, command.to);
         let window = self.options.chatter_cycles;
-        if let Some(cycles) = self.faithful.commanded(log.cycle, window, (c, from, to)) {
+        let intended = self.intended.as_ref().map(|s| s.mode(c));
+        let goal_text = goal.map(|g| g.formula.display(table).to_string());
+        let moved = faithful::CommandedMove {
+            cycle: log.cycle,
+            component: c,
+            left: from,
+            excursion: command.serves != c && intended == Some(from),
+            goal: goal_text.clone(),
+        };
+        if let Some(cycles) = self.faithful.commanded(moved, to, window) {
             log.push(EventKind::Chatter {
                 component: c,
                 mode: plant.component(c).mode(to).name.clone(),
@@ -1063,11 +1072,11 @@ impl Executive {
             });
         }
         let named = self.intended.as_ref().is_some_and(|s| s.is_named(c)) || command.serves == c;
-        let served = plant.component(command.serves);
-        let for_goal = goal.map_or_else(
-            || format!("{} = {}", served.name(), served.mode(self.intended.as_ref().map_or(to, |s| s.mode(command.serves))).name),
-            |g| g.formula.display(table).to_string(),
-        );
+        let for_goal = goal_text.unwrap_or_else(|| {
+            let served = plant.component(command.serves);
+            let mode = intended.map_or(to, |_| self.intended.as_ref().map_or(to, |s| s.mode(command.serves)));
+            format!("{} = {}", served.name(), served.mode(mode).name)
+        });
         self.faithful.moved(c, Some(for_goal), named);
     }
 
