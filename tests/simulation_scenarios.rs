@@ -17,6 +17,10 @@ const SCENARIOS: &[&str] = &[
     "scenarios/propulsion/nominal.ron",
     "scenarios/propulsion/pde_resettable.ron",
     "scenarios/propulsion/campaign.ron",
+    "scenarios/power/nominal.ron",
+    "scenarios/power/regulator_a_fails.ron",
+    "scenarios/power/both_regulators_fail.ron",
+    "scenarios/power/switch_stuck_open.ron",
 ];
 
 /// The directories whose scenarios have their own suites: the Mars EDL's
@@ -391,5 +395,16 @@ fn timeline_draws_the_run_even_when_it_fails() {
     assert!(
         stderr.contains("cannot write no/such/dir/run.svg"),
         "{stderr}"
+    );
+}
+
+/// DESIGN.md §9 (redundancy): with both regulators failed, the payload's goal fails and the
+/// reason names each alternative way of powering the bus and why it fails.
+#[test]
+fn power_goal_failure_names_both_regulators() {
+    let log = passes("scenarios/power/both_regulators_fail.ron");
+    assert!(
+        log.contains("reg_a = on (reg_a is failed) or reg_b = on (reg_b is failed)"),
+        "{log}"
     );
 }
