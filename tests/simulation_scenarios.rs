@@ -76,8 +76,8 @@ fn every_scenario_directory_file_is_listed_and_passes() {
 
 /// Thesis §6.3.3: PDE on, engine standby, wait for heating, both valves, fire; the PDE is
 /// switched off once the goal is achieved. Each command names the goal it serves (issue 19
-/// item 2): every step toward firing serves `engine = firing`; the PDE's `off` serves the
-/// intended configuration, no asserted goal naming the PDE.
+/// item 2): every step toward firing serves `engine = firing`; the PDE's `off` brings back the
+/// helper moved for it (DESIGN.md §9: no command "for the intended configuration" alone).
 #[test]
 fn propulsion_reaches_firing_with_the_section_6_3_3_sequence() {
     let log = passes("scenarios/propulsion/nominal.ron");
@@ -93,7 +93,7 @@ fn propulsion_reaches_firing_with_the_section_6_3_3_sequence() {
             "PDE.cmd = open1 (valve1: closed -> open) for engine = firing (programs/propulsion_fire.rmpl:4:13)",
             "PDE.cmd = open2 (valve2: closed -> open) for engine = firing (programs/propulsion_fire.rmpl:4:13)",
             "PDE.cmd = engine-fire (engine: standby -> firing) for engine = firing (programs/propulsion_fire.rmpl:4:13)",
-            "PDE.cmd = off (PDE: on -> off) for PDE = off (the intended configuration)",
+            "PDE.cmd = off (PDE: on -> off) for PDE = off, bringing back a helper moved for engine = firing",
         ],
         "{log}"
     );
@@ -248,7 +248,7 @@ fn a_failing_expectation_exits_1_and_is_named() {
         "{stdout}"
     );
     assert!(
-        stdout.contains("FAIL: 2 of 3 expectations do not hold"),
+        stdout.contains("FAIL: 2 of 5 expectations do not hold"),
         "{stdout}"
     );
     assert!(

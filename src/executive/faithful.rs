@@ -256,10 +256,10 @@ mod tests {
         assert_eq!(at(&mut faithful, 5, a, b, false, &goal), None);
         assert_eq!(at(&mut faithful, 20, b, a, false, &goal), None);
         // A helper's excursion and its return: the plan's own.
-        assert_eq!(at(&mut faithful, 30, a, b, true, &goal), None);
-        assert_eq!(at(&mut faithful, 33, b, a, false, &goal), None);
+        assert_eq!(at(&mut faithful, 31, a, b, true, &goal), None);
+        assert_eq!(at(&mut faithful, 34, b, a, false, &goal), None);
         // Back for another goal: the goals changed.
-        assert_eq!(at(&mut faithful, 35, a, b, false, &goal), None);
-        assert_eq!(at(&mut faithful, 36, b, a, false, &Some("h".to_string())), None);
+        assert_eq!(at(&mut faithful, 45, a, b, false, &goal), None);
+        assert_eq!(at(&mut faithful, 46, b, a, false, &Some("h".to_string())), None);
     }
 }
