@@ -240,7 +240,7 @@ mod tests {
         let c = ComponentId(0);
         let (a, b) = (ValueId(0), ValueId(1));
         let goal = Some("g".to_string());
-        let mut at = |faithful: &mut Faithful, cycle, left, to, excursion, goal: &Option<String>| {
+        let at = |faithful: &mut Faithful, cycle, left, to, excursion, goal: &Option<String>| {
             let moved = CommandedMove {
                 cycle,
                 component: c,
