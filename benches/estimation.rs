@@ -1,4 +1,4 @@
-//! Mode estimation benchmarks (DESIGN.md §14; issues 4 and 7): one estimation step on the Mars
+//! Mode estimation benchmarks (DESIGN.md §14): one estimation step on the Mars
 //! lander at κ ∈ {1, 10} during the EDL (a quiet cruise cycle, the engine heating, the entry
 //! trigger's window, a new observation); on the propulsion subsystem at κ ∈ {1, 5, 10, 50}; the exact update against TimedME on an 8-component plant;
 //! TimedME on synthetic chain and tree plants of 10, 100 and 1000 components.

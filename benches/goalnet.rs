@@ -1,4 +1,4 @@
-//! Goal networks (issue 13 §7; DESIGN.md §14–15): STN propagation and incremental grounding on
+//! Goal networks (DESIGN.md §14–15): STN propagation and incremental grounding on
 //! networks of 10–10,000 points, scheduling the thermostat mission, and the cost a goal network
 //! adds to a quiet executive cycle (monitoring and a firing pass that fires nothing). Run:
 //! `cargo bench --bench goalnet`; numbers in BENCHMARKS.md.

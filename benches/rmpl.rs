@@ -1,4 +1,4 @@
-//! RMPL and sequencer benchmarks (issue 3 acceptance; DESIGN.md §14):
+//! RMPL and sequencer benchmarks (DESIGN.md §14):
 //! - compiling `programs/mars_edl.rmpl`: parsing, linking against the lander's variables,
 //!   building the THCA, and the three together;
 //! - one `Step_THCA` cycle on the EDL automaton during powered descent (its busiest marking),

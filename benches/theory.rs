@@ -1,6 +1,7 @@
-//! Theory query latency on both SAT backends, with and without conflict minimisation (issue 2,
-//! benchmark (a)). Small: the 5-gate full adder (13 variables); medium: a 60-variable
-//! chain-coupled problem with ~90 clauses. Run: `cargo bench --bench theory`.
+//! Theory query latency on both SAT backends, with and without conflict minimisation (the
+//! comparison that chose the default backend: BENCHMARKS.md, "The theory and OPSAT"). Small: the
+//! 5-gate full adder (13 variables); medium: a 60-variable chain-coupled problem with ~90 clauses.
+//! Run: `cargo bench --bench theory`.
 
 #[path = "../tests/support/random_ocsp.rs"]
 mod random_ocsp;

@@ -325,14 +325,30 @@ pub fn resolve_path(dir: &Path, relative: &str) -> PathBuf {
 }
 
 /// Turns a RON syntax or shape error into a located diagnostic.
+/// An unknown enum variant or struct field (a misspelt event name in a scenario's
+/// expectation, a misspelt field of a plant's mode) gets the closest accepted name as a
+/// did-you-mean note, in every RON format, since every loader reports through here.
 pub fn ron_error(source: &Source, error: &ron::error::SpannedError) -> Diagnostic {
     let start = source.offset_of(error.span.start.line, error.span.start.col);
     let end = source.offset_of(error.span.end.line, error.span.end.col);
-    Diagnostic::new(
+    let diagnostic = Diagnostic::new(
         format!("malformed RON: {}", error.code),
         start..end.max(start),
     )
-    .expected("the documented format")
+    .expected("the documented format");
+    let close = match &error.code {
+        ron::Error::NoSuchEnumVariant {
+            expected, found, ..
+        }
+        | ron::Error::NoSuchStructField {
+            expected, found, ..
+        } => did_you_mean(found, expected.iter().copied()),
+        _ => None,
+    };
+    match close {
+        Some(close) => diagnostic.note(format!("did you mean `{close}`?")),
+        None => diagnostic,
+    }
 }
 
 /// Where a string literal with exactly this content first appears in a RON text: the span of
@@ -406,6 +422,40 @@ pub fn did_you_mean<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[derive(Debug, serde::Deserialize)]
+    #[allow(dead_code)]
+    enum Kind {
+        GoalFailed,
+        GoalAchieved,
+    }
+
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct Expect {
+        event: Kind,
+    }
+
+    /// DESIGN.md §13: a misspelt variant or field in any RON file names the closest accepted one.
+    #[test]
+    fn misspelt_variants_and_fields_get_a_did_you_mean() {
+        let cases = [
+            ("(event: GoalFailled)", "did you mean `GoalFailed`?"),
+            ("(evnet: GoalFailed)", "did you mean `event`?"),
+        ];
+        for (text, note) in cases {
+            let source = Source::new("x.ron", text);
+            let error = ron::from_str::<Expect>(text).expect_err("misspelt");
+            let rendered = source.render(&[ron_error(&source, &error)]);
+            assert!(rendered.contains(note), "{rendered}");
+        }
+        let text = "(event: Nothing)";
+        let source = Source::new("x.ron", text);
+        let error = ron::from_str::<Expect>(text).expect_err("unknown");
+        let rendered = source.render(&[ron_error(&source, &error)]);
+        assert!(!rendered.contains("did you mean"), "{rendered}");
+    }
 
     #[test]
     fn line_and_column_are_one_based_and_count_characters() {

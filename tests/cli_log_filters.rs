@@ -125,8 +125,8 @@ fn a_goal_asserted_again_by_its_location_is_re_asserted() {
     assert!(!log.contains("re-asserted camera = idle"), "{log}");
 }
 
-/// A preemption names the construct and the condition whose entailment preempted it (issue 19
-/// item 2; thesis §5.2 `do A watching c`, Figure 5-3 step 2): when IMU_1 fails, `do (IMU_1 =
+/// A preemption names the construct and the condition whose entailment preempted it (the mission
+/// log says why; thesis §5.2 `do A watching c`, Figure 5-3 step 2): when IMU_1 fails, `do (IMU_1 =
 /// on) watching (IMU_1 = failed)` is preempted "IMU_1 = failed became entailed", the
 /// condition quoted from the program; the trace carries it rendered from the formula, with
 /// `entailed`; an event printed on its own (`Display`, no program) renders it too.

@@ -1,4 +1,4 @@
-//! `kairos solve` on the shipped example OCSPs and on bad input (issue 2 acceptance: "prints
+//! `kairos solve` on the shipped example OCSPs and on bad input (its acceptance: "prints
 //! correct answers (snapshot tests)"; "exits 2 with a located error on bad input").
 
 #[path = "support/cli.rs"]

@@ -1,4 +1,4 @@
-//! Mode estimation against the thesis (issue 4 acceptance): Table 6.1's timed transition,
+//! Mode estimation against the thesis (its acceptance): Table 6.1's timed transition,
 //! §6.2.2's conditional form, §7.1.2's heating engine, Figures 6-8/6-9, and the fallback on
 //! inconsistent observations (DESIGN.md §8). Each runs the exact BeliefUpdate_TCCA (Figure 6-10)
 //! and TimedME (Figure 6-11).

@@ -1,5 +1,5 @@
-//! The accuracy of TimedME against the exact update on the broad random plants of issue 16
-//! (item 3; DESIGN.md §8: "the exact BeliefUpdate_TCCA is the reference the approximate
+//! The accuracy of TimedME against the exact update on broad random plants (the history
+//! window's measure; DESIGN.md §8: "the exact BeliefUpdate_TCCA is the reference the approximate
 //! estimator is measured against"): per step, whether TimedME's most likely plant state is the
 //! exact one (up to exact ties) and the total-variation distance between the two distributions
 //! over plant states, at κ = 3, 5, 10 and 20, with TimedME's history window and without, and
@@ -22,8 +22,8 @@ use kairos::logic::ValueId;
 use proptest::strategy::{Strategy, ValueTree};
 use support::random_plant::{RandomPlant, RandomRun, broad_plant, runs};
 
-/// The estimators scored: κ, and whether TimedME keeps its history window (ARCHITECTURE.md
-/// "Decisions: reasoning fidelity"; 0 turns it off).
+/// The estimators scored: κ, and whether TimedME keeps its history window (docs/design/
+/// estimation.md, "The history window"; 0 turns it off).
 const ESTIMATORS: [(usize, usize); 8] = [
     (3, 0),
     (3, DEFAULT_HISTORY),

@@ -1,4 +1,4 @@
-//! Diagnosis on the propulsion subsystem (Figures 6-14/6-15, §7.2.4; issue 4 acceptance): a
+//! Diagnosis on the propulsion subsystem (Figures 6-14/6-15, §7.2.4): a
 //! valve that does not open when commanded is stuck closed; an engine still cold after 60 s of
 //! heating has failed; a PDE that stops relaying commands is resettable — each diagnosed in the
 //! first cycle the evidence allows, by TimedME at κ = 10 (and, for the first, by the exact

@@ -173,8 +173,8 @@ proptest! {
     // The broad plants are slower (up to 80 system states, 30 steps): a few cases by default.
     #![proptest_config(seeded::config(12))]
 
-    /// Issue 16 items 1 and 2 on the broad generator, whose powered modes can violate the
-    /// connections when a step observes too little to rule them out.
+    /// Merging before truncating, and every kept state consistent, on the broad generator, whose
+    /// powered modes can violate the connections when a step observes too little to rule them out.
     #[test]
     fn on_broad_plants_timed_me_is_exact_within_kappa_and_every_kept_state_is_consistent(
         spec in broad_plant(BROAD_COMPONENTS),

@@ -1,4 +1,4 @@
-//! TimedME's history (beyond the thesis; ARCHITECTURE.md "Decisions: TimedME's
+//! TimedME's history (beyond the thesis; docs/design/estimation.md, "The
 //! history window"): when an observation contradicts every tracked state, the last steps are
 //! estimated again tracking more states before DESIGN.md §8's fault-jump fallback — so a state
 //! truncated away a few steps ago is found again, with its weight.

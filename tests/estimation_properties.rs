@@ -1,4 +1,4 @@
-//! TimedME against the exact update on random plants (issue 4 acceptance; DESIGN.md §8: "the exact
+//! TimedME against the exact update on random plants (DESIGN.md §8: "the exact
 //! BeliefUpdate_TCCA is the reference the approximate estimator is measured against").
 //!
 //! Random plants of up to 5 components with up to 4 modes (random guards, mode constraints,

@@ -1,4 +1,4 @@
-//! The embedding use of the executive (DESIGN.md §1 user 2, §10; issue 6 acceptance): a flight
+//! The embedding use of the executive (DESIGN.md §1 user 2, §10): a flight
 //! loop written by hand drives `Executive::step` against a plant simulated in plain Rust, the
 //! propulsion subsystem of thesis Figures 6-14/6-15 (`models/propulsion.ron`); and what a
 //! diagnosis names as evidence in cycle 0 and for observations discrepant only together, on a
@@ -321,9 +321,9 @@ fn odd_observations_are_events_and_the_cycle_goes_on() {
     assert!(executive.step(f64::NAN, &[]).is_err());
 }
 
-/// DESIGN.md §10, §13 (events on change, issue 15's quiet cycle): a report repeated word for
-/// word is rejected in the same places again, but its missing observables and its observation
-/// changes are not noted twice; the next different report is.
+/// DESIGN.md §10, §13 (events on change, and the quiet cycle's reuse of a repeated report): a
+/// report repeated word for word is rejected in the same places again, but its missing observables
+/// and its observation changes are not noted twice; the next different report is.
 #[test]
 fn a_repeated_report_notes_missing_observables_and_changes_once() {
     let mut executive = executive("Standby() :: { engine = standby }");
@@ -378,7 +378,7 @@ const LAMP: &str = r#"Plant(
 )"#;
 
 /// DESIGN.md §8: "if no state is consistent with the observations ... the estimator must say
-/// so, keep running ... and never panic"; issue 6: a contradictory observation produces an
+/// so, keep running ... and never panic": a contradictory observation produces an
 /// event and the run continues to completion.
 #[test]
 fn a_contradictory_observation_is_reported_and_execution_continues() {
@@ -547,11 +547,12 @@ fn retries_and_failure(events: &[EventKind]) -> (usize, String) {
     (retries, failure.expect("the goal fails"))
 }
 
-/// Issue 16 item 5 through the embedding API, on propulsion.ron, whose valves stick closed more
-/// readily than the lander's: after one unanswered `open2`, "not taken" (valve2 = closed) holds
-/// only about 0.01. Below the default threshold (0.05) the goal fails on the diagnosis alone, as
-/// in the thesis; with the threshold lowered to 0.005 the two retries of the budget are spent on
-/// the two explanations left, and the failure names both; with no retries allowed none is sent.
+/// Acting under diagnostic ambiguity through the embedding API, on propulsion.ron, whose valves
+/// stick closed more readily than the lander's: after one unanswered `open2`, "not taken" (valve2 =
+/// closed) holds only about 0.01. Below the default threshold (0.05) the goal fails on the
+/// diagnosis alone, as in the thesis; with the threshold lowered to 0.005 the two retries of the
+/// budget are spent on the two explanations left, and the failure names both; with no retries
+/// allowed none is sent.
 #[test]
 fn an_ambiguous_diagnosis_is_retried_only_above_the_threshold_and_within_the_budget() {
     let low = AmbiguityOptions {

@@ -1,4 +1,4 @@
-//! `kairos explore` over the two kinds of nondeterminism issue 17 item 1 names besides optional
+//! `kairos explore` over the two kinds of nondeterminism DESIGN.md §16 names besides optional
 //! faults: "timed plant responses may land anywhere in a declared interval (discretised to the
 //! cycle); simultaneous deliveries in any order" (DESIGN.md §16). Each search's counts are
 //! pinned, its counterexample replays in `kairos run`, and the nominal run stays the path that

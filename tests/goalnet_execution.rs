@@ -1,4 +1,4 @@
-//! Execution and monitoring of a scheduled network (issue 13 §4; mds-goal-networks.md §2.4–2.5;
+//! Execution and monitoring of a scheduled network (mds-goal-networks.md §2.4–2.5;
 //! DESIGN.md §15.3), driven by scripted estimates of the thermostat for system test 4's network
 //! (`missions/thermostat_stay_warm.ron`): when each point fires, the configuration goal, a
 //! maintain failure narrowed to its constituent, a forced point failing a transition goal; and

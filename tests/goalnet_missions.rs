@@ -1,4 +1,4 @@
-//! The mission file (issue 13 §2; DESIGN.md §15.4): the thermostat missions load, and every bad
+//! The mission file (DESIGN.md §15.4): the thermostat missions load, and every bad
 //! mission in `tests/bad_missions/` (its first comment says what is wrong) is refused with a
 //! located error (file:line:col, the text, what was expected; DESIGN.md §13), snapshot-tested as
 //! `kairos check` prints it.
@@ -131,7 +131,7 @@ fn the_know_all_mission_is_knowledge_only() {
     assert!(mission.safe.goals().is_empty());
 }
 
-/// `kairos check` validates missions beside models and programs (issue 13 §5): the shipped
+/// `kairos check` validates missions beside models and programs: the shipped
 /// missions pass, a bad one exits 2 with its located error.
 #[test]
 fn kairos_check_validates_missions() {

@@ -1,4 +1,4 @@
-//! Promotion (issue 14 items 2 and 7; mds-goal-networks.md §2.3 steps a–j): on random small
+//! Promotion (mds-goal-networks.md §2.3 steps a–j): on random small
 //! missions — random proposals of points, temporal constraints and goals promoted over a
 //! running thermostat network at a random time from a random estimate — a promotion never
 //! leaves the running network inconsistent, keeps every fired point fired at its time and

@@ -1,4 +1,4 @@
-//! Merging and scheduling (issue 13 §3; mds-goal-networks.md §2.2 and §3.3's negative
+//! Merging and scheduling (mds-goal-networks.md §2.2 and §3.3's negative
 //! scheduling tests): XGoals per state variable, serialisation, the four outcomes with their
 //! evidence, and `kairos schedule` on the thermostat mission (snapshot).
 
@@ -247,8 +247,8 @@ fn kairos_schedule_at_refuses_a_non_finite_time() {
 }
 
 /// A Maintain goal on a set the plant enters by itself (a trigger no command sets) is a
-/// condition its start point waits for, not an unachievable goal (ARCHITECTURE.md, goalnet
-/// decisions; mds-goal-networks.md §2.4's firing rule): the EDL descent mission schedules, its
+/// condition its start point waits for, not an unachievable goal (docs/design/goal-networks.md,
+/// "Scheduling"; mds-goal-networks.md §2.4's firing rule): the EDL descent mission schedules, its
 /// TP_bs held back by `alt-vel-triggered`. A set only a command reaches still needs its
 /// Transition goal (`a_maintain_goal_without_its_transition_is_transition_unachievable`).
 #[test]

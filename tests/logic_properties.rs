@@ -1,5 +1,5 @@
 //! Robustness and round-trip properties of the constraint language (DESIGN.md §4, §13: "no
-//! input makes the parser panic"; issue 2: "parser round-trips").
+//! input makes the parser panic"; and the parser round-trips).
 
 #[path = "support/seeded.rs"]
 mod seeded;

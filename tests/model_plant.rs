@@ -298,3 +298,63 @@ fn the_builder_refuses_bad_faults_and_noise() {
         "`stuck-clsoed` is not a mode of `valve1` (did you mean `stuck-closed`?)"
     );
 }
+
+/// A valve behind its own command: open shows flow, closed and stuck closed show none. The
+/// fault has no probability of its own; tests force it.
+const VALVE: &str = r#"Plant(name: "valve", components: [Component(
+    name: "valve",
+    attributes: { "cmd": ["none", "open", "close"], "flow": ["none", "some"] },
+    modes: [
+        Mode(name: "closed", constraint: "valve.flow = none", reward: 0),
+        Mode(name: "open", constraint: "valve.flow = some", reward: 0),
+        Mode(name: "stuck-closed", kind: Fault, constraint: "valve.flow = none", reward: -10),
+    ],
+    initial: { "closed": 1.0 },
+    transitions: [
+        (from: "closed", to: "open", guard: "valve.cmd = open", probability: 0.99),
+        (from: "open", to: "closed", guard: "valve.cmd = close", probability: 0.99),
+    ],
+)], controls: { "valve.cmd": "none" }, observables: ["valve.flow"])"#;
+
+/// The valve stuck closed at 2 s; `open` commanded at `open_at` (if any); the time the fault
+/// was revealed, after a run to 10 s.
+fn revealed(open_at: Option<f64>) -> Option<f64> {
+    let plant = plant_from("valve.ron", VALVE);
+    let fault = ForcedFault::parse(&plant, "valve = stuck-closed @ 2 s").expect("reads");
+    let mut model = ModelPlant::new(&plant, &config(3).with_fault(fault)).expect("encodes");
+    for i in 0..=10 {
+        let now = f64::from(i);
+        model.observe(now);
+        let command = match open_at {
+            Some(at) if at == now => vec![NamedValue::new("valve.cmd", "open")],
+            _ => Vec::new(),
+        };
+        model.send(now, &command).expect("a control");
+    }
+    let faults = model.faults();
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    faults[0].revealed
+}
+
+/// A fault that no observation can show yet is latent (DESIGN.md §17, campaigns: a fault never
+/// diagnosed is a miss only if it could have been seen): a valve stuck closed while it is
+/// closed shows what the closed valve would show, until `open` is commanded and the flow the
+/// nominal valve would have does not come.
+#[test]
+fn a_fault_is_revealed_only_when_its_nominal_shadow_would_show_otherwise() {
+    assert_eq!(
+        revealed(None),
+        None,
+        "never commanded open: latent to the end"
+    );
+    assert_eq!(
+        revealed(Some(5.0)),
+        Some(6.0),
+        "opened at 5 s: no flow at 6 s"
+    );
+    assert_eq!(
+        revealed(Some(1.0)),
+        Some(2.0),
+        "stuck while open: the flow stops at once"
+    );
+}

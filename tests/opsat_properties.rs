@@ -1,5 +1,5 @@
 //! Property tests of the foundation against brute force (DESIGN.md §7, "correctness is checked
-//! against brute-force enumeration on many random small OCSPs"; issue 2 acceptance).
+//! against brute-force enumeration on many random small OCSPs").
 
 mod support;
 

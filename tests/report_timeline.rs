@@ -302,7 +302,7 @@ fn assert_no_label_overlaps(picture: &Picture) -> usize {
     boxes.len()
 }
 
-/// §12 and issue 7 item 4: one lane per state variable, goals, commands (repairs told apart)
+/// §12, the timeline: one lane per state variable, goals, commands (repairs told apart)
 /// and diagnoses, fault modes highlighted.
 #[test]
 fn a_propulsion_run_draws_one_lane_per_state_variable_and_a_mark_per_command_and_diagnosis() {
@@ -563,7 +563,7 @@ fn room_run() -> Run {
     drive(executive, &mut room, 20.0, |t, _| t + 1.0)
 }
 
-/// §12 and issue 7 item 4: a lamp failing shows as its fault mode in its lane and a diagnosis;
+/// §12, the timeline: a lamp failing shows as its fault mode in its lane and a diagnosis;
 /// the same run draws the same picture.
 #[test]
 fn a_small_run_is_drawn_the_same_every_time() {
@@ -705,7 +705,7 @@ fn events_outside_the_window_are_counted_not_drawn() {
     assert!(picture.events("command").is_empty());
 }
 
-/// Issue 7 item 4 and §13, odd input: hostile text, huge and non-finite times, reversed
+/// The timeline and §13, odd input: hostile text, huge and non-finite times, reversed
 /// windows, unknown components and values, silly options.
 #[test]
 fn hostile_text_huge_times_and_nonsense_windows_still_make_valid_svg() {

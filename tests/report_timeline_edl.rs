@@ -10,7 +10,7 @@ use kairos::report::timeline::{TimelineInput, render};
 use kairos::simulation::{self, RunOptions};
 use roxmltree::Document;
 
-/// §12 and issue 7 item 4 on a headline run: one lane per state variable, fault modes
+/// §12, the timeline, on a headline run: one lane per state variable, fault modes
 /// highlighted, a mark per command and diagnosis, the cruise compressed into a marked break.
 #[test]
 fn the_edl_run_draws_its_lanes_faults_and_the_compressed_cruise() {

@@ -1,4 +1,4 @@
-//! Error messages for malformed programs (issue 3 acceptance: snapshot tests of at least ten; every
+//! Error messages for malformed programs (snapshot tests of at least ten; every
 //! error located at file:line:col with the source line, a caret and what was expected; several
 //! errors per run). Programs are linked against the Mars lander's variables so that unknown
 //! variables and values can be recognised.

@@ -1,4 +1,4 @@
-//! The shipped programs (issue 3 acceptance: "the three programs parse, link and compile"), their
+//! The shipped programs ("the three programs parse, link and compile"), their
 //! THCA drawings, and end-to-end runs against an ideal plant that show the seed's intent: the EDL
 //! lands (Appendix B), the Mars Polar Lander's touchdown-sensor spike is ignored (§1.1, DESIGN.md
 //! §11), and the deployment sequence of Figure 5-1 reaches success either way round (§5.1.2).

@@ -1,4 +1,4 @@
-//! No input makes the RMPL front end or the sequencer panic (issue 3 acceptance; DESIGN.md §13):
+//! No input makes the RMPL front end or the sequencer panic (DESIGN.md §13):
 //! arbitrary text, soups of RMPL tokens, and mutilated copies of the shipped programs are parsed,
 //! linked and, when they compile, executed for a few cycles on arbitrary estimates.
 //! `KAIROS_CASES=N` raises the number of cases.

@@ -92,7 +92,7 @@ fn r7_nocstr_succeeds_at_once() {
 }
 
 /// Processes every constraint the moment it arrives, each with its own course of action — the
-/// deliberately broken controller of issue 17's acceptance (no `waitafter` check, no queue).
+/// deliberately broken controller the explorer must catch (no `waitafter` check, no queue).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 struct TwoAtOnce {
     value: StateValue,
@@ -138,7 +138,7 @@ impl Controller for TwoAtOnce {
     }
 }
 
-/// §4.2 P-excl, issue 17's acceptance: a controller that processes two constraints at once is
+/// §4.2 P-excl, the explorer's acceptance: a controller that processes two constraints at once is
 /// caught on R5, with the shortest trace — c1 starts, the environment sends c2 while c1 is
 /// processed, c2 is delivered and started too (planned from where c1 has not moved the rover
 /// yet).

@@ -44,8 +44,14 @@ bad_scenario!(
 );
 bad_scenario!(
     unknown_rule,
-    "unknown_rule.ron:8:75",
-    "did you mean `PDE powers up`?"
+    "unknown_rule.ron:11:70",
+    "did you mean `PDE powers up`?",
+    "valve 1 sticks"
+);
+bad_scenario!(
+    unknown_event,
+    "unknown_event.ron:8:35",
+    "did you mean `GoalFailed`?"
 );
 bad_scenario!(
     nominal_fault,

@@ -1,4 +1,4 @@
-//! Every scenario under `scenarios/` run through `kairos run` (issue 6 items 7 and 8; DESIGN.md
+//! Every scenario under `scenarios/` run through `kairos run` (DESIGN.md
 //! §11, §12): exit codes, the key lines of the mission log, and the trace.
 
 #[path = "support/cli.rs"]
@@ -75,9 +75,9 @@ fn every_scenario_directory_file_is_listed_and_passes() {
 }
 
 /// Thesis §6.3.3: PDE on, engine standby, wait for heating, both valves, fire; the PDE is
-/// switched off once the goal is achieved. Each command names the goal it serves (issue 19
-/// item 2): every step toward firing serves `engine = firing`; the PDE's `off` brings back the
-/// helper moved for it (DESIGN.md §9: no command "for the intended configuration" alone).
+/// switched off once the goal is achieved. Each command names the goal it serves (the mission
+/// log says why): every step toward firing serves `engine = firing`; the PDE's `off` brings back
+/// the helper moved for it (DESIGN.md §9: no command "for the intended configuration" alone).
 #[test]
 fn propulsion_reaches_firing_with_the_section_6_3_3_sequence() {
     let log = passes("scenarios/propulsion/nominal.ron");
@@ -180,7 +180,7 @@ fn propulsion_repairs_a_resettable_pde_and_the_trace_shows_the_diagnosis() {
     assert_eq!(last_estimate["engine"], "firing");
 }
 
-/// Issue 6 acceptance: unknown names and values, a missing observable and a contradictory
+/// Robustness (DESIGN.md §13): unknown names and values, a missing observable and a contradictory
 /// observation are events, and the run continues to completion.
 #[test]
 fn odd_observations_are_events_and_the_run_completes() {

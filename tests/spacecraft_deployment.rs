@@ -52,7 +52,7 @@ fn every_scenario_file_is_run() {
     );
 }
 
-/// Issue 20's acceptance: the model has every state variable Figure 5-1 names, and the program
+/// The deployment model's acceptance: it has every state variable Figure 5-1 names, and the program
 /// links against it with no error (DESIGN.md §12, `kairos check MODEL PROGRAM`).
 #[test]
 fn kairos_check_links_the_program_against_the_model() {
@@ -113,11 +113,11 @@ fn the_components_are_the_programs_state_variables() {
     }
 }
 
-/// The model's conventions (its header; ARCHITECTURE.md, the Mars lander and the spacecraft
-/// deployment): nominal rewards are flat (the program asserts goals once and moves on, §6.3.1
-/// would otherwise undo them), faults are -10 (repairable) or -20 (permanent), and every nominal
-/// mode determines each observable of its component, so an unconstrained fault mode pays the
-/// observation factor 1/m (DESIGN.md §8) every cycle.
+/// The model's conventions (its header; docs/design/shipped-models.md, the Mars lander and the
+/// spacecraft deployment): nominal rewards are flat (the program asserts goals once and moves on,
+/// §6.3.1 would otherwise undo them), faults are -10 (repairable) or -20 (permanent), and every
+/// nominal mode determines each observable of its component, so an unconstrained fault mode pays
+/// the observation factor 1/m (DESIGN.md §8) every cycle.
 #[test]
 fn rewards_are_flat_and_every_nominal_mode_determines_its_observables() {
     let plant = model("spacecraft_deployment");

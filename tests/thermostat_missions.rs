@@ -1,5 +1,5 @@
-//! The thermostat's goal-network missions run by the executive through `kairos run` (issue 13
-//! item 6, DESIGN.md §15.3, §15.5; mds-goal-networks.md §3.3): system test 1
+//! The thermostat's goal-network missions run by the executive through `kairos run` (DESIGN.md
+//! §15.3, §15.5; mds-goal-networks.md §3.3): system test 1
 //! (knowledge over KnowAll), system test 4 (StayWarm, tactic 1) and a maintain failure (switch 1
 //! sticks open during the hold) on missions with no goal types; and the seed's system tests 4–9
 //! on `missions/thermostat.ron`, the mission with the seed's goal types, run by the executive's
@@ -59,7 +59,7 @@ fn every_mission_scenario_of_the_directory_is_run() {
     );
 }
 
-/// Issue 18's thermostat campaign against the sampled model, and the run of it that found a
+/// The thermostat campaign against the sampled model, and the run of it that found a
 /// defect (DESIGN.md §15, mds-goal-networks.md §2.5 step 4 and §2.7): switch 1 sticks open while
 /// the device warms, so `stay-warm.heater1` and `stay-warm.get-warm.heater1` fail in the same
 /// cycle; both fail up, to `stay-warm` and to `stay-warm.get-warm`. Re-elaborating `stay-warm`

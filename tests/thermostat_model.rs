@@ -31,8 +31,8 @@ const DIR: &str = "scenarios/thermostat";
 /// The seed's WARM, 20-40 °C, in the model's bands.
 const WARM: &str = "(temperature = warm-low or temperature = warm or temperature = warm-high)";
 
-/// The RMPL scenarios this file runs, one test each. (Goal-network missions on the same plant,
-/// issue 13, have tests of their own.)
+/// The RMPL scenarios this file runs, one test each. (Goal-network missions on the same plant
+/// have tests of their own: `tests/thermostat_missions.rs`.)
 const SCENARIOS: [&str; 7] = [
     "stay_warm.ron",
     "switch1_sticks_open.ron",
@@ -59,7 +59,7 @@ fn modes_of(plant: &Plant, component: &str) -> Vec<(String, ModeKind, f64)> {
 
 /// DESIGN.md §15.5: two switches with both stuck faults, a qualitative temperature with no
 /// fault, a sensor whose health is estimated; flat nominal rewards, permanent faults at −20
-/// (the model's header; ARCHITECTURE.md "the Mars lander" for the flat rewards).
+/// (the model's header; docs/design/shipped-models.md for the flat rewards).
 #[test]
 fn the_model_has_the_seeds_components_modes_and_rewards() {
     let plant = thermostat();
@@ -182,7 +182,7 @@ fn kairos_check_links_the_stay_warm_programs() {
 }
 
 /// Tactic 1 as a configuration goal (§6.3.3): one command, then the planner waits through the
-/// heater's warming; the goal network of issue 13 relies on this plan.
+/// heater's warming; the thermostat's goal networks rely on this plan.
 #[test]
 fn tactic_1_is_one_command_and_two_waits() {
     let (code, stdout, stderr) = kairos(&[

@@ -9,7 +9,7 @@
 //! promises more than "no panic" the functions assert it.
 //!
 //! Inputs that are not UTF-8 are dropped by the text targets: every loader takes a `&str` (the
-//! CLI's own decoding error is issue 12 item 3's).
+//! CLI's own decoding error is tested in `tests/cli_robustness.rs`).
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;

@@ -60,6 +60,18 @@ pub struct FaultRecord {
     /// Seconds from the fault to the first `Diagnosis` event naming that component and mode at
     /// or after it; `None` when never diagnosed.
     pub diagnosed_after: Option<f64>,
+    /// Seconds from the fault to the first observation that could not have come from the
+    /// component in the mode it left; `None` when the fault stayed latent — unobservable, as a
+    /// valve stuck closed while it is closed — to the end of the run (no estimator can diagnose
+    /// it, so it is not a missed diagnosis). Records written before this field read as
+    /// observable at once.
+    #[serde(default = "at_once")]
+    pub revealed_after: Option<f64>,
+}
+
+/// A fault read from a record that predates `revealed_after`: observable from its first cycle.
+fn at_once() -> Option<f64> {
+    Some(0.0)
 }
 
 /// What one run of a campaign showed; one JSON line of `runs.jsonl`.
@@ -210,5 +222,6 @@ fn fault_record(
         time: fault.time,
         forced: fault.forced,
         diagnosed_after,
+        revealed_after: fault.revealed.map(|t| t - fault.time),
     }
 }

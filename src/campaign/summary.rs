@@ -59,6 +59,9 @@ pub struct Summary {
     pub faults: u64,
     /// Seconds from each diagnosed fault to its diagnosis.
     pub latencies: Vec<f64>,
+    /// Faults never diagnosed that stayed latent (unobservable) to the end of their run: no
+    /// estimator could have told them, so they are not missed diagnoses.
+    pub latent: u64,
     /// Cycle times of all runs, microseconds.
     pub cycle_times: Histogram,
     /// Sum of the runs' wall times, seconds.
@@ -100,6 +103,9 @@ impl Summary {
             groups,
             runs_with_faults: records.iter().filter(|r| !r.faults.is_empty()).count() as u64,
             faults: records.iter().map(|r| r.faults.len() as u64).sum(),
+            latent: (records.iter().flat_map(|r| &r.faults))
+                .filter(|f| f.diagnosed_after.is_none() && f.revealed_after.is_none())
+                .count() as u64,
             latencies,
             cycle_times,
             run_time: records.iter().map(|r| r.timing.wall).sum(),
@@ -164,10 +170,12 @@ impl fmt::Display for Summary {
         let diagnosed = self.latencies.len();
         writeln!(
             f,
-            "faults: {} in {} runs; diagnosed: {diagnosed}; never diagnosed: {}",
+            "faults: {} in {} runs; diagnosed: {diagnosed}; missed (observable, never \
+             diagnosed): {}; latent (never observable in its run): {}",
             self.faults,
             self.runs_with_faults,
-            self.faults - diagnosed as u64
+            self.faults - diagnosed as u64 - self.latent,
+            self.latent
         )?;
         if diagnosed > 0 {
             let at = |q: f64| self.latencies[((q * (diagnosed - 1) as f64).round()) as usize];

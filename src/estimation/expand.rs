@@ -61,7 +61,7 @@ const CACHE_LIMIT: usize = 20_000;
 /// mass merged: nothing unseen can then move a kept probability by more than that. Chosen on the
 /// Mars lander, whose dozen components failing at 1e-9/s leave ~2e-9 unseen per 0.1 s cycle
 /// that no state kept at κ = 10 could absorb, so that its quiet cycles examine as many
-/// candidates as before the rule (BENCHMARKS.md).
+/// candidates as before the rule (docs/design/estimation.md).
 pub(crate) const MASS_TOLERANCE: f64 = 1e-8;
 
 /// One next mode of a component, with its probability and its cost (−ln p).

@@ -41,7 +41,7 @@ const HISTORY: usize = 16;
 /// ŝ is in doubt when the two heaviest plant states' weights differ by less than this many
 /// times the weight truncated away within the history window (`history.rs`: at 1, the lost
 /// weight alone could have reversed them; more allows for what observations since made of it;
-/// BENCHMARKS.md has 1, 4 and 16 measured)…
+/// docs/design/estimation.md has 1, 4 and 16 measured)…
 const AMBIGUITY: f64 = 16.0;
 
 /// …and that weight is more than this.
@@ -80,7 +80,7 @@ pub struct TimedMeOptions {
 
 impl TimedMeOptions {
     /// κ states, 4 candidates per state (2, 4 and 8 agree equally with the exact update on
-    /// random plants; BENCHMARKS.md), no budget.
+    /// random plants; docs/design/estimation.md), no budget.
     pub fn kappa(kappa: usize) -> Self {
         TimedMeOptions {
             kappa: kappa.max(1),

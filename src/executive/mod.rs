@@ -858,7 +858,7 @@ impl Executive {
         let modes = self.most_likely();
         // A transient goal mode, once reached, is achieved: the plant is then meant to be where
         // it leaves it for by itself, also as the configuration a new goal keeps
-        // (ARCHITECTURE.md, reconfiguration decisions).
+        // (docs/design/reconfiguration.md, "The intended configuration").
         if let Some(intended) = &mut self.intended {
             self.reconfiguration.settle_in_place(intended, &modes);
             self.faithful.settle(&modes, intended.modes());

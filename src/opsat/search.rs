@@ -52,9 +52,9 @@
 //! is the order a split creates its children in (child `j` raises the `j`-th free member of the
 //! conflict, leaving the later ones at their indices), so it is the order ties came out in on
 //! the Mars EDL: its beliefs and traces are byte-identical to those of the creation order
-//! (BENCHMARKS.md, "conflicts shared across sources"). Where a cut falls inside a group of
-//! ties, another member of the group may now be returned (`kairos solve` on the full adder
-//! with `-k 5`, ARCHITECTURE.md).
+//! (docs/design/opsat.md, "The search"). Where a cut falls inside a group of ties, another
+//! member of the group may now be returned (`kairos solve` on the full adder with `-k 5`,
+//! docs/design/opsat.md).
 
 use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;

@@ -457,7 +457,7 @@ fn first_entailing(
         .is_some_and(|a| a.iter().all(|&(x, _)| plant.component_of(x).is_some()));
     // One search over all the decisions: GI wants the first entailing candidate, and a
     // decomposed search fetches two solutions of every independent sub-problem before its
-    // first (two SAT calls per component of a loosely coupled plant; BENCHMARKS.md).
+    // first (two SAT calls per component of a loosely coupled plant; docs/design/opsat.md).
     let options = SearchOptions {
         decompose: false,
         ..SearchOptions::default()

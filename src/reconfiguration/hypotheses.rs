@@ -10,7 +10,7 @@
 //! refutes stuck-closed; if it does not, a second silence leaves "not taken" at about 0.001 and
 //! the goal fails, naming both explanations.
 //!
-//! The rules (ARCHITECTURE.md, "Decisions: acting under diagnostic ambiguity"):
+//! The rules (docs/design/reconfiguration.md, "Acting under diagnostic ambiguity"):
 //! - a hypothesis is a tracked plant state other than ŝ with probability ≥
 //!   [`AmbiguityOptions::threshold`]; they are considered in the belief's order, so the most
 //!   probable one from which the goal is reachable and the planner has a *command* wins (a wait
@@ -43,7 +43,7 @@ pub struct AmbiguityOptions {
 }
 
 impl Default for AmbiguityOptions {
-    /// Threshold 0.05, two retries (ARCHITECTURE.md, "Decisions: acting under diagnostic
+    /// Threshold 0.05, two retries (docs/design/reconfiguration.md, "Acting under diagnostic
     /// ambiguity", says why).
     fn default() -> Self {
         AmbiguityOptions {

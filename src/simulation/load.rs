@@ -116,6 +116,11 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, LoadErrors> 
         .map(|(ctx, script)| (ctx, script.script()))
         .collect();
     parts.push((&mut ctx, file.script()));
+    // Every rule the files declare, those that did not load included: an expectation that
+    // names one of them is not a second error.
+    let declared: Vec<String> = (parts.iter())
+        .flat_map(|(_, part)| part.rules.iter().map(|rule| rule.name.clone()))
+        .collect();
     let mission = program.mission().map(|m| &m.mission().network);
     let mut script = super::load_script::script(&plant, mission, &mut parts, settings.end);
     drop(parts);
@@ -133,7 +138,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, LoadErrors> 
         &file.expect,
         &plant,
         &program,
-        &script,
+        (&script, &declared),
         settings.end,
     );
     for (include, _) in includes {

@@ -19,12 +19,13 @@ pub(super) fn expectations(
     files: &[ExpectFile],
     plant: &Plant,
     program: &ScenarioProgram,
-    script: &Script,
+    (script, declared): (&Script, &[String]),
     end: f64,
 ) -> Vec<Expectation> {
     let loader = ExpectLoader {
         plant,
         script,
+        declared,
         classes: VarClasses::new(plant, script.hidden.clone()),
         goals: program
             .thca()
@@ -98,6 +99,9 @@ fn program_goals(plant: &Plant, program: &Thca) -> Vec<String> {
 struct ExpectLoader<'a> {
     plant: &'a Plant,
     script: &'a Script,
+    /// Every rule the scenario and its includes declare, those with errors of their own (and
+    /// so not in `script`) included.
+    declared: &'a [String],
     classes: VarClasses,
     goals: Vec<String>,
     /// The names the mission's points and goals can have (`None` for an RMPL program).
@@ -508,8 +512,10 @@ impl ExpectLoader<'_> {
             }
             (Some(within), Some(rule)) => {
                 let Some(index) = self.script.rule_named(rule) else {
-                    let names: Vec<&str> =
-                        self.script.rules.iter().map(|r| r.name.as_str()).collect();
+                    if self.declared.iter().any(|name| name == rule) {
+                        return None; // the rule's own error is reported
+                    }
+                    let names: Vec<&str> = self.declared.iter().map(String::as_str).collect();
                     let mut diagnostic = Diagnostic::new(
                         format!("no rule named `{rule}`"),
                         ctx.span(&field(at, "of")),

@@ -263,6 +263,7 @@
 
 mod expect;
 mod format;
+mod latent;
 mod load;
 mod load_deliver;
 mod load_expect;

@@ -23,6 +23,7 @@ use chacha20::ChaCha8Rng;
 use rand::seq::SliceRandom;
 use rand::{RngExt, SeedableRng};
 
+use super::latent::{self, Latent};
 use super::model_cache::ModelCache;
 use crate::executive::NamedValue;
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
@@ -166,6 +167,12 @@ pub struct FaultDrawn {
     pub time: f64,
     /// True when it was forced rather than drawn.
     pub forced: bool,
+    /// The first time the plant's observation (before noise) could not have come from the
+    /// component in the mode it left — from then on the fault was observable; `None` while it
+    /// stayed *latent* (a valve stuck closed while it is closed, a fault of a component that is
+    /// off) to the end of the run or until the component left the fault mode. A fault the
+    /// plant started in has no mode it left and counts as observable from its first cycle.
+    pub revealed: Option<f64>,
 }
 
 /// The model-driven plant: a [`MonitorAdapter`] and a [`ControlAdapter`] over a [`Plant`].
@@ -182,6 +189,8 @@ pub struct ModelPlant<'p> {
     last_time: f64,
     commands: Commands,
     faults: Vec<FaultDrawn>,
+    /// The faults that nothing observed has shown yet.
+    latent: Vec<Latent>,
     /// Why the last step could not be taken, reported by the next [`ControlAdapter::send`].
     failure: Option<String>,
 }
@@ -202,6 +211,7 @@ impl<'p> ModelPlant<'p> {
             last_time: 0.0,
             commands: Commands::idle(plant),
             faults: Vec::new(),
+            latent: Vec::new(),
             failure: None,
             plant,
         })
@@ -308,19 +318,23 @@ impl<'p> ModelPlant<'p> {
     }
 
     /// Records the components that entered a fault mode between `before` and `after`.
-    fn record_faults(&mut self, before: Option<&[ValueId]>, after: &[ValueId], time: f64) {
+    fn record_faults(&mut self, before: Option<&SystemState>, after: &[ValueId], time: f64) {
         for (id, component) in self.plant.component_ids() {
             let mode = after[id.index()];
-            let entered = before.is_none_or(|b| b[id.index()] != mode);
+            let entered = before.is_none_or(|b| b.modes[id.index()] != mode);
             if entered && component.mode(mode).kind == ModeKind::Fault {
                 let forced = self.forced[..self.next_forced]
                     .iter()
                     .any(|f| f.component == id && f.mode == mode && f.time <= time);
+                if let Some(before) = before {
+                    self.latent.push(Latent::new(self.faults.len(), id, before));
+                }
                 self.faults.push(FaultDrawn {
                     component: id,
                     mode,
                     time,
                     forced,
+                    revealed: before.is_none().then_some(time),
                 });
             }
         }
@@ -354,6 +368,42 @@ impl<'p> ModelPlant<'p> {
             }
             consistent
         })
+    }
+
+    /// Steps every latent fault's nominal counterfactual from `before` to `now` and marks the
+    /// faults `observation` (drawn before noise) reveals ([`super::latent`]).
+    fn reveal(
+        &mut self,
+        before: &SystemState,
+        now: &SystemState,
+        observation: &[(VarId, ValueId)],
+        time: f64,
+    ) {
+        let mut latent = std::mem::take(&mut self.latent);
+        let mut world = latent::World {
+            plant: self.plant,
+            theory: &mut self.theory,
+            cache: &mut self.cache,
+            commands: &self.commands,
+        };
+        latent.retain_mut(|entry| {
+            let fault = &self.faults[entry.fault];
+            match entry.step(
+                &mut world,
+                fault,
+                (before, now),
+                observation,
+                (self.last_time, time),
+            ) {
+                latent::Verdict::Latent => true,
+                latent::Verdict::Revealed => {
+                    self.faults[entry.fault].revealed = Some(time);
+                    false
+                }
+                latent::Verdict::Over => false,
+            }
+        });
+        self.latent = latent;
     }
 
     /// Step 4: each observation replaced, with probability `noise`, by a value of its domain.
@@ -421,11 +471,14 @@ fn draw(weights: impl Iterator<Item = f64> + Clone, rng: &mut ChaCha8Rng) -> usi
 
 impl MonitorAdapter for ModelPlant<'_> {
     fn observe(&mut self, time: f64) -> Vec<NamedValue> {
-        let before = self.state.as_ref().map(|s| s.modes.clone());
+        let before = self.state.clone();
         let mut state = self.advance(time);
         self.force(&mut state, time);
-        self.record_faults(before.as_deref(), &state.modes, time);
+        self.record_faults(before.as_ref(), &state.modes, time);
         let mut observation = self.draw_observation(&state.modes);
+        if let Some(before) = &before {
+            self.reveal(before, &state, &observation, time);
+        }
         self.add_noise(&mut observation);
         self.state = Some(state);
         self.last_time = time;

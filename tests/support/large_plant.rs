@@ -1,5 +1,5 @@
-//! Large plant models written as RON, for measuring how loading and validation scale (issue 12,
-//! BENCHMARKS.md "Loading large plants"): `examples/large_plant.rs` prints them, and
+//! Large plant models written as RON, for measuring how loading and validation scale
+//! (BENCHMARKS.md "Loading large plants"): `examples/large_plant.rs` prints them, and
 //! `tests/plant_large.rs` checks that they load.
 #![allow(dead_code)] // each includer uses a different part
 

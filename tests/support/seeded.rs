@@ -10,7 +10,7 @@
 //!   on); `KAIROS_PROPTEST_SEED=N` replays seed N.
 //!
 //! `KAIROS_CASES=25600 KAIROS_PROPTEST_SEED=random cargo test --release --test NAME` is the
-//! exploration run (ARCHITECTURE.md, "Tests").
+//! exploration run (docs/design/testing.md).
 #![allow(dead_code)] // each includer uses a different part
 
 use proptest::test_runner::{Config, RngSeed, TestRunner};
