@@ -15,8 +15,9 @@
 //! idle), by goal interpretation's cost: −reward, [`MOVE_COST`] per component moved,
 //! [`HOLD_COST`] per component the goal does not name moved.
 //!
-//! Checked per case: goal interpretation finds a goal state exactly when the oracle does, at the
-//! same cost; and the reactive planner, run against nominal transitions, reaches that goal state
+//! Checked per case: goal interpretation finds a goal state the plant rests in exactly when the
+//! oracle does, at the same cost (when no resting state entails the goal it may name one the
+//! plant leaves, and must then say so: `GoalState::leaving`); and the reactive planner, run against nominal transitions, reaches that goal state
 //! without ever revisiting a plant state. Fixed seed by default; `KAIROS_CASES=N
 //! KAIROS_PROPTEST_SEED=random` explores.
 
@@ -322,6 +323,9 @@ fn check(plant: &RandomPlant, goal_mode: usize) -> Result<(), TestCaseError> {
     let (goal, (expected, expected_cost)) = match (interpreted, oracle) {
         (Err(_), None) => return Ok(()),
         (Ok(goal), Some(best)) => (goal, best),
+        // No resting state entails the goal: goal interpretation may still name a state (the
+        // goal holds there for a while) but must say the plant leaves it by itself.
+        (Ok(goal), None) if !goal.leaving().is_empty() => return Ok(()),
         (Ok(goal), None) => {
             return Err(TestCaseError::fail(format!(
                 "goal interpretation found {} which the oracle cannot reach: {context}",

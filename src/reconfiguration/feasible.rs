@@ -16,7 +16,9 @@
 //!   reaches modes of the nominal envelope: the component is moved on to one of those.
 //! - A mode of the irreversible frontier is **feasible as a final goal** when the policy reaches
 //!   it from every helper mode; goal interpretation offers it only when the configuration goal
-//!   names it.
+//!   names it. So is a mode the policy reaches from the current one but cannot leave again with
+//!   the components upstream as they are (a load kept powered by a supply stuck on: the way back
+//!   needs the supply off).
 //! - Within a causal unit (a cycle of influence), a sub-goal on a component not yet computed is
 //!   trusted only when that component is already in the mode needed (conservative).
 //! - A move with several candidates (transitions between the same two modes, alternative
@@ -82,8 +84,11 @@ pub(crate) fn feasible(
                 blocked: Vec::new(),
                 moves: Vec::new(),
             };
-            let helpers = walker.helpers(current[c.index()], &kinds);
-            let finals = walker.finals(current[c.index()], &helpers);
+            let (helpers, one_way) = walker.helpers(current[c.index()], &kinds);
+            let mut finals = walker.finals(current[c.index()], &helpers);
+            for v in one_way {
+                finals[v.index()] = true;
+            }
             (helpers, finals, walker.blocked, walker.moves)
         };
         state.helpers[c.index()] = helpers;
@@ -159,7 +164,11 @@ impl Walker<'_> {
         policy.walk(from, to, |step| self.step_ok(step)).is_some()
     }
 
-    fn helpers(&mut self, current: ValueId, kinds: &[ModeKind]) -> Vec<bool> {
+    /// The helper modes, and the modes the policy reaches from `current` that it cannot come
+    /// back from with the components upstream as they are (a load that a supply stuck on keeps
+    /// powered): feasible as a final goal, which goal interpretation offers when the goal names
+    /// it, but no helper.
+    fn helpers(&mut self, current: ValueId, kinds: &[ModeKind]) -> (Vec<bool>, Vec<ValueId>) {
         let n = kinds.len();
         let reachability = self.policy.reachability();
         let mut set = vec![false; n];
@@ -181,8 +190,12 @@ impl Walker<'_> {
             *member &= Some(rank(v)) == best;
         }
         let anchor = set[current.index()].then_some(current);
+        let reached = set.clone();
         self.prune(&mut set, anchor);
-        set
+        let one_way = members(&reached)
+            .filter(|v| !set[v.index()] && kinds[v.index()] == ModeKind::Nominal)
+            .collect();
+        (set, one_way)
     }
 
     /// Removes modes that cannot be reached from, or cannot return to, another member, until
