@@ -21,6 +21,7 @@ const SCENARIOS: &[&str] = &[
     "scenarios/power/regulator_a_fails.ron",
     "scenarios/power/both_regulators_fail.ron",
     "scenarios/power/switch_stuck_open.ron",
+    "scenarios/power/mission_regulator_a_fails.ron",
 ];
 
 /// The directories whose scenarios have their own suites: the Mars EDL's
