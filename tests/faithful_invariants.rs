@@ -14,7 +14,10 @@ use cli::kairos;
 fn a_chattering_goal_fails_its_scenario() {
     let (code, stdout, stderr) = kairos(&["run", "tests/scenarios/planted_chatter.ron"]);
     assert_eq!(code, 1, "{stdout}\n{stderr}");
-    assert!(stdout.contains("CHATTER      switch1 commanded back into closed"), "{stdout}");
+    assert!(
+        stdout.contains("CHATTER      switch1 commanded back into closed"),
+        "{stdout}"
+    );
     assert!(
         stdout.contains("FAILED never reported Chatter (checked in every scenario)"),
         "{stdout}"
@@ -38,7 +41,10 @@ fn a_contradicting_command_is_withheld_and_fails_its_scenario() {
         ),
         "{stdout}"
     );
-    assert!(!stdout.contains("command      driver.dcmd_in = on"), "{stdout}");
+    assert!(
+        !stdout.contains("command      driver.dcmd_in = on"),
+        "{stdout}"
+    );
     assert!(
         stdout.contains("FAILED never reported GoalContradicted (checked in every scenario)"),
         "{stdout}"

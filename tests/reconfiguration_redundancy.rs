@@ -107,7 +107,9 @@ impl RandomPlant {
         let mut connections = Vec::new();
         let mut controls = Vec::new();
         let fault = |name: &str, mode: &str, out: &str| {
-            format!(r#"Mode(name: "{mode}", kind: Fault, constraint: "{name}.out = {out}", reward: -20)"#)
+            format!(
+                r#"Mode(name: "{mode}", kind: Fault, constraint: "{name}.out = {out}", reward: -20)"#
+            )
         };
         for (i, path) in self.paths.iter().enumerate() {
             let s = format!("s{i}");
@@ -151,7 +153,9 @@ impl RandomPlant {
             };
             connections.push(format!(r#""{feed} = load.in{i}""#));
         }
-        let inputs: Vec<String> = (0..self.paths.len()).map(|i| format!("load.in{i}")).collect();
+        let inputs: Vec<String> = (0..self.paths.len())
+            .map(|i| format!("load.in{i}"))
+            .collect();
         let attributes: Vec<String> = inputs
             .iter()
             .map(|x| format!(r#""{}": ["lo", "hi"]"#, x.trim_start_matches("load.")))
@@ -186,12 +190,7 @@ impl RandomPlant {
     /// Whether path `i` delivers power in `modes`.
     fn delivers(&self, modes: &[usize], i: usize) -> bool {
         let kinds = self.kinds();
-        let at = |kind: Kind| {
-            kinds
-                .iter()
-                .position(|&k| k == (kind, i))
-                .map(|c| modes[c])
-        };
+        let at = |kind: Kind| kinds.iter().position(|&k| k == (kind, i)).map(|c| modes[c]);
         let supply_hi = matches!(at(Kind::Supply), Some(1 | 3));
         let switch_passes = at(Kind::Switch).is_none_or(|m| m == 1 || m == 3);
         supply_hi && switch_passes
@@ -281,7 +280,10 @@ fn path() -> impl Strategy<Value = Path> {
     (
         prop::sample::select(vec![0usize, 0, 0, 1, 2, 3]),
         -3i32..=-1,
-        prop::option::weighted(0.5, (prop::sample::select(vec![0usize, 0, 1, 2, 3]), -1i32..=0)),
+        prop::option::weighted(
+            0.5,
+            (prop::sample::select(vec![0usize, 0, 1, 2, 3]), -1i32..=0),
+        ),
     )
         .prop_map(|(supply, on_reward, switch)| Path {
             supply,
@@ -412,7 +414,9 @@ fn a_stuck_supply_is_bypassed() {
         ],
         load: 0,
     };
-    let (best, _) = plant.oracle((3, 1)).expect("reachable through the second path");
+    let (best, _) = plant
+        .oracle((3, 1))
+        .expect("reachable through the second path");
     assert_eq!(best, [2, 1, 1, 1]);
     check(&plant, 1).expect("goal interpretation and the planner agree");
 }

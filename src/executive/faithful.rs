@@ -136,7 +136,10 @@ impl Faithful {
             .iter()
             .rev()
             .find(|m| {
-                m.component == moved.component && m.left == to && !m.excursion && m.goal == moved.goal
+                m.component == moved.component
+                    && m.left == to
+                    && !m.excursion
+                    && m.goal == moved.goal
             })
             .map(|m| cycle - m.cycle);
         self.commanded.push(moved);
@@ -207,8 +210,10 @@ mod tests {
     fn a_holding_goal_requires_its_modes() {
         let plant = thermostat();
         let table = plant.table();
-        let closed_open = parse_formula("switch1 = closed and switch2 = open", table).expect("goal");
-        let warm = parse_formula("temperature = warm-low or temperature = warm", table).expect("goal");
+        let closed_open =
+            parse_formula("switch1 = closed and switch2 = open", table).expect("goal");
+        let warm =
+            parse_formula("temperature = warm-low or temperature = warm", table).expect("goal");
         let mode = |c: &str, m: &str| {
             let id = plant.component_named(c).expect("component");
             (id, plant.component(id).mode_named(m).expect("mode"))
@@ -221,10 +226,17 @@ mod tests {
             }
             s
         };
-        let holding = state(&[("switch1", "closed"), ("switch2", "open"), ("temperature", "warm-low")]);
+        let holding = state(&[
+            ("switch1", "closed"),
+            ("switch2", "open"),
+            ("temperature", "warm-low"),
+        ]);
         let goals = [closed_open.clone(), warm.clone()];
         let (s1, open) = mode("switch1", "open");
-        assert_eq!(contradicted(&plant, &goals, &holding, s1, open), Some(&closed_open));
+        assert_eq!(
+            contradicted(&plant, &goals, &holding, s1, open),
+            Some(&closed_open)
+        );
         let (t, w) = mode("temperature", "warm");
         assert_eq!(contradicted(&plant, &goals, &holding, t, w), None);
         let reaching = state(&[("switch1", "open"), ("switch2", "closed")]);
@@ -260,6 +272,9 @@ mod tests {
         assert_eq!(at(&mut faithful, 34, b, a, false, &goal), None);
         // Back for another goal: the goals changed.
         assert_eq!(at(&mut faithful, 45, a, b, false, &goal), None);
-        assert_eq!(at(&mut faithful, 46, b, a, false, &Some("h".to_string())), None);
+        assert_eq!(
+            at(&mut faithful, 46, b, a, false, &Some("h".to_string())),
+            None
+        );
     }
 }

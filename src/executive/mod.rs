@@ -863,7 +863,11 @@ impl Executive {
             self.reconfiguration.settle_in_place(intended, &modes);
             self.faithful.settle(&modes, intended.modes());
         }
-        if log.events.iter().any(|e| matches!(e.kind, EventKind::Safing { .. })) {
+        if log
+            .events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Safing { .. }))
+        {
             self.faithful.forget_helpers();
         }
         let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) else {
@@ -1011,7 +1015,11 @@ impl Executive {
         goal: Option<&ConfigurationGoal>,
         log: &mut EventLog,
     ) {
-        if log.events.iter().any(|e| matches!(e.kind, EventKind::Diagnosis { .. })) {
+        if log
+            .events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Diagnosis { .. }))
+        {
             self.faithful.diagnosed();
         }
         let Some(Action::Command(command)) = action.as_ref() else {
@@ -1022,7 +1030,8 @@ impl Executive {
         let table = plant.table();
         let goals = active_goals(goal);
         let modes = &self.most_likely;
-        if let Some(broken) = faithful::contradicted(plant, goals, modes, command.component, command.to)
+        if let Some(broken) =
+            faithful::contradicted(plant, goals, modes, command.component, command.to)
         {
             let component = plant.component(command.component);
             let key = (
@@ -1074,7 +1083,11 @@ impl Executive {
         let named = self.intended.as_ref().is_some_and(|s| s.is_named(c)) || command.serves == c;
         let for_goal = goal_text.unwrap_or_else(|| {
             let served = plant.component(command.serves);
-            let mode = intended.map_or(to, |_| self.intended.as_ref().map_or(to, |s| s.mode(command.serves)));
+            let mode = intended.map_or(to, |_| {
+                self.intended
+                    .as_ref()
+                    .map_or(to, |s| s.mode(command.serves))
+            });
             format!("{} = {}", served.name(), served.mode(mode).name)
         });
         self.faithful.moved(c, Some(for_goal), named);
@@ -1163,8 +1176,12 @@ impl Executive {
             served.extend(purpose.intended.map(|state| {
                 let mode = table.assignment(var, state.mode(component)).to_string();
                 let goal = match (&self.faithful.helpers[component.index()], purpose.goal) {
-                    (Some(moved_for), _) => format!("{mode}, bringing back a helper moved for {moved_for}"),
-                    (None, Some(g)) => format!("{mode} in the goal state of {}", g.formula.display(table)),
+                    (Some(moved_for), _) => {
+                        format!("{mode}, bringing back a helper moved for {moved_for}")
+                    }
+                    (None, Some(g)) => {
+                        format!("{mode} in the goal state of {}", g.formula.display(table))
+                    }
                     (None, None) => mode,
                 };
                 Served::Intended { goal }

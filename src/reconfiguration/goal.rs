@@ -182,7 +182,11 @@ fn leaving(reconfiguration: &Reconfiguration, state: &GoalState) -> Vec<(Compone
         for &t in component.outgoing(state.mode(id)) {
             let transition = &component.transitions()[t];
             let nominal = component.mode(transition.target).kind != ModeKind::Fault;
-            if nominal && theory.entails(&assumptions, &transition.guard).unwrap_or(false) {
+            if nominal
+                && theory
+                    .entails(&assumptions, &transition.guard)
+                    .unwrap_or(false)
+            {
                 out.push((id, t));
             }
         }

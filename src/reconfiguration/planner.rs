@@ -286,6 +286,10 @@ impl Reservation {
     }
 }
 
+/// How a candidate way of taking a move ranks, smaller first: needs a component ŝ believes
+/// faulty, sub-goals the goal state wants elsewhere, unmet sub-goals, compiled order.
+type Rank = (bool, usize, usize, usize);
+
 /// One level of a descent: a component on its way to a target, and its next step's
 /// sub-goals.
 #[derive(Debug)]
@@ -415,7 +419,7 @@ impl<'a> Planner<'a> {
         }
         let current = self.current;
         let goal = self.goal;
-        let mut best: Option<((bool, usize, usize, usize), (usize, &'a Requirement))> = None;
+        let mut best: Option<(Rank, (usize, &'a Requirement))> = None;
         for (order, (i, requirement)) in policy.candidates(step).enumerate() {
             // Sub-goals the goal state wants elsewhere would be undone once the move is made:
             // the planner prefers the way that leaves every helper where the goal state has it.

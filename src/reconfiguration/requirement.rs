@@ -315,7 +315,8 @@ impl<'a> GuardCompiler<'a> {
         for choice in combinations(&per_group, MAX_ALTERNATIVES) {
             let mut requirement = assemble(&groups, &per_group, &choice);
             if self.jointly_consistent(component, source, &requirement) {
-                requirement.satisfied_by = self.equivalents(component, source, &requirement, guard)?;
+                requirement.satisfied_by =
+                    self.equivalents(component, source, &requirement, guard)?;
                 alternatives.push(requirement);
             }
         }

@@ -50,7 +50,8 @@ pub(super) fn expectations(
 
 /// The events every scenario fails on unless one of its expectations names them (DESIGN.md
 /// §9): a command against an active goal, and chatter.
-pub(super) const INVARIANT_EVENTS: [EventName; 2] = [EventName::GoalContradicted, EventName::Chatter];
+pub(super) const INVARIANT_EVENTS: [EventName; 2] =
+    [EventName::GoalContradicted, EventName::Chatter];
 
 /// `NeverReported` for each of [`INVARIANT_EVENTS`] that no expectation of the scenario names
 /// (a scenario that expects one says so, `Reported(event: Chatter, ...)`, and is judged by that).

@@ -83,15 +83,26 @@ mod tests {
         let payload = plant.component_named("payload").expect("payload");
         let current = parse_formula("payload.current = nominal", plant.table()).expect("formula");
         let modes = admitted(&plant, payload, &current).ok().expect("admitted");
-        let powered = plant.component(payload).mode_named("powered").expect("mode");
+        let powered = plant
+            .component(payload)
+            .mode_named("powered")
+            .expect("mode");
         let names: Vec<usize> = (0..modes.len()).filter(|&v| modes[v]).collect();
         assert_eq!(names, [powered.index()]);
         let switch = plant.component_named("load_switch").expect("switch");
         let out = parse_formula("load_switch.out = nominal", plant.table()).expect("formula");
-        let refused = admitted(&plant, switch, &out).err().expect("refused");
-        assert!(refused.message.contains("depends on other components"), "{}", refused.message);
+        let refused = admitted(&plant, switch, &out).expect_err("refused");
+        assert!(
+            refused.message.contains("depends on other components"),
+            "{}",
+            refused.message
+        );
         let other = parse_formula("bus.voltage = nominal", plant.table()).expect("formula");
-        let refused = admitted(&plant, switch, &other).err().expect("refused");
-        assert!(refused.message.contains("not `bus.voltage`"), "{}", refused.message);
+        let refused = admitted(&plant, switch, &other).expect_err("refused");
+        assert!(
+            refused.message.contains("not `bus.voltage`"),
+            "{}",
+            refused.message
+        );
     }
 }
