@@ -50,3 +50,25 @@ fn a_contradicting_command_is_withheld_and_fails_its_scenario() {
         "{stdout}"
     );
 }
+
+/// `kairos check --deep` says up front that a goal holds only in states the plant leaves by
+/// itself, located at the goal.
+#[test]
+fn check_deep_reports_a_goal_the_plant_leaves_by_itself() {
+    let (code, stdout, stderr) = kairos(&[
+        "check",
+        "--deep",
+        "tests/scenarios/planted_chatter.rmpl",
+        "models/thermostat.ron",
+    ]);
+    assert_eq!(code, 1, "{stdout}\n{stderr}");
+    assert!(stdout.contains("1 goal the plant leaves by itself"), "{stdout}");
+    assert!(
+        stderr.contains(
+            "goal `temperature = warming` holds only in states the plant leaves by itself: \
+             `temperature` leaves it by itself by its transition to cold"
+        ),
+        "{stderr}"
+    );
+    assert!(stderr.contains("planted_chatter.rmpl:6:11"), "{stderr}");
+}
