@@ -54,6 +54,7 @@ fn every_mission_scenario_of_the_directory_is_run() {
             "switch1_stuck_open_from_start.ron",
             "switch1_sticks_open_tactic_2.ron",
             "switch2_sticks_closed_tactic_2.ron",
+            "switch1_stuck_open_warms_with_switch2.ron",
         ],
         "tests/thermostat_missions.rs",
     );
