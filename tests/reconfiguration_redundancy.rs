@@ -17,9 +17,11 @@
 //!
 //! Checked per case: goal interpretation finds a goal state the plant rests in exactly when the
 //! oracle does, at the same cost (when no resting state entails the goal it may name one the
-//! plant leaves, and must then say so: `GoalState::leaving`); and the reactive planner, run against nominal transitions, reaches that goal state
-//! without ever revisiting a plant state. Fixed seed by default; `KAIROS_CASES=N
-//! KAIROS_PROPTEST_SEED=random` explores.
+//! plant leaves, and must then say so: `GoalState::leaving`); and the reactive planner, run
+//! against nominal transitions, reaches that goal state without ever revisiting a plant state,
+//! its own measure of progress (`Reconfiguration::progress`) decreasing every cycle from a
+//! start the plant rests in. Fixed seed
+//! by default; `KAIROS_CASES=N KAIROS_PROPTEST_SEED=random` explores.
 
 #[path = "support/reconfiguration.rs"]
 mod support;
@@ -367,7 +369,21 @@ fn check(plant: &RandomPlant, goal_mode: usize) -> Result<(), TestCaseError> {
         context
     );
     let mut visited = vec![start_modes.clone()];
+    let mut before = setup.reconfiguration.progress(&start, &goal);
     for step in &run.steps {
+        // The planner's own measure strictly decreases, alternatives and all — from a start
+        // the plant rests in: one it leaves by itself (a load powered with no supply) moves
+        // without the plan, which the measure does not account for.
+        let after = setup.reconfiguration.progress(&step.state, &goal);
+        prop_assert!(
+            after < before || !plant.rests(&start_modes),
+            "no progress: {:?} then {:?} after {}\n{}",
+            before,
+            after,
+            step.action.describe(&setup.plant),
+            context
+        );
+        before = after;
         let state: Vec<usize> = step.state.iter().map(|v| v.index()).collect();
         prop_assert!(
             !visited.contains(&state),

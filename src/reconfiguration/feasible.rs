@@ -24,9 +24,9 @@
 //! - A move with several candidates (transitions between the same two modes, alternative
 //!   requirements of a guard: DESIGN.md §9, redundancy) is possible when one of them is: a bus
 //!   fed by regulator A or B stays reachable while either regulator can be switched on. A
-//!   sub-goal already met in the current state — by its mode or by one that serves as well, a
-//!   switch stuck open for `open` — needs nothing. A blocked move keeps, per candidate, what
-//!   it lacks, for the goal failure's reason.
+//!   sub-goal is met by a helper mode of its component that is the sub-goal's mode or serves
+//!   as well (a switch stuck open, whose only helper mode is that fault, serves `open`). A
+//!   blocked move keeps, per candidate, what it lacks, for the goal failure's reason.
 
 use super::policy::{ConcurrentPolicy, PolicyStep};
 use super::reachability::members;
@@ -147,15 +147,15 @@ impl Walker<'_> {
         false
     }
 
-    /// The sub-goal `u = v` of `requirement` is met now (by `v` or a mode that serves as well)
-    /// or `v` is a helper mode of `u`.
+    /// The sub-goal `u = v` of `requirement` can be had: some helper mode of `u` meets it (`v`,
+    /// or a mode that serves as well — a switch stuck open, its only helper mode, for `open`).
+    /// A component not computed yet (within a causal unit) is trusted only where it is now.
     fn achievable(&self, requirement: &Requirement, u: ComponentId, v: ValueId) -> bool {
-        let here = self.current[u.index()];
-        if requirement.is_met(u, v, here) {
-            return true;
-        }
         let helpers = &self.state.helpers[u.index()];
-        !helpers.is_empty() && helpers[v.index()]
+        if helpers.is_empty() {
+            return requirement.is_met(u, v, self.current[u.index()]);
+        }
+        members(helpers).any(|w| requirement.is_met(u, v, w))
     }
 
     /// The planner reaches `to` from `from` by following the policy.

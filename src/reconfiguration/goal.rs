@@ -734,13 +734,14 @@ fn describe_blocked_move(
                 .iter()
                 .map(|&(u, v)| {
                     let upstream = plant.component(u);
-                    format!(
-                        "{} = {} ({} is {})",
-                        upstream.name(),
-                        upstream.mode(v).name,
-                        upstream.name(),
-                        upstream.mode(current[u.index()]).name
-                    )
+                    let (name, wanted) = (upstream.name(), &upstream.mode(v).name);
+                    let here = current[u.index()];
+                    if here == v {
+                        // Where it is, but not where it can stay (a repair mode it moves on from).
+                        format!("{name} = {wanted} ({name} cannot stay in {wanted})")
+                    } else {
+                        format!("{name} = {wanted} ({name} is {})", upstream.mode(here).name)
+                    }
                 })
                 .collect::<Vec<_>>()
                 .join(" and ")

@@ -199,10 +199,12 @@ pub(crate) fn next_action(
 ///
 /// One *descent* per component, in the causal graph's downstream-first order: empty when the
 /// component is in its goal mode; otherwise the descent the planner walks for it — the
-/// component's distance along its compiled policy to its goal mode, then the number of its next
-/// step's sub-goals still to achieve (from the first unmet one, in the planner's order), then
-/// that sub-goal's component's distance to the sub-goal mode, and so on down to the component
-/// that acts or waits. Descents compare lexicographically, and the list of them too.
+/// component's distance along its compiled policy to its goal mode, then the rank of the way
+/// chosen for its next step (faulty, undone, pending, order: see `Rank`; *pending* is the
+/// number of that way's sub-goals still to achieve, from the first unmet one in the planner's
+/// order), then that sub-goal's component's distance to the sub-goal mode, and so on down to
+/// the component that acts or waits. Descents compare lexicographically, and the list of them
+/// too.
 ///
 /// Under nominal execution the measure strictly decreases every cycle, so the planner cannot
 /// livelock:
@@ -213,14 +215,24 @@ pub(crate) fn next_action(
 ///   the same step stay met (they are more downstream, so achieving it cannot move them) and
 ///   the pending count drops;
 /// - a cycle that only waits lets the first awaited transition happen, which is the first
-///   descent's own next step.
+///   descent's own next step;
+/// - with several ways to take a step (DESIGN.md §9, redundancy) the planner takes the least
+///   rank, which is part of the measure: no fault appears under nominal execution (a repair
+///   only clears one), *undone* is fixed by the goal state, and the chosen way's *pending*
+///   does not grow (above). So the least rank at a level never grows, and it changes only
+///   when another way's rank falls below it — a strict decrease at that level, whatever
+///   happens below it. While it stays the same the same way is chosen (the order is part of
+///   the rank) and the argument above applies to it. (The ways considered are those whose
+///   sub-goals can be achieved from ŝ; under nominal execution components move within their
+///   reversible regions, which is what decides that, so the set does not change either.)
 ///
 /// Goals reached stay reached: a descent moves only its component and what is upstream of it,
 /// never a component earlier in the order.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Progress {
-    /// Per component in downstream-first order: distance, pending sub-goals, distance, pending,
-    /// ..., distance; empty when the component is in its goal mode.
+    /// Per component in downstream-first order: distance, the chosen way's rank (faulty,
+    /// undone, pending, order), distance, rank, ..., distance; empty when the component is in
+    /// its goal mode.
     pub descents: Vec<Vec<usize>>,
 }
 
@@ -244,7 +256,12 @@ pub(crate) fn progress(
             planner
                 .trail
                 .iter()
-                .flat_map(|link| std::iter::once(link.distance).chain(link.pending))
+                .flat_map(|link| {
+                    let rank = link.rank.map(|r| {
+                        [usize::from(r.faulty), r.undone, r.pending, r.order]
+                    });
+                    std::iter::once(link.distance).chain(rank.into_iter().flatten())
+                })
                 .collect()
         })
         .collect();
@@ -286,9 +303,28 @@ impl Reservation {
     }
 }
 
-/// How a candidate way of taking a move ranks, smaller first: needs a component ŝ believes
-/// faulty, sub-goals the goal state wants elsewhere, unmet sub-goals, compiled order.
-type Rank = (bool, usize, usize, usize);
+/// How a candidate way of taking a move ranks (see [`Planner::choose`]); smaller first, member
+/// by member. Part of the measure of progress ([`Progress`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Rank {
+    /// Some unmet sub-goal's component is in a fault mode (it needs a repair).
+    faulty: bool,
+    /// Sub-goals the goal state wants elsewhere (they would be undone after the move).
+    undone: usize,
+    /// Sub-goals still to achieve, from the first unmet one on, in the planner's order.
+    pending: usize,
+    /// The candidate's position among the move's candidates (compiled, cheapest first).
+    order: usize,
+}
+
+/// How many sub-goals of `requirement`, from the first unmet one in `current` on, are still to
+/// achieve.
+fn pending(requirement: &Requirement, current: &[ValueId]) -> usize {
+    requirement
+        .unmet(current)
+        .next()
+        .map_or(0, |(i, _)| requirement.modes.len() - i)
+}
 
 /// One level of a descent: a component on its way to a target, and its next step's
 /// sub-goals.
@@ -299,9 +335,11 @@ struct Link {
     distance: usize,
     /// The next step's sub-goals, in the planner's order.
     sub_goals: Vec<(ComponentId, ValueId)>,
-    /// How many of them, from the first unmet one on, are still to achieve (`None` when the
-    /// descent stopped at this level without looking at the step: a failure).
-    pending: Option<usize>,
+    /// How the way chosen for the next step ranked among the step's candidates ([`Rank`]: its
+    /// last-but-one member is how many of its sub-goals, from the first unmet one on, are still
+    /// to achieve); `None` when the descent stopped at this level without looking at the step:
+    /// a failure.
+    rank: Option<Rank>,
 }
 
 /// One cycle's depth-first descent through the policies.
@@ -364,7 +402,7 @@ impl<'a> Planner<'a> {
                 component: c,
                 distance: policy.distance(here, target).unwrap_or(usize::MAX),
                 sub_goals: Vec::new(),
-                pending: None,
+                rank: None,
             };
             let explicit = self.goal.mode(c) == target && self.goal.is_named(c);
             let chosen = match &step.requirement {
@@ -375,7 +413,7 @@ impl<'a> Planner<'a> {
                 Ok(_) => self.choose(policy, step_index),
                 Err(_) => Err("the next step's guard cannot be established".to_string()),
             };
-            let (step, requirement) = match chosen {
+            let (step, requirement, rank) = match chosen {
                 Ok(chosen) => chosen,
                 Err(why) => {
                     self.trail.push(link);
@@ -385,7 +423,7 @@ impl<'a> Planner<'a> {
             // Sub-goals are stored most downstream first (see `Reconfiguration::compile`).
             let unmet = requirement.unmet(self.current).next().map(|(i, _)| i);
             link.sub_goals.clone_from(&requirement.modes);
-            link.pending = Some(unmet.map_or(0, |i| requirement.modes.len() - i));
+            link.rank = Some(rank);
             self.trail.push(link);
             match unmet {
                 Some(i) => (c, target) = requirement.modes[i],
@@ -396,30 +434,35 @@ impl<'a> Planner<'a> {
 
     /// The way to take the move `step` names (DESIGN.md §9, redundancy): of its candidates (the
     /// transitions between the two modes and each one's alternative requirements), those whose
-    /// unmet sub-goals can all be achieved from ŝ; among them the ones that need no component
+    /// unmet sub-goals can all be achieved from ŝ; among them the least [`Rank`]: no component
     /// ŝ believes faulty, then the fewest sub-goals the goal state wants elsewhere (each would
-    /// be undone after the move), then the fewest unmet sub-goals, then the first compiled
-    /// (cheapest). The choice depends only on ŝ and the goal state: under nominal execution the chosen candidate's unmet
-    /// sub-goals are met one by one and the others' cannot fall below its count without a
-    /// change of ŝ the plan did not make, so the planner does not switch back and forth. A move
-    /// with one candidate is taken as it is (its sub-goals fail on their own if they must).
+    /// be undone after the move), then the fewest sub-goals still to achieve, then the first
+    /// compiled (cheapest). The choice depends only on ŝ and the goal state, and it changes only
+    /// to a candidate of smaller rank (see [`Progress`]): the planner never switches back to
+    /// undo a step of its own plan. A move with one candidate is taken as it is (its sub-goals
+    /// fail on their own if they must).
     fn choose(
         &mut self,
         policy: &'a ConcurrentPolicy,
         step: usize,
-    ) -> Result<(&'a PolicyStep, &'a Requirement), String> {
+    ) -> Result<(&'a PolicyStep, &'a Requirement, Rank), String> {
         let steps = policy.steps();
+        let current = self.current;
+        let goal = self.goal;
         let mut candidates = policy.candidates(step);
-        let first = candidates.next();
-        let Some(first) = first else {
+        let Some(first) = candidates.next() else {
             return Err("the next step's guard cannot be established".to_string());
         };
         if candidates.next().is_none() {
-            return Ok((&steps[first.0], first.1));
+            let rank = Rank {
+                faulty: false,
+                undone: 0,
+                pending: pending(first.1, current),
+                order: 0,
+            };
+            return Ok((&steps[first.0], first.1, rank));
         }
-        let current = self.current;
-        let goal = self.goal;
-        let mut best: Option<(Rank, (usize, &'a Requirement))> = None;
+        let mut best: Option<(Rank, usize, &'a Requirement)> = None;
         for (order, (i, requirement)) in policy.candidates(step).enumerate() {
             // Sub-goals the goal state wants elsewhere would be undone once the move is made:
             // the planner prefers the way that leaves every helper where the goal state has it.
@@ -429,23 +472,26 @@ impl<'a> Planner<'a> {
                 .filter(|&&(u, v)| !requirement.is_met(u, v, goal.mode(u)))
                 .count();
             let mut faulty = false;
-            let mut unmet = 0;
             let mut usable = true;
             for (_, (u, v)) in requirement.unmet(current) {
-                unmet += 1;
                 faulty |= self.is_faulty(u);
                 if !self.usable(u, v, 0) {
                     usable = false;
                     break;
                 }
             }
-            let key = (faulty, undone, unmet, order);
-            if usable && best.as_ref().is_none_or(|(k, _)| key < *k) {
-                best = Some((key, (i, requirement)));
+            let rank = Rank {
+                faulty,
+                undone,
+                pending: pending(requirement, current),
+                order,
+            };
+            if usable && best.as_ref().is_none_or(|(b, ..)| rank < *b) {
+                best = Some((rank, i, requirement));
             }
         }
         match best {
-            Some((_, (i, requirement))) => Ok((&steps[i], requirement)),
+            Some((rank, i, requirement)) => Ok((&steps[i], requirement, rank)),
             None => Err(self.no_candidate(policy, step)),
         }
     }
