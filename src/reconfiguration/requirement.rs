@@ -682,6 +682,67 @@ mod tests {
         assert!(wait.is_idle() && wait.modes.is_empty() && wait.conditions.is_empty());
     }
 
+    /// DESIGN.md §9 (redundancy): the payload of `models/power.ron` is powered through
+    /// regulator A or regulator B; both minimal alternatives are compiled, cheapest first.
+    #[test]
+    fn every_minimal_alternative_of_a_guard_is_compiled() {
+        let plant = model("power");
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let step = step(&reconfiguration, &plant, "payload", "unpowered", "powered");
+        let mode = |c: &str, m: &str| (component(&plant, c), super::super::testing::mode(&plant, c, m));
+        let ways: Vec<Vec<(crate::plant::ComponentId, crate::logic::ValueId)>> = step
+            .alternatives
+            .iter()
+            .map(|r| {
+                let mut modes = r.modes.clone();
+                modes.sort_unstable();
+                modes
+            })
+            .collect();
+        let with = |regulator: &str| {
+            let mut modes = vec![
+                mode("battery", "charged"),
+                mode(regulator, "on"),
+                mode("load_switch", "closed"),
+            ];
+            modes.sort_unstable();
+            modes
+        };
+        assert_eq!(ways, [with("reg_a"), with("reg_b")]);
+        assert!(step.alternatives.iter().all(Requirement::is_idle));
+        assert_eq!(step.requirement.as_ref().ok(), step.alternatives.first());
+    }
+
+    /// A fault mode that makes the guard hold as the sub-goal's mode does is recorded: the
+    /// thermostat's switch stuck open keeps its heater off exactly as `open` does. Transitions
+    /// between the same two modes are candidates of one move.
+    #[test]
+    fn a_fault_that_serves_a_sub_goal_is_recorded() {
+        let plant = model("thermostat");
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let temperature = component(&plant, "temperature");
+        let (cold, warming) = (
+            mode(&plant, "temperature", "cold"),
+            mode(&plant, "temperature", "warming"),
+        );
+        let policy = reconfiguration.policy(temperature);
+        let switch1 = component(&plant, "switch1");
+        let (open, stuck_open) = (
+            mode(&plant, "switch1", "open"),
+            mode(&plant, "switch1", "stuck-open"),
+        );
+        // The three transitions cold -> warming (heater 1, heater 2, both) are one move's
+        // candidates; the second needs switch 1 open.
+        assert_eq!(policy.candidates_between(cold, warming).count(), 3);
+        let (_, heater2) = policy
+            .candidates_between(cold, warming)
+            .find(|(_, r)| r.modes.contains(&(switch1, open)))
+            .expect("the transition on heater 2 alone needs switch 1 open");
+        assert!(heater2.satisfied_by.contains(&(switch1, stuck_open)));
+        assert!(heater2.is_met(switch1, open, stuck_open));
+        assert!(!heater2.is_met(switch1, open, mode(&plant, "switch1", "closed")));
+    }
+
     #[test]
     fn a_guard_on_what_nothing_determines_is_unplannable() {
         let text = r#"Plant(
