@@ -62,6 +62,9 @@ pub(super) struct Faithful {
     /// The last contradiction reported (goal, command), so that a command withheld cycle after
     /// cycle is reported once.
     pub contradicted: Option<(String, Vec<String>)>,
+    /// True when some entry of `helpers` is set: a quiet cycle (no helper out) skips every
+    /// per-component loop here.
+    any_helper: bool,
 }
 
 impl Faithful {
@@ -71,6 +74,7 @@ impl Faithful {
             helpers: vec![None; components],
             commanded: Vec::new(),
             contradicted: None,
+            any_helper: false,
         }
     }
 
@@ -78,6 +82,9 @@ impl Faithful {
     /// the intended configuration, ŝ for every other component.
     pub fn keep(&self, modes: &[ValueId], intended: Option<&[ValueId]>) -> Vec<ValueId> {
         let mut keep = modes.to_vec();
+        if !self.any_helper {
+            return keep;
+        }
         if let Some(intended) = intended {
             for (c, helper) in self.helpers.iter().enumerate() {
                 if helper.is_some() {
@@ -92,21 +99,26 @@ impl Faithful {
 
     /// True when some helper is still away from its intended mode.
     pub fn has_helpers(&self) -> bool {
-        self.helpers.iter().any(Option::is_some)
+        self.any_helper
     }
 
     /// Forgets the helpers that are back in their intended modes.
     pub fn settle(&mut self, modes: &[ValueId], intended: &[ValueId]) {
+        if !self.any_helper {
+            return;
+        }
         for ((helper, here), goal) in self.helpers.iter_mut().zip(modes).zip(intended) {
             if here == goal {
                 *helper = None;
             }
         }
+        self.any_helper = self.helpers.iter().any(Option::is_some);
     }
 
     /// Forgets every helper (safing: only the safe network commands from now on).
     pub fn forget_helpers(&mut self) {
         self.helpers.iter_mut().for_each(|h| *h = None);
+        self.any_helper = false;
     }
 
     /// Remembers that `component`, commanded for `goal`, is a helper until it is back in its
@@ -120,6 +132,7 @@ impl Faithful {
             if slot.is_none() {
                 *slot = goal;
             }
+            self.any_helper |= slot.is_some();
         }
     }
 

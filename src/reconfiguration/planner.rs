@@ -17,8 +17,6 @@
 
 use super::Reconfiguration;
 use super::goal::{GoalState, check_state};
-use std::collections::HashMap;
-
 use super::policy::{ConcurrentPolicy, PolicyEntry, PolicyStep};
 use super::requirement::Requirement;
 use crate::logic::{ValueId, VarId};
@@ -350,8 +348,9 @@ struct Planner<'a> {
     /// The levels of the current descent, from its root (to catch cycles and to measure it).
     trail: Vec<Link>,
     /// Whether a component can be brought to a mode from ŝ, as found this cycle (filled only
-    /// for moves with several candidates).
-    usable: HashMap<(ComponentId, ValueId), bool>,
+    /// for moves with several candidates; a few entries, so a list: a quiet cycle builds
+    /// nothing).
+    usable: Vec<((ComponentId, ValueId), bool)>,
 }
 
 impl<'a> Planner<'a> {
@@ -365,7 +364,7 @@ impl<'a> Planner<'a> {
             current,
             goal,
             trail: Vec::new(),
-            usable: HashMap::new(),
+            usable: Vec::new(),
         }
     }
 
@@ -505,13 +504,15 @@ impl<'a> Planner<'a> {
     /// True when the planner can bring `u` to `v` from ŝ: every move on its policy's path has a
     /// candidate whose unmet sub-goals can be achieved in turn (a circular need cannot).
     fn usable(&mut self, u: ComponentId, v: ValueId, depth: usize) -> bool {
-        if let Some(&known) = self.usable.get(&(u, v)) {
+        if let Some(&(_, known)) = self.usable.iter().find(|(key, _)| *key == (u, v)) {
             return known;
         }
         if depth > self.current.len() {
             return false;
         }
-        self.usable.insert((u, v), false);
+        // Provisionally unusable: a need that comes back round to `u = v` cannot be met.
+        self.usable.push(((u, v), false));
+        let slot = self.usable.len() - 1;
         let reconfiguration = self.reconfiguration;
         let policy = reconfiguration.policy(u);
         let current = self.current;
@@ -526,7 +527,7 @@ impl<'a> Planner<'a> {
                     })
             })
             .is_some();
-        self.usable.insert((u, v), ok);
+        self.usable[slot].1 = ok;
         ok
     }
 
