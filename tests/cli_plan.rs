@@ -168,7 +168,13 @@ fn arguments_are_checked() {
 /// both failed the goal fails naming each alternative and why.
 #[test]
 fn the_power_subsystem_plans_around_a_failed_regulator() {
-    let goal = ["plan", "--plant", "models/power.ron", "--goal", "payload = powered"];
+    let goal = [
+        "plan",
+        "--plant",
+        "models/power.ron",
+        "--goal",
+        "payload = powered",
+    ];
     let (code, stdout, stderr) = kairos(&[&goal[..], &["--state", "reg_a = failed"]].concat());
     assert_eq!(code, 0, "{stdout}\n{stderr}");
     let steps: Vec<String> = stdout

@@ -1,7 +1,8 @@
 //! DESIGN.md §9, goal-faithful commands: every scenario fails on a `GoalContradicted` or a
 //! `Chatter` event unless it says it expects one. Two planted scenarios, each with no
 //! expectation of its own, fail on exactly that invariant; the same scenario that says it
-//! expects the event is judged by what it says.
+//! expects the event is judged by what it says. `kairos explore` finds the invariant's
+//! violation as it finds any expectation's, and the chatter window is the scenario's.
 
 #[path = "support/cli.rs"]
 mod cli;
@@ -15,7 +16,7 @@ fn a_chattering_goal_fails_its_scenario() {
     let (code, stdout, stderr) = kairos(&["run", "tests/scenarios/planted_chatter.ron"]);
     assert_eq!(code, 1, "{stdout}\n{stderr}");
     assert!(
-        stdout.contains("CHATTER      switch1 commanded back into closed"),
+        stdout.contains("CHATTER      switch2 commanded back into closed"),
         "{stdout}"
     );
     assert!(
@@ -24,6 +25,54 @@ fn a_chattering_goal_fails_its_scenario() {
     );
     assert!(
         stdout.contains("ok     never reported GoalContradicted (checked in every scenario)"),
+        "{stdout}"
+    );
+}
+
+/// A scenario that names the event in an expectation of its own is judged by it: the invariant
+/// is not added, and the chattering run passes.
+#[test]
+fn a_scenario_that_expects_chatter_is_judged_by_its_expectation() {
+    let (code, stdout, stderr) = kairos(&["run", "tests/scenarios/planted_chatter_expected.ron"]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    assert!(stdout.contains("CHATTER"), "{stdout}");
+    assert!(!stdout.contains("never reported Chatter"), "{stdout}");
+    assert!(
+        stdout.contains("ok     never reported GoalContradicted (checked in every scenario)"),
+        "{stdout}"
+    );
+}
+
+/// The chatter window is the scenario's `chatter_cycles`: with one cycle, the same run's
+/// returns (two cycles after each move out) are not chatter, and the scenario passes.
+#[test]
+fn the_chatter_window_is_configurable() {
+    let (code, stdout, stderr) = kairos(&["run", "tests/scenarios/planted_chatter_window.ron"]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    assert!(!stdout.contains("CHATTER"), "{stdout}");
+    assert!(
+        stdout.contains("ok     never reported Chatter (checked in every scenario)"),
+        "{stdout}"
+    );
+}
+
+/// `kairos explore` treats the invariants as the scenario's expectations: chatter is a
+/// violation with a counterexample.
+#[test]
+fn explore_reports_chatter_as_a_violation() {
+    let (code, stdout, stderr) = kairos(&[
+        "explore",
+        "tests/scenarios/planted_chatter.ron",
+        "--no-replay",
+        "--jobs",
+        "1",
+    ]);
+    assert_eq!(code, 1, "{stdout}\n{stderr}");
+    assert!(
+        stdout.contains(
+            "counterexample 1: `never reported Chatter (checked in every scenario)` fails: \
+             reported at 4.000 s (Chatter)"
+        ),
         "{stdout}"
     );
 }
@@ -62,7 +111,10 @@ fn check_deep_reports_a_goal_the_plant_leaves_by_itself() {
         "models/thermostat.ron",
     ]);
     assert_eq!(code, 1, "{stdout}\n{stderr}");
-    assert!(stdout.contains("1 goal the plant leaves by itself"), "{stdout}");
+    assert!(
+        stdout.contains("1 goal the plant leaves by itself"),
+        "{stdout}"
+    );
     assert!(
         stderr.contains(
             "goal `temperature = warming` holds only in states the plant leaves by itself: \

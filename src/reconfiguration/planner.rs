@@ -255,9 +255,9 @@ pub(crate) fn progress(
                 .trail
                 .iter()
                 .flat_map(|link| {
-                    let rank = link.rank.map(|r| {
-                        [usize::from(r.faulty), r.undone, r.pending, r.order]
-                    });
+                    let rank = link
+                        .rank
+                        .map(|r| [usize::from(r.faulty), r.undone, r.pending, r.order]);
                     std::iter::once(link.distance).chain(rank.into_iter().flatten())
                 })
                 .collect()

@@ -689,7 +689,12 @@ mod tests {
         let plant = model("power");
         let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
         let step = step(&reconfiguration, &plant, "payload", "unpowered", "powered");
-        let mode = |c: &str, m: &str| (component(&plant, c), super::super::testing::mode(&plant, c, m));
+        let mode = |c: &str, m: &str| {
+            (
+                component(&plant, c),
+                super::super::testing::mode(&plant, c, m),
+            )
+        };
         let ways: Vec<Vec<(crate::plant::ComponentId, crate::logic::ValueId)>> = step
             .alternatives
             .iter()

@@ -28,6 +28,8 @@ pub(super) struct ScenarioFile {
     #[serde(default)]
     pub(super) kappa: Option<i64>,
     #[serde(default)]
+    pub(super) chatter_cycles: Option<i64>,
+    #[serde(default)]
     pub(super) deadline: Option<f64>,
     #[serde(default)]
     pub(super) believed: Entries<String>,

@@ -314,7 +314,9 @@ pub(crate) fn build(scenario: &Scenario, options: RunOptions) -> Result<Executiv
     for &(component, mode) in &scenario.believed {
         plant = plant.believing(component, mode);
     }
-    let mut builder = Executive::builder(plant, scenario.program.clone()).kappa(scenario.kappa);
+    let mut builder = Executive::builder(plant, scenario.program.clone())
+        .kappa(scenario.kappa)
+        .chatter_cycles(scenario.chatter_cycles);
     if let Some(deadline) = scenario.deadline {
         builder = builder.cycle_deadline(deadline);
     }
