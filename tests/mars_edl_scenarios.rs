@@ -192,7 +192,7 @@ fn a_valve_that_ignores_the_first_open_command_is_commanded_again_and_the_edl_la
             "[ 17109.000 s 4:45:09.000]",
             "believed valve2: closed -> stuck-closed (p 0.59)",
             "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35), valve2 = open (p 0.06)",
-            "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
+            "RETRY PDE.cmd = open2 for engine = firing: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17110.000 s 4:45:10.000]",
             "believed valve2: stuck-closed -> open (p 1.00)",
@@ -221,7 +221,7 @@ fn a_valve_stuck_closed_is_retried_once_then_the_goal_fails_naming_the_hypothese
             // The evidence: after `open2`, the valve that ŝ (closed) stepped by the command
             // would have opened reports its outlet low.
             "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35)",
-            "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
+            "RETRY PDE.cmd = open2 for engine = firing: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17110.000 s 4:45:10.000]",
             "GOAL FAILED engine = firing: engine = firing is unreachable: engine can reach only off, standby from standby (standby -> firing needs valve2 = open (valve2 is stuck-closed)); also tried valve2 = closed (p 0.35, 1 retry); unreachable also if valve2 = open and tank2 = empty (p 0.09)",

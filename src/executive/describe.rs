@@ -169,17 +169,19 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             ),
         ),
         E::GoalFailed { goal, reason } => ("GOAL FAILED", format!("{goal}: {reason}")),
+        // The goal the retried command serves, as every command names its goal (DESIGN.md §9).
         E::Retrying {
+            goal,
             assignments,
             hypothesis,
             probability,
             attempt,
             budget,
-            ..
         } => (
             "RETRY",
             format!(
-                "{}: the goal is reachable if {hypothesis} (p {probability:.2}); retry {attempt} of {budget}",
+                "{} for {goal}: the goal is reachable if {hypothesis} (p {probability:.2}); retry \
+                 {attempt} of {budget}",
                 assignments.join(", ")
             ),
         ),
