@@ -904,21 +904,6 @@ impl Executive {
         (Some(intended.clone()), Some(action))
     }
 
-    /// With no goal asserted: the planner's action toward bringing the helpers back to their
-    /// intended modes, every other component where ŝ has it; nothing to do without helpers.
-    fn restore_helpers(&self, modes: &[ValueId]) -> (Option<GoalState>, Option<Action>) {
-        let Some(intended) = &self.intended else {
-            return (None, None);
-        };
-        if !self.faithful.has_helpers() {
-            return (Some(intended.clone()), Some(Action::Achieved));
-        }
-        let target = self.faithful.keep(modes, Some(intended.modes()));
-        let target = GoalState::new(&self.plant, target, &[]);
-        let action = self.reconfiguration.next_action(modes, &target);
-        (Some(target), Some(action))
-    }
-
     /// The goal is unreachable from ŝ: the planner's command from another tracked plant state
     /// that can serve it, while the retry budget lasts (`reconfiguration::Ambiguity`),
     /// or the goal failure, naming the hypotheses tried. The intended configuration is
@@ -1019,95 +1004,6 @@ impl Executive {
         }
     }
 
-    /// DESIGN.md §9's invariants on the cycle's command (`faithful.rs`): withheld, and reported
-    /// `GoalContradicted`, when it leaves a mode an active goal requires; reported `Chatter`
-    /// when it commands a component back into a mode it was commanded out of within N cycles
-    /// with no diagnosis in between; a component it moves for a goal it does not name is
-    /// remembered as a helper to bring back.
-    fn keep_faithful(
-        &mut self,
-        action: &mut Option<Action>,
-        goal: Option<&ConfigurationGoal>,
-        log: &mut EventLog,
-    ) {
-        if log
-            .events
-            .iter()
-            .any(|e| matches!(e.kind, EventKind::Diagnosis { .. }))
-        {
-            self.faithful.diagnosed();
-        }
-        let Some(Action::Command(command)) = action.as_ref() else {
-            self.faithful.contradicted = None;
-            return;
-        };
-        let plant = &self.plant;
-        let table = plant.table();
-        let goals = active_goals(goal);
-        let modes = &self.most_likely;
-        if let Some(broken) =
-            faithful::contradicted(plant, goals, modes, command.component, command.to)
-        {
-            let component = plant.component(command.component);
-            let key = (
-                broken.display(table).to_string(),
-                (command.assignments.iter())
-                    .map(|&(x, v)| table.assignment(x, v).to_string())
-                    .collect::<Vec<_>>(),
-            );
-            if self.faithful.contradicted.as_ref() != Some(&key) {
-                log.push(EventKind::GoalContradicted {
-                    goal: key.0.clone(),
-                    command: key.1.clone(),
-                    component: command.component,
-                    mode: component.mode(command.from).name.clone(),
-                });
-                self.faithful.contradicted = Some(key);
-            }
-            let reason = format!(
-                "the command would move {} out of {}, which the goal {} requires",
-                component.name(),
-                component.mode(command.from).name,
-                broken.display(table)
-            );
-            *action = Some(Action::Failure(crate::reconfiguration::PlanFailure {
-                component: Some(command.component),
-                reason,
-            }));
-            return;
-        }
-        self.faithful.contradicted = None;
-        let (c, from, to) = (command.component, command.from, command.to);
-        let window = self.options.chatter_cycles;
-        let intended = self.intended.as_ref().map(|s| s.mode(c));
-        let goal_text = goal.map(|g| g.formula.display(table).to_string());
-        let moved = faithful::CommandedMove {
-            cycle: log.cycle,
-            component: c,
-            left: from,
-            excursion: command.serves != c && intended == Some(from),
-            goal: goal_text.clone(),
-        };
-        if let Some(cycles) = self.faithful.commanded(moved, to, window) {
-            log.push(EventKind::Chatter {
-                component: c,
-                mode: plant.component(c).mode(to).name.clone(),
-                cycles,
-            });
-        }
-        let named = self.intended.as_ref().is_some_and(|s| s.is_named(c)) || command.serves == c;
-        let for_goal = goal_text.unwrap_or_else(|| {
-            let served = plant.component(command.serves);
-            let mode = intended.map_or(to, |_| {
-                self.intended
-                    .as_ref()
-                    .map_or(to, |s| s.mode(command.serves))
-            });
-            format!("{} = {}", served.name(), served.mode(mode).name)
-        });
-        self.faithful.moved(c, Some(for_goal), named);
-    }
-
     /// Turns the planner's action into μ(i), reports it, and remembers it for estimation.
     fn issue(
         &mut self,
@@ -1204,28 +1100,6 @@ impl Executive {
         }
         served
     }
-}
-
-/// The active goals of a cycle (DESIGN.md §9): the configuration goal's conjuncts as the
-/// program asserted them, or, for a mission (whose goal has none listed), the top-level
-/// conjuncts of its formula — one per active XGoal.
-fn active_goals(goal: Option<&ConfigurationGoal>) -> Vec<&Formula> {
-    fn split<'f>(formula: &'f Formula, out: &mut Vec<&'f Formula>) {
-        match formula {
-            Formula::And(parts) => parts.iter().for_each(|p| split(p, out)),
-            Formula::True => {}
-            other => out.push(other),
-        }
-    }
-    let mut goals = Vec::new();
-    if let Some(goal) = goal {
-        if goal.conjuncts.is_empty() {
-            split(&goal.formula, &mut goals);
-        } else {
-            goals.extend(goal.conjuncts.iter().map(|c| &c.formula));
-        }
-    }
-    goals
 }
 
 /// What a cycle's action is for: the configuration goal g(i) and the intended configuration
