@@ -2,7 +2,8 @@
 //! `Chatter` event unless it says it expects one. Two planted scenarios, each with no
 //! expectation of its own, fail on exactly that invariant; the same scenario that says it
 //! expects the event is judged by what it says. `kairos explore` finds the invariant's
-//! violation as it finds any expectation's, and the chatter window is the scenario's.
+//! violation as it finds any expectation's, a campaign counts it as a run's failure (reported,
+//! not silent), and the chatter window is the scenario's.
 
 #[path = "support/cli.rs"]
 mod cli;
@@ -73,6 +74,32 @@ fn explore_reports_chatter_as_a_violation() {
             "counterexample 1: `never reported Chatter (checked in every scenario)` fails: \
              reported at 4.000 s (Chatter)"
         ),
+        "{stdout}"
+    );
+}
+
+/// A campaign counts the invariant as each run's failure, and a chattering run as reported by
+/// the executive, not silent.
+#[test]
+fn a_campaign_counts_chatter_as_a_failure() {
+    let (code, stdout, stderr) = kairos(&[
+        "campaign",
+        "tests/scenarios/planted_chatter_campaign.ron",
+        "--runs",
+        "4",
+        "--seed",
+        "1",
+        "--jobs",
+        "1",
+    ]);
+    assert_eq!(code, 1, "{stdout}\n{stderr}");
+    assert!(stdout.contains("runs: 4   passed: 0"), "{stdout}");
+    assert!(
+        stdout.contains("silent (no failure reported by the executive): 0"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("4 × never reported Chatter (checked in every scenario)"),
         "{stdout}"
     );
 }
