@@ -16,9 +16,11 @@
 //!   reaches modes of the nominal envelope: the component is moved on to one of those.
 //! - A mode of the irreversible frontier is **feasible as a final goal** when the policy reaches
 //!   it from every helper mode; goal interpretation offers it only when the configuration goal
-//!   names it. So is a mode the policy reaches from the current one but cannot leave again with
-//!   the components upstream as they are (a load kept powered by a supply stuck on: the way back
-//!   needs the supply off).
+//!   names it. So is a mode the policy reaches from the current one and from every helper mode
+//!   but cannot leave again with the components upstream as they are (a load kept powered by a
+//!   supply stuck on: the way back needs the supply off). From every helper mode, because the
+//!   planner may first move the component as a helper for a step downstream (to a mode from
+//!   which the policy's way to the final mode needs an upstream mode that cannot be had).
 //! - Within a causal unit (a cycle of influence), a sub-goal on a component not yet computed is
 //!   trusted only when that component is already in the mode needed (conservative).
 //! - A move with several candidates (transitions between the same two modes, alternative
@@ -86,8 +88,10 @@ pub(crate) fn feasible(
             };
             let (helpers, one_way) = walker.helpers(current[c.index()], &kinds);
             let mut finals = walker.finals(current[c.index()], &helpers);
+            // As for the irreversible frontier, from every helper mode too: the planner may move
+            // the component as a helper for a step downstream before it heads there.
             for v in one_way {
-                finals[v.index()] = true;
+                finals[v.index()] |= members(&helpers).all(|h| walker.reaches(h, v));
             }
             (helpers, finals, walker.blocked, walker.moves)
         };
