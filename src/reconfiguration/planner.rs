@@ -173,7 +173,7 @@ pub(crate) fn next_action(
         }
         match planner.descend(c, target) {
             Action::Idle(next) => {
-                reserved.add(reconfiguration, &planner.trail, Some(&next));
+                reserved.add(reconfiguration, &planner.trail, Some((&next, current)));
                 wait.get_or_insert(next);
             }
             // While a transition that happens by itself is awaited, goals that need none of
@@ -268,8 +268,10 @@ pub(crate) fn progress(
 
 /// What the held-back descents of a cycle rely on: the components on their chains, the
 /// sub-goal components of every step on them (met or not), and, for a wait, whatever the
-/// awaited guard reads. A later goal is served meanwhile only by a command that touches none
-/// of it.
+/// awaited guard reads and the sub-goal components of every later step of the waiting chain's
+/// ways to their targets (a helper already where a later step needs it, moved meanwhile for a
+/// later goal into a mode it cannot come back from, would leave the waiting goal no way on).
+/// A later goal is served meanwhile only by a command that touches none of it.
 #[derive(Debug, Default)]
 struct Reservation {
     components: Vec<ComponentId>,
@@ -277,13 +279,28 @@ struct Reservation {
 }
 
 impl Reservation {
-    fn add(&mut self, reconfiguration: &Reconfiguration, trail: &[Link], wait: Option<&Wait>) {
+    fn add(
+        &mut self,
+        reconfiguration: &Reconfiguration,
+        trail: &[Link],
+        wait: Option<(&Wait, &[ValueId])>,
+    ) {
         for link in trail {
             self.components.push(link.component);
             self.components
                 .extend(link.sub_goals.iter().map(|&(u, _)| u));
         }
-        if let Some(wait) = wait {
+        if let Some((wait, current)) = wait {
+            for link in trail {
+                let policy = reconfiguration.policy(link.component);
+                let components = &mut self.components;
+                policy.walk(current[link.component.index()], link.target, |step| {
+                    for (_, requirement) in policy.candidates_between(step.source, step.target) {
+                        components.extend(requirement.modes.iter().map(|&(u, _)| u));
+                    }
+                    true
+                });
+            }
             self.components.push(wait.component);
             let guard = reconfiguration.guard_dependencies(wait.component, wait.transition);
             self.components.extend(&guard.modes);
@@ -329,6 +346,8 @@ fn pending(requirement: &Requirement, current: &[ValueId]) -> usize {
 #[derive(Debug)]
 struct Link {
     component: ComponentId,
+    /// The mode the descent wants it in.
+    target: ValueId,
     /// Steps along the component's policy to its target.
     distance: usize,
     /// The next step's sub-goals, in the planner's order.
@@ -399,6 +418,7 @@ impl<'a> Planner<'a> {
             let step = &policy.steps()[step_index];
             let mut link = Link {
                 component: c,
+                target,
                 distance: policy.distance(here, target).unwrap_or(usize::MAX),
                 sub_goals: Vec::new(),
                 rank: None,
