@@ -145,6 +145,10 @@ typedef enum KairosEventKind {
   KAIROS_EVENT_KIND_PROMOTED = 32,
   KAIROS_EVENT_KIND_PROMOTION_FAILED = 33,
   KAIROS_EVENT_KIND_SAFING = 34,
+  // A command would have left a mode an active goal requires; it was withheld.
+  KAIROS_EVENT_KIND_GOAL_CONTRADICTED = 35,
+  // A component was commanded back into a mode it was commanded out of within a few cycles.
+  KAIROS_EVENT_KIND_CHATTER = 36,
 } KairosEventKind;
 
 // An executive and what the C ABI keeps beside it. Opaque to C.

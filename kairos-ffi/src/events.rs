@@ -48,6 +48,10 @@ pub enum KairosEventKind {
     Promoted = 32,
     PromotionFailed = 33,
     Safing = 34,
+    /// A command would have left a mode an active goal requires; it was withheld.
+    GoalContradicted = 35,
+    /// A component was commanded back into a mode it was commanded out of within a few cycles.
+    Chatter = 36,
 }
 
 impl KairosEventKind {
@@ -88,6 +92,8 @@ impl KairosEventKind {
             EventKind::Promoted { .. } => K::Promoted,
             EventKind::PromotionFailed { .. } => K::PromotionFailed,
             EventKind::Safing { .. } => K::Safing,
+            EventKind::GoalContradicted { .. } => K::GoalContradicted,
+            EventKind::Chatter { .. } => K::Chatter,
         }
     }
 }
