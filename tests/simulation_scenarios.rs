@@ -22,6 +22,8 @@ const SCENARIOS: &[&str] = &[
     "scenarios/power/both_regulators_fail.ron",
     "scenarios/power/switch_stuck_open.ron",
     "scenarios/power/mission_regulator_a_fails.ron",
+    "scenarios/power/campaign.ron",
+    "scenarios/power/explore.ron",
 ];
 
 /// The directories whose scenarios have their own suites: the Mars EDL's
