@@ -212,9 +212,8 @@ fn kairos_explore_exits_by_what_it_found() {
 /// the device has been warm while StayWarm holds, and StayWarm's end fires — shown by the
 /// scenario's `Always` invariants.
 #[test]
-#[ignore = "goal interpretation does not yet use the redundant heater: when switch 1 sticks open \
-            once StayWarm holds, the configuration goal (switch 2 closed and the device warm) is \
-            found unreachable, switch 2 is never closed and the mission safes (73 of 1,043 paths)"]
+#[ignore = "one path of 1,043 still safes with a working heater: switch 1 sticking open at \
+            360 s (safing at 366 s, TP_E never fires); not yet diagnosed"]
 fn no_thermostat_path_safes_or_loses_warmth_with_one_stuck_switch() {
     let scenario = scenario("scenarios/thermostat/explore_a_stuck_switch.ron");
     let explored = explore(&scenario, &options(1, 2), &|_| {}).expect("explores");
@@ -232,8 +231,9 @@ fn no_thermostat_path_safes_or_loses_warmth_with_one_stuck_switch() {
 /// The part of the thermostat exploration that holds today (DESIGN.md §15.2): on every path
 /// of switch 1 sticking open or closed at any cycle, warmth is never lost without a goal
 /// failure reported, and never lost while StayWarm holds once the device has been warm — the
-/// scenario's second and third `Always` invariants; only the first (no safing while a heater
-/// works) and StayWarm's end firing fail anywhere (see the ignored test above).
+/// scenario's second and third `Always` invariants, and no command goes against an active goal
+/// nor chatters; only the first (no safing while a heater works) and StayWarm's end firing fail
+/// anywhere (one path, see the ignored test above).
 #[test]
 fn no_thermostat_path_loses_warmth_silently_with_one_stuck_switch() {
     let scenario = scenario("scenarios/thermostat/explore_a_stuck_switch.ron");
@@ -243,7 +243,7 @@ fn no_thermostat_path_loses_warmth_silently_with_one_stuck_switch() {
     for counterexample in &explored.counterexamples {
         match &counterexample.finding {
             Finding::Violated { expectation, .. } => {
-                assert!(matches!(expectation, 0 | 3), "{counterexample:?}")
+                assert!(matches!(expectation, 0 | 3), "{counterexample:?}");
             }
             Finding::Error(error) => panic!("{error}"),
         }
@@ -263,5 +263,7 @@ fn an_invariant_on_the_plant_s_true_state_catches_safing_with_a_working_heater()
             simulation::Outcome::Met { .. } => "met".to_string(),
         })
         .collect();
-    assert_eq!(reasons, ["not at 61.000 s", "met"]);
+    // The scenario's two expectations, then the invariants every scenario checks (no command
+    // against an active goal, no chatter).
+    assert_eq!(reasons, ["not at 61.000 s", "met", "met", "met"]);
 }

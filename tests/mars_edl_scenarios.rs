@@ -147,7 +147,7 @@ fn a_resettable_pde_is_reset_and_the_edl_continues() {
             "command PDE.cmd = engine-standby (engine: off -> heating) for engine = standby (programs/mars_edl.rmpl:20:3)",
             "goal achieved engine = standby",
             "clock t1 started",
-            "command PDE.cmd = off (PDE: on -> off) for PDE = off (the intended configuration)",
+            "command PDE.cmd = off (PDE: on -> off) for PDE = off, bringing back a helper moved for engine = standby",
         ],
     );
     // The status is the only evidence: the PDE's other observations fit it being on.
@@ -194,7 +194,7 @@ fn a_valve_that_ignores_the_first_open_command_is_commanded_again_and_the_edl_la
             "[ 17109.000 s 4:45:09.000]",
             "believed valve2: closed -> stuck-closed (p 0.59)",
             "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35), valve2 = open (p 0.06)",
-            "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
+            "RETRY PDE.cmd = open2 for engine = firing: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17110.000 s 4:45:10.000]",
             "believed valve2: stuck-closed -> open (p 1.00)",
@@ -223,10 +223,10 @@ fn a_valve_stuck_closed_is_retried_once_then_the_goal_fails_naming_the_hypothese
             // The evidence: after `open2`, the valve that ŝ (closed) stepped by the command
             // would have opened reports its outlet low.
             "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35)",
-            "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
+            "RETRY PDE.cmd = open2 for engine = firing: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17110.000 s 4:45:10.000]",
-            "GOAL FAILED engine = firing: engine = firing is unreachable: engine can reach only off, standby from standby (its transitions need components upstream: valve2 is stuck-closed); also tried valve2 = closed (p 0.35, 1 retry); unreachable also if valve2 = open and tank2 = empty (p 0.09)",
+            "GOAL FAILED engine = firing: engine = firing is unreachable: engine can reach only off, standby from standby (standby -> firing needs valve2 = open (valve2 is stuck-closed)); also tried valve2 = closed (p 0.35, 1 retry); unreachable also if valve2 = open and tank2 = empty (p 0.09)",
         ],
     );
     assert_eq!(log.matches("RETRY").count(), 1, "{log}");
@@ -339,7 +339,7 @@ fn the_descent_mission_lands() {
             "fired TP_end",
             "fired TP_rest",
             "completed the program has completed",
-            "PASS: 18 expectations hold",
+            "PASS: 20 expectations hold",
         ],
     );
 }
@@ -366,7 +366,7 @@ fn a_flame_out_fails_the_engine_goal_and_safes_the_descent() {
             "fired isolated",
             "fired safe-end",
             "completed the program has completed",
-            "PASS: 17 expectations hold",
+            "PASS: 19 expectations hold",
         ],
     );
     for point in ["TP_12m", "TP_td", "TP_end"] {
@@ -398,7 +398,7 @@ fn valve_2_stuck_closed_safes_the_descent_best_effort() {
             "fired safing (window [17107.5, 17107.5])",
             "command PDE.cmd = close1 (valve1: open -> closed) for goal close-valve1",
             "fired isolated",
-            "PASS: 17 expectations hold",
+            "PASS: 19 expectations hold",
         ],
     );
     assert_eq!(log.matches("SAFING ").count(), 1, "{log}");
@@ -421,7 +421,7 @@ fn a_latched_touchdown_spike_is_reset_and_the_engine_burns_to_touchdown() {
             "[ 17157.000 s 4:45:57.000]",
             "fired TP_td",
             "command PDE.cmd = on (PDE: off -> on) for goal engine-off",
-            "PASS: 15 expectations hold",
+            "PASS: 17 expectations hold",
         ],
     );
 }

@@ -145,10 +145,14 @@ typedef enum KairosEventKind {
   KAIROS_EVENT_KIND_PROMOTED = 32,
   KAIROS_EVENT_KIND_PROMOTION_FAILED = 33,
   KAIROS_EVENT_KIND_SAFING = 34,
-  KAIROS_EVENT_KIND_GOAL_RECOVERED = 35,
-  KAIROS_EVENT_KIND_NETWORK_STALLED = 36,
-  KAIROS_EVENT_KIND_SAFE_GOAL_DROPPED = 37,
-  KAIROS_EVENT_KIND_X_GOAL_WITHDRAWN = 38,
+  // A command would have left a mode an active goal requires; it was withheld.
+  KAIROS_EVENT_KIND_GOAL_CONTRADICTED = 35,
+  // A component was commanded back into a mode it was commanded out of within a few cycles.
+  KAIROS_EVENT_KIND_CHATTER = 36,
+  KAIROS_EVENT_KIND_GOAL_RECOVERED = 37,
+  KAIROS_EVENT_KIND_NETWORK_STALLED = 38,
+  KAIROS_EVENT_KIND_SAFE_GOAL_DROPPED = 39,
+  KAIROS_EVENT_KIND_X_GOAL_WITHDRAWN = 40,
 } KairosEventKind;
 
 // An executive and what the C ABI keeps beside it. Opaque to C.

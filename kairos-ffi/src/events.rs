@@ -48,10 +48,14 @@ pub enum KairosEventKind {
     Promoted = 32,
     PromotionFailed = 33,
     Safing = 34,
-    GoalRecovered = 35,
-    NetworkStalled = 36,
-    SafeGoalDropped = 37,
-    XGoalWithdrawn = 38,
+    /// A command would have left a mode an active goal requires; it was withheld.
+    GoalContradicted = 35,
+    /// A component was commanded back into a mode it was commanded out of within a few cycles.
+    Chatter = 36,
+    GoalRecovered = 37,
+    NetworkStalled = 38,
+    SafeGoalDropped = 39,
+    XGoalWithdrawn = 40,
 }
 
 impl KairosEventKind {
@@ -96,6 +100,8 @@ impl KairosEventKind {
             EventKind::NetworkStalled { .. } => K::NetworkStalled,
             EventKind::SafeGoalDropped { .. } => K::SafeGoalDropped,
             EventKind::XGoalWithdrawn { .. } => K::XGoalWithdrawn,
+            EventKind::GoalContradicted { .. } => K::GoalContradicted,
+            EventKind::Chatter { .. } => K::Chatter,
         }
     }
 }

@@ -114,7 +114,7 @@ fn served(names: &dyn Names, serves: &[Served]) -> String {
         .map(|served| match served {
             Served::Program { goal, span } => format!("{goal} ({})", names.at(span)),
             Served::Mission { goal } => format!("goal {goal}"),
-            Served::Intended { goal } => format!("{goal} (the intended configuration)"),
+            Served::Intended { goal } => goal.clone(),
         })
         .collect();
     if goals.is_empty() {
@@ -169,17 +169,19 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             ),
         ),
         E::GoalFailed { goal, reason } => ("GOAL FAILED", format!("{goal}: {reason}")),
+        // The goal the retried command serves, as every command names its goal (DESIGN.md §9).
         E::Retrying {
+            goal,
             assignments,
             hypothesis,
             probability,
             attempt,
             budget,
-            ..
         } => (
             "RETRY",
             format!(
-                "{}: the goal is reachable if {hypothesis} (p {probability:.2}); retry {attempt} of {budget}",
+                "{} for {goal}: the goal is reachable if {hypothesis} (p {probability:.2}); retry \
+                 {attempt} of {budget}",
                 assignments.join(", ")
             ),
         ),
@@ -435,6 +437,30 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
                 "{}: no XGoal active since the promotion ({} no longer asked for)",
                 component(*sv),
                 goals.join(", ")
+            ),
+        ),
+        E::GoalContradicted {
+            goal,
+            command,
+            component: c,
+            mode,
+        } => (
+            "CONTRADICTED",
+            format!(
+                "withheld {}: it would move {} out of {mode}, which {goal} requires",
+                command.join(", "),
+                component(*c)
+            ),
+        ),
+        E::Chatter {
+            component: c,
+            mode,
+            cycles,
+        } => (
+            "CHATTER",
+            format!(
+                "{} commanded back into {mode}, which it was commanded out of {cycles} cycles ago",
+                component(*c)
             ),
         ),
     }

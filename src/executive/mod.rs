@@ -30,6 +30,7 @@ mod delegation;
 mod describe;
 mod events;
 mod evidence;
+mod faithful;
 mod fingerprint;
 pub mod fprime;
 mod load;
@@ -68,6 +69,7 @@ use crate::reconfiguration::{
 };
 use crate::sequencer::{self, ConfigurationGoal, LocationId, Sense, SequencerError, Thca};
 use control::Program;
+use faithful::Faithful;
 use observations::LastObservation;
 use oracle::{AnswerCache, CachedOracle, VersionedEstimate};
 
@@ -92,7 +94,13 @@ pub struct ExecutiveOptions {
     /// When the goal is unreachable from ŝ: how probable another tracked plant state must be to
     /// be acted on, and how many commands per goal may be sent on such states.
     pub ambiguity: AmbiguityOptions,
+    /// N of the `Chatter` event (DESIGN.md §9): a component commanded back into a mode it was
+    /// commanded out of within this many cycles, with no diagnosis in between, chatters.
+    pub chatter_cycles: u64,
 }
+
+/// The default of [`ExecutiveOptions::chatter_cycles`].
+pub const CHATTER_CYCLES: u64 = 10;
 
 impl Default for ExecutiveOptions {
     fn default() -> Self {
@@ -103,6 +111,7 @@ impl Default for ExecutiveOptions {
             estimation_deadline: None,
             retention: Retention::default(),
             ambiguity: AmbiguityOptions::default(),
+            chatter_cycles: CHATTER_CYCLES,
         }
     }
 }
@@ -261,6 +270,13 @@ impl ExecutiveBuilder {
         self
     }
 
+    /// Sets N of the `Chatter` event: how many cycles a component must stay out of a mode it
+    /// was commanded out of before a command back into it is not chatter.
+    pub fn chatter_cycles(mut self, cycles: u64) -> Self {
+        self.options.chatter_cycles = cycles;
+        self
+    }
+
     /// Sets every option at once.
     pub fn options(mut self, options: ExecutiveOptions) -> Self {
         self.options = options;
@@ -301,6 +317,7 @@ impl ExecutiveBuilder {
             interpretation: None,
             ambiguity: Ambiguity::default(),
             intended: None,
+            faithful: Faithful::new(plant.components().len()),
             reported: Reported::default(),
             confidence_atoms,
             timelines,
@@ -456,6 +473,9 @@ pub struct Executive {
     /// The hypotheses other than ŝ acted on for the current goal.
     ambiguity: Ambiguity,
     intended: Option<GoalState>,
+    /// Helpers to bring back, recent commanded moves, the last contradiction reported
+    /// (`faithful.rs`).
+    faithful: Faithful,
     reported: Reported,
     confidence_atoms: Vec<(VarId, ValueId)>,
     timelines: Timelines,
@@ -571,7 +591,8 @@ impl Executive {
         let estimated = Instant::now();
         let goal = self.sequence(now, &mut log)?;
         let sequenced = Instant::now();
-        let (goal_state, action) = self.reconfigure(goal.as_ref(), &mut log);
+        let (goal_state, mut action) = self.reconfigure(goal.as_ref(), &mut log);
+        self.keep_faithful(&mut action, goal.as_ref(), &mut log);
         let purpose = Purpose {
             goal: goal.as_ref(),
             intended: goal_state.as_ref(),
@@ -892,17 +913,26 @@ impl Executive {
         // (docs/design/reconfiguration.md, "The intended configuration").
         if let Some(intended) = &mut self.intended {
             self.reconfiguration.settle_in_place(intended, &modes);
+            self.faithful.settle(&modes, intended.modes());
         }
-        if let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) {
-            match self.interpret(goal, &modes) {
-                Ok(goal_state) => {
-                    self.reported.goal_failure = None;
-                    self.intended = Some(self.reconfiguration.settle(&goal_state, &modes));
-                }
-                Err(failed) => return self.retry_or_fail(goal, &modes, &failed, log),
-            }
-        } else {
+        if log
+            .events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Safing { .. }))
+        {
+            self.faithful.forget_helpers();
+        }
+        let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) else {
+            // No goal: only helpers a plan moved are brought back (`faithful.rs`).
             self.reported.goal_failure = None;
+            return self.restore_helpers(&modes);
+        };
+        match self.interpret(goal, &modes) {
+            Ok(goal_state) => {
+                self.reported.goal_failure = None;
+                self.intended = Some(self.reconfiguration.settle(&goal_state, &modes));
+            }
+            Err(failed) => return self.retry_or_fail(goal, &modes, &failed, log),
         }
         let Some(intended) = &self.intended else {
             return (None, None);
@@ -968,12 +998,11 @@ impl Executive {
         (None, None)
     }
 
-    /// The configuration goal interpretation keeps where the goal allows: the intended one, or
-    /// ŝ before there is one.
+    /// The configuration goal interpretation keeps where the goal allows: ŝ, except for the
+    /// helpers still to be brought back to their intended modes (`faithful.rs`).
     fn keep(&self, modes: &[ValueId]) -> Vec<ValueId> {
-        self.intended
-            .as_ref()
-            .map_or_else(|| modes.to_vec(), |state| state.modes().to_vec())
+        let intended = self.intended.as_ref().map(GoalState::modes);
+        self.faithful.keep(modes, intended)
     }
 
     /// Goal interpretation of `goal` from ŝ, keeping the intended configuration where the goal
@@ -1092,8 +1121,18 @@ impl Executive {
                 .collect(),
         };
         if served.is_empty() {
-            served.extend(purpose.intended.map(|state| Served::Intended {
-                goal: table.assignment(var, state.mode(component)).to_string(),
+            served.extend(purpose.intended.map(|state| {
+                let mode = table.assignment(var, state.mode(component)).to_string();
+                let goal = match (&self.faithful.helpers[component.index()], purpose.goal) {
+                    (Some(moved_for), _) => {
+                        format!("{mode}, bringing back a helper moved for {moved_for}")
+                    }
+                    (None, Some(g)) => {
+                        format!("{mode} in the goal state of {}", g.formula.display(table))
+                    }
+                    (None, None) => mode,
+                };
+                Served::Intended { goal }
             }));
         }
         served

@@ -28,6 +28,8 @@ pub(super) struct ScenarioFile {
     #[serde(default)]
     pub(super) kappa: Option<i64>,
     #[serde(default)]
+    pub(super) chatter_cycles: Option<i64>,
+    #[serde(default)]
     pub(super) deadline: Option<f64>,
     #[serde(default)]
     pub(super) believed: Entries<String>,
@@ -385,6 +387,10 @@ pub enum EventName {
     SafeGoalDropped,
     /// A promotion took the active XGoal off a state variable.
     XGoalWithdrawn,
+    /// A command would have left a mode an active goal requires (withheld).
+    GoalContradicted,
+    /// A component was commanded back into a mode it was commanded out of within N cycles.
+    Chatter,
 }
 
 impl EventName {
@@ -431,6 +437,8 @@ impl EventName {
             E::NetworkStalled { .. } => EventName::NetworkStalled,
             E::SafeGoalDropped { .. } => EventName::SafeGoalDropped,
             E::XGoalWithdrawn { .. } => EventName::XGoalWithdrawn,
+            E::GoalContradicted { .. } => EventName::GoalContradicted,
+            E::Chatter { .. } => EventName::Chatter,
         }
     }
 }

@@ -3,7 +3,7 @@
 use super::ScenarioProgram;
 use super::condition::Condition;
 use super::expect::{Expectation, ExpectationKind, Window};
-use super::format::{ConditionFile, DelayFile, ExpectFile};
+use super::format::{ConditionFile, DelayFile, EventName, ExpectFile};
 use super::load::{FileCtx, VarClasses, Vars, formula};
 use super::script::{Delay, Script};
 use crate::diagnostic::locate::Step;
@@ -50,14 +50,49 @@ pub(super) fn expectations(
         }),
         end,
     };
-    files
+    let mut expectations: Vec<Expectation> = files
         .iter()
         .enumerate()
         .filter_map(|(i, file)| {
             let at = [Step::Field("expect"), Step::Index(i)];
             loader.expectation(ctx, &at, file)
         })
+        .collect();
+    expectations.extend(invariants(&expectations));
+    expectations
+}
+
+/// The events every scenario fails on unless one of its expectations names them (DESIGN.md
+/// §9): a command against an active goal, and chatter.
+pub(super) const INVARIANT_EVENTS: [EventName; 2] =
+    [EventName::GoalContradicted, EventName::Chatter];
+
+/// `NeverReported` for each of [`INVARIANT_EVENTS`] that no expectation of the scenario names
+/// (a scenario that expects one says so, `Reported(event: Chatter, ...)`, and is judged by that).
+fn invariants(expectations: &[Expectation]) -> Vec<Expectation> {
+    INVARIANT_EVENTS
+        .iter()
+        .filter(|&&event| !expectations.iter().any(|e| names_event(&e.kind, event)))
+        .map(|&event| Expectation {
+            label: format!("never reported {event:?} (checked in every scenario)"),
+            kind: ExpectationKind::NeverReported {
+                event,
+                saying: None,
+                window: Window::ALWAYS,
+            },
+        })
         .collect()
+}
+
+/// True when the expectation is about events of this kind.
+fn names_event(kind: &ExpectationKind, name: EventName) -> bool {
+    match kind {
+        ExpectationKind::Reported { event, .. } | ExpectationKind::NeverReported { event, .. } => {
+            *event == name
+        }
+        ExpectationKind::AnyOf { members } => members.iter().any(|m| names_event(m, name)),
+        _ => false,
+    }
 }
 
 /// The goals the program's locations assert, displayed as the executive reports them.

@@ -26,6 +26,8 @@
 //!     end: 300.0,                           // the last cycle is at or before this time;
 //!                                           // at most 10⁷ cycles (`MAX_CYCLES`), below
 //!     kappa: 5,                             // optional (default 10): states tracked by estimation
+//!     chatter_cycles: 20,                   // optional (default 10): a command back into a mode
+//!                                           // left within this many cycles is `Chatter`
 //!     deadline: 0.05,                       // optional: wall-time budget per cycle, seconds
 //!     believed: { "switch1": "stuck-open" },   // optional: the executive starts certain of
 //!                                           // these modes (a fault known before the run,
@@ -395,6 +397,8 @@ pub struct Scenario {
     pub end: f64,
     /// κ for mode estimation.
     pub kappa: usize,
+    /// The executive's chatter window, in cycles (DESIGN.md §9; `chatter_cycles`).
+    pub chatter_cycles: u64,
     /// The wall-time deadline of a cycle.
     pub deadline: Option<Duration>,
     /// The scripted plant.

@@ -273,6 +273,18 @@ impl Builder<'_, '_> {
             EventKind::PlanFailed { reason } => {
                 self.trouble(time, "plan-failed", "plan failed", reason)
             }
+            EventKind::GoalContradicted { goal, command, .. } => self.trouble(
+                time,
+                "plan-failed",
+                "command withheld",
+                &format!("{} would break {goal}", command.join(", ")),
+            ),
+            EventKind::Chatter { mode, cycles, .. } => self.trouble(
+                time,
+                "plan-failed",
+                "chatter",
+                &format!("commanded back into {mode} after {cycles} cycles"),
+            ),
             EventKind::ObservationRejected { .. } => self.omit("rejected observations"),
             EventKind::ObservationsMissing { .. } => {
                 self.omit("changes in the missing observations")
