@@ -163,3 +163,64 @@ fn arguments_are_checked() {
     assert_eq!(code, 2);
     assert!(stderr.contains("cannot read"), "{stderr}");
 }
+
+/// DESIGN.md §9 (redundancy): with regulator A failed the payload is powered through B; with
+/// both failed the goal fails naming each alternative and why.
+#[test]
+fn the_power_subsystem_plans_around_a_failed_regulator() {
+    let goal = [
+        "plan",
+        "--plant",
+        "models/power.ron",
+        "--goal",
+        "payload = powered",
+    ];
+    let (code, stdout, stderr) = kairos(&[&goal[..], &["--state", "reg_a = failed"]].concat());
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    let steps: Vec<String> = stdout
+        .lines()
+        .filter(|l| l.starts_with("   "))
+        .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+        .collect();
+    assert_eq!(
+        steps,
+        [
+            "1. command reg_b.cmd = on reg_b: off -> on",
+            "2. command load_switch.cmd = close load_switch: open -> closed",
+            "3. wait, p 1 payload: unpowered -> powered",
+        ],
+        "{stdout}"
+    );
+    let both = ["--state", "reg_a = failed, reg_b = failed"];
+    let (code, _, stderr) = kairos(&[&goal[..], &both].concat());
+    assert_eq!(code, 1);
+    assert!(
+        stderr.contains(
+            "payload can reach only unpowered from unpowered (unpowered -> powered needs reg_a = \
+             on (reg_a is failed) or reg_b = on (reg_b is failed))"
+        ),
+        "{stderr}"
+    );
+}
+
+/// DESIGN.md §9: a goal the plant leaves by itself is said up front, located in the model, and
+/// a plan that comes back to a state it visited stops and names who goes round (before, `plan`
+/// alternated two commands to its step limit).
+#[test]
+fn a_goal_state_the_plant_leaves_is_reported() {
+    let (code, stdout, stderr) = kairos(&[
+        "plan",
+        "--plant",
+        "models/thermostat.ron",
+        "--goal",
+        "temperature = warming",
+    ]);
+    assert_eq!(code, 0, "{stdout}\n{stderr}");
+    assert!(
+        stdout.contains(
+            "warning: no state entailing the goal is one the plant rests in; this one it leaves \
+             by itself: component `temperature`, transition warming -> cold"
+        ),
+        "{stdout}"
+    );
+}

@@ -753,7 +753,7 @@ fn load_errors_are_located_and_every_error_composes_with_question_mark() {
         let scheduled = kairos::executive::ScheduledMission::schedule(mission, &reconfiguration)?;
         let mut executive = Executive::builder(plant, scheduled).build()?;
         executive.step(0.0, &[])?;
-        executive.submit(&kairos::executive::Submission::default())?;
+        executive.submit(&kairos::executive::Submission::default(), 1.0)?;
         Ok(())
     }
     composes().expect("the shipped thermostat mission runs");

@@ -71,7 +71,7 @@ fn close_switch1(executive: &Executive, at: f64, target: &str) -> Submission {
         goals: vec![
             SubmittedGoal {
                 name: "close-switch1".into(),
-                sv,
+                sv: Some(sv),
                 kind: GoalKind::Transition,
                 constraint: set.clone(),
                 text: String::new(),
@@ -79,10 +79,11 @@ fn close_switch1(executive: &Executive, at: f64, target: &str) -> Submission {
                 end: "TP_A".into(),
                 parent: None,
                 priority: 0,
+                goal_type: None,
             },
             SubmittedGoal {
                 name: "heater1".into(),
-                sv,
+                sv: Some(sv),
                 kind: GoalKind::Maintain,
                 constraint: set,
                 text: String::new(),
@@ -90,6 +91,7 @@ fn close_switch1(executive: &Executive, at: f64, target: &str) -> Submission {
                 end: "TP_E".into(),
                 parent: None,
                 priority: 0,
+                goal_type: None,
             },
         ],
     }
@@ -115,7 +117,7 @@ fn a_submitted_goal_is_scheduled_around_the_fired_points_and_commanded() {
     let before = run(&mut executive, 0, 20);
     assert_eq!(fired(&before), [(10.0, "TP_k1".to_string())]);
     let submission = close_switch1(&executive, 30.0, "closed");
-    executive.submit(&submission).expect("accepted");
+    executive.submit(&submission, 21.0).expect("accepted");
     // Up to 31 s: from 32 s the device, cold in the reading, may be warming, and goal
     // interpretation keeps it in its intended `cold` (no goal names the temperature here).
     let after = run(&mut executive, 21, 31);
@@ -151,10 +153,11 @@ fn an_unachievable_submission_is_refused_and_the_network_is_unchanged() {
     };
     let before = points(&executive);
     let submission = close_switch1(&executive, 30.0, "stuck-open");
-    match executive.submit(&submission) {
+    match executive.submit(&submission, 21.0) {
         Err(SubmitError::Refused {
             error: ScheduleError::Unachievable { .. },
             explanation,
+            ..
         }) => assert!(explanation.contains("close-switch1"), "{explanation}"),
         other => panic!("not refused as unachievable: {other:?}"),
     }
@@ -163,7 +166,7 @@ fn an_unachievable_submission_is_refused_and_the_network_is_unchanged() {
     assert_eq!(fired(&after), [(70.0, "TP_k2".to_string())]);
 }
 
-/// A point cannot be submitted into the past: at 20 s, a start point at 15 s makes the network
+/// A point cannot be submitted into the past: at 21 s, a start point at 15 s makes the network
 /// inconsistent, and the submission is refused.
 #[test]
 fn a_submission_into_the_past_is_inconsistent() {
@@ -171,7 +174,7 @@ fn a_submission_into_the_past_is_inconsistent() {
     run(&mut executive, 0, 20);
     let submission = close_switch1(&executive, 15.0, "closed");
     assert!(matches!(
-        executive.submit(&submission),
+        executive.submit(&submission, 21.0),
         Err(SubmitError::Refused {
             error: ScheduleError::Inconsistent(_),
             ..
@@ -186,7 +189,7 @@ fn a_submission_naming_an_unknown_point_is_refused() {
     let mut submission = close_switch1(&executive, 30.0, "closed");
     submission.goals[0].end = "TP_Z".into();
     assert_eq!(
-        executive.submit(&submission),
+        executive.submit(&submission, 0.0),
         Err(SubmitError::Unknown {
             what: "time point",
             name: "TP_Z".into()

@@ -2,11 +2,17 @@
 //! DESIGN.md §15.3), driven by scripted estimates of the thermostat for system test 4's network
 //! (`missions/thermostat_stay_warm.ron`): when each point fires, the configuration goal, a
 //! maintain failure narrowed to its constituent, a forced point failing a transition goal; and
-//! a point ending a transition that nothing follows (`tests/missions/close_switch1.ron`).
+//! a point ending a transition that nothing follows (`tests/missions/close_switch1.ron`), forced
+//! at its last cycle inside its window, contradicted when no cycle falls in it, stalled when it
+//! has no latest time and waits for a goal that failed; a goal that recovers and fails again
+//! (DESIGN.md §15.2).
 
 use std::path::Path;
 
-use kairos::goalnet::{EstimateView, Execution, FailureReason, GoalEvent, mission, schedule};
+use kairos::diagnostic::Source;
+use kairos::goalnet::{
+    EstimateView, Execution, FailureReason, GoalEvent, Waiting, mission, schedule,
+};
 use kairos::logic::{Formula, ValueId};
 use kairos::plant::Plant;
 use kairos::reconfiguration::Reconfiguration;
@@ -46,7 +52,21 @@ impl Harness {
 
     fn of(path: &str) -> Self {
         std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
-        let mission = mission::load(Path::new(path)).expect("loads");
+        Self::with(mission::load(Path::new(path)).expect("loads"))
+    }
+
+    /// `close_switch1.ron` with its two constraints replaced by these.
+    fn closing_switch1(constraints: &str) -> Self {
+        std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).expect("the crate root exists");
+        let text = std::fs::read_to_string("tests/missions/close_switch1.ron").expect("reads");
+        let written = r#"Constraint(from: "origin", to: "TP_H", min: 10.0, max: 10.0),
+            Constraint(from: "TP_H", to: "TP_A", min: 0.0, max: 5.0),"#;
+        assert!(text.contains(written));
+        let source = Source::new("close_switch1.ron", text.replace(written, constraints));
+        Self::with(mission::load_source(&source, Path::new("tests/missions")).expect("loads"))
+    }
+
+    fn with(mission: mission::Mission) -> Self {
         let reconfiguration = Reconfiguration::compile(&mission.plant).expect("compiles");
         let current = vec![ValueId(0); mission.plant.components().len()];
         let executable = schedule(&mission.network, &reconfiguration, &current).expect("schedules");
@@ -97,6 +117,19 @@ impl Harness {
                     *t,
                     self.execution.executable().network.goal(*goal).name.clone(),
                     reason.clone(),
+                )),
+                _ => None,
+            })
+            .collect()
+    }
+
+    fn recoveries(&self) -> Vec<(f64, String)> {
+        self.events
+            .iter()
+            .filter_map(|(t, e)| match e {
+                GoalEvent::GoalRecovered { goal } => Some((
+                    *t,
+                    self.execution.executable().network.goal(*goal).name.clone(),
                 )),
                 _ => None,
             })
@@ -266,4 +299,144 @@ fn a_transition_end_never_reached_is_forced_and_fails() {
         ),
         "{failures:?}"
     );
+}
+
+/// A point whose latest time falls between two cycles is forced at the last cycle inside its
+/// window — the next would be past it — and its grounding is consistent (DESIGN.md §15.2: no
+/// point fires outside its window): TP_A ≤ TP_H + 4.5 s = 14.5 s, not ready, fires at 14 s,
+/// 0.5 s before its latest time.
+#[test]
+fn a_point_is_forced_at_its_last_cycle_inside_its_window() {
+    let mut h = Harness::closing_switch1(
+        r#"Constraint(from: "origin", to: "TP_H", min: 10.0, max: 10.0),
+           Constraint(from: "TP_H", to: "TP_A", min: 0.0, max: 4.5),"#,
+    );
+    h.run(0, 20, |_| vec![]);
+    assert_eq!(h.fired("TP_A"), Some(14.0));
+    let forced: Vec<f64> = (h.events.iter())
+        .filter_map(|(_, e)| match e {
+            GoalEvent::TimePointForced { late_by, .. } => Some(*late_by),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(forced, [-0.5]);
+    assert!(
+        !h.events
+            .iter()
+            .any(|(_, e)| matches!(e, GoalEvent::TemporalInconsistency { .. }))
+    );
+    assert!(h.execution.executable().network.stn().is_propagated());
+}
+
+/// A window that holds no cycle's time: TP_H ∈ [10.2, 10.7] s fires at 11 s, the first cycle
+/// after it. The firing stays, the constraint it contradicts is withdrawn — the network keeps
+/// its windows and TP_A fires on — and the goal TP_H bounds fails (DESIGN.md §15.2: a firing
+/// that contradicts the network is a failure of the goals it bounds).
+#[test]
+fn a_firing_the_network_contradicts_withdraws_the_constraint_and_fails_its_goals() {
+    let mut h = Harness::closing_switch1(
+        r#"Constraint(from: "origin", to: "TP_H", min: 10.2, max: 10.7),
+           Constraint(from: "TP_H", to: "TP_A", min: 0.0, max: 5.0),"#,
+    );
+    h.run(0, 20, |t| {
+        if t >= 13.0 {
+            vec![("switch1", "closed")]
+        } else {
+            vec![]
+        }
+    });
+    assert_eq!(h.fired("TP_H"), Some(11.0));
+    let contradicted = h.events.iter().find_map(|(t, e)| match e {
+        GoalEvent::TemporalInconsistency { cycle, .. } => Some((*t, cycle.len())),
+        _ => None,
+    });
+    assert_eq!(
+        contradicted,
+        Some((11.0, 2)),
+        "the written window and the firing"
+    );
+    let stn = h.execution.executable().network.stn();
+    assert!(stn.is_propagated(), "consistent again");
+    assert_eq!(h.fired("TP_A"), Some(13.0), "the rest fires on");
+    let failures = h.goal_failures();
+    assert!(
+        matches!(
+            failures.as_slice(),
+            [(11.0, goal, FailureReason::Contradicted { .. })] if goal == "close-switch1"
+        ),
+        "{failures:?}"
+    );
+}
+
+/// A point with no latest time that waits for a goal that has failed will never fire: the
+/// network says so, once (DESIGN.md §15.2: a network that stops firing with time left says
+/// why). Switch 1 sticks open at 12 s, so `close-switch1` can no longer be reached and fails;
+/// TP_A, after TP_H with no bound, waits for it for ever.
+#[test]
+fn a_network_waiting_for_a_failed_goal_says_it_has_stalled() {
+    let mut h = Harness::closing_switch1(
+        r#"Constraint(from: "origin", to: "TP_H", min: 10.0, max: 10.0),
+           Constraint(from: "TP_H", to: "TP_A", min: 0.0),"#,
+    );
+    h.run(0, 30, |t| {
+        if t >= 12.0 {
+            vec![("switch1", "stuck-open")]
+        } else {
+            vec![]
+        }
+    });
+    let stalls: Vec<(f64, Vec<(String, Waiting)>)> = (h.events.iter())
+        .filter_map(|(t, e)| match e {
+            GoalEvent::NetworkStalled { stalled } => Some((
+                *t,
+                (stalled.iter())
+                    .map(|(p, w)| {
+                        (
+                            h.execution.executable().network.point(*p).name.clone(),
+                            w.clone(),
+                        )
+                    })
+                    .collect(),
+            )),
+            _ => None,
+        })
+        .collect();
+    let goal = h
+        .execution
+        .executable()
+        .network
+        .goal_named("close-switch1")
+        .expect("a goal");
+    assert_eq!(
+        stalls,
+        [(12.0, vec![("TP_A".to_string(), Waiting::Goal(goal))])]
+    );
+    assert_eq!(h.fired("TP_A"), None);
+}
+
+/// A goal that fails and holds again is reported recovered and monitored again: a second
+/// excursion fails it again (DESIGN.md §15.2). Switch 1 is believed open from 187 s to 189 s,
+/// closed again, then open from 195 s: `heater1` fails at 187, recovers at 190, fails at 195.
+#[test]
+fn a_goal_that_holds_again_recovers_and_fails_again() {
+    let mut h = Harness::new();
+    h.run(0, 200, |t| {
+        let mut modes = nominal(t);
+        if (187.0..190.0).contains(&t) || t >= 195.0 {
+            modes.retain(|(c, _)| *c != "switch1");
+            modes.push(("switch1", "open"));
+        }
+        modes
+    });
+    let failures: Vec<(f64, String)> = (h.goal_failures().into_iter())
+        .map(|(t, g, _)| (t, g))
+        .collect();
+    assert_eq!(
+        failures,
+        [
+            (187.0, "heater1".to_string()),
+            (195.0, "heater1".to_string())
+        ]
+    );
+    assert_eq!(h.recoveries(), [(190.0, "heater1".to_string())]);
 }

@@ -16,10 +16,12 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/mars_edl";
 
 /// The scenarios this file runs, one test each.
-const SCENARIOS: [&str; 11] = [
+const SCENARIOS: [&str; 13] = [
     "nominal.ron",
     "descent_mission.ron",
     "descent_flameout.ron",
+    "descent_valve2_stuck_closed.ron",
+    "descent_mpl_spike.ron",
     "engine_stuck_heating.ron",
     "engine_power_loss.ron",
     "pde_resettable.ron",
@@ -145,7 +147,7 @@ fn a_resettable_pde_is_reset_and_the_edl_continues() {
             "command PDE.cmd = engine-standby (engine: off -> heating) for engine = standby (programs/mars_edl.rmpl:20:3)",
             "goal achieved engine = standby",
             "clock t1 started",
-            "command PDE.cmd = off (PDE: on -> off) for PDE = off (the intended configuration)",
+            "command PDE.cmd = off (PDE: on -> off) for PDE = off, bringing back a helper moved for engine = standby",
         ],
     );
     // The status is the only evidence: the PDE's other observations fit it being on.
@@ -192,7 +194,7 @@ fn a_valve_that_ignores_the_first_open_command_is_commanded_again_and_the_edl_la
             "[ 17109.000 s 4:45:09.000]",
             "believed valve2: closed -> stuck-closed (p 0.59)",
             "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35), valve2 = open (p 0.06)",
-            "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
+            "RETRY PDE.cmd = open2 for engine = firing: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17110.000 s 4:45:10.000]",
             "believed valve2: stuck-closed -> open (p 1.00)",
@@ -221,10 +223,10 @@ fn a_valve_stuck_closed_is_retried_once_then_the_goal_fails_naming_the_hypothese
             // The evidence: after `open2`, the valve that ŝ (closed) stepped by the command
             // would have opened reports its outlet low.
             "DIAGNOSIS valve2 = stuck-closed (p 0.59); evidence: valve2.outlet = low; next: valve2 = closed (p 0.35)",
-            "RETRY PDE.cmd = open2: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
+            "RETRY PDE.cmd = open2 for engine = firing: the goal is reachable if valve2 = closed (p 0.35); retry 1 of 2",
             "command PDE.cmd = open2 (valve2: closed -> open)",
             "[ 17110.000 s 4:45:10.000]",
-            "GOAL FAILED engine = firing: engine = firing is unreachable: engine can reach only off, standby from standby (its transitions need components upstream: valve2 is stuck-closed); also tried valve2 = closed (p 0.35, 1 retry); unreachable also if valve2 = open and tank2 = empty (p 0.09)",
+            "GOAL FAILED engine = firing: engine = firing is unreachable: engine can reach only off, standby from standby (standby -> firing needs valve2 = open (valve2 is stuck-closed)); also tried valve2 = closed (p 0.35, 1 retry); unreachable also if valve2 = open and tank2 = empty (p 0.09)",
         ],
     );
     assert_eq!(log.matches("RETRY").count(), 1, "{log}");
@@ -337,7 +339,7 @@ fn the_descent_mission_lands() {
             "fired TP_end",
             "fired TP_rest",
             "completed the program has completed",
-            "PASS: 18 expectations hold",
+            "PASS: 20 expectations hold",
         ],
     );
 }
@@ -364,7 +366,7 @@ fn a_flame_out_fails_the_engine_goal_and_safes_the_descent() {
             "fired isolated",
             "fired safe-end",
             "completed the program has completed",
-            "PASS: 17 expectations hold",
+            "PASS: 19 expectations hold",
         ],
     );
     for point in ["TP_12m", "TP_td", "TP_end"] {
@@ -373,4 +375,53 @@ fn a_flame_out_fails_the_engine_goal_and_safes_the_descent() {
             "{point} fired:\n{log}"
         );
     }
+}
+
+/// Valve 2 stuck closed in the powered descent as a goal network (DESIGN.md §15.2): TP_fire is
+/// forced, the goals ending there unreached fail — `ignite` among them — and safing is invoked
+/// once for all of them (one response each). The safe network is scheduled best effort: its two goals on valve 2
+/// (stuck closed, not `closed`) are dropped with their reason, valve 1 is closed.
+#[test]
+fn valve_2_stuck_closed_safes_the_descent_best_effort() {
+    let log = run("descent_valve2_stuck_closed.ron");
+    assert_in_order(
+        &log,
+        &[
+            "DIAGNOSIS valve2 = stuck-closed",
+            "[ 17107.500 s 4:45:07.500]",
+            "FORCED TP_fire at its latest time, not ready",
+            "GOAL FAILED ignite: its end point was forced before the set was reached",
+            "RESPONSE ignite failed: engine = standby (p 1.00) → fail up → PoweredDescent is a root → safing",
+            "SAFING jettison-backshell failed",
+            "SAFE DROP safe goal close-valve2 dropped: unachievable:",
+            "SAFE DROP safe goal valve2-closed dropped: unachievable:",
+            "fired safing (window [17107.5, 17107.5])",
+            "command PDE.cmd = close1 (valve1: open -> closed) for goal close-valve1",
+            "fired isolated",
+            "PASS: 19 expectations hold",
+        ],
+    );
+    assert_eq!(log.matches("SAFING ").count(), 1, "{log}");
+}
+
+/// The Mars Polar Lander's spike (thesis §1.1, §7.2.3) against the powered descent as a goal
+/// network: the latched touchdown flag is reset once the descent begins (`touchdown-armed`),
+/// so touchdown is declared at the real one, not a cycle after the 12 m trigger.
+#[test]
+fn a_latched_touchdown_spike_is_reset_and_the_engine_burns_to_touchdown() {
+    let log = run("descent_mpl_spike.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 17061.000 s 4:44:21.000]",
+            "believed touchdown_sensor: not-triggered -> triggered (p 1.00)",
+            "fired TP_bs",
+            "command touchdown_sensor.cmd = reset (touchdown_sensor: triggered -> not-triggered) for goal touchdown-armed",
+            "fired TP_12m",
+            "[ 17157.000 s 4:45:57.000]",
+            "fired TP_td",
+            "command PDE.cmd = on (PDE: off -> on) for goal engine-off",
+            "PASS: 17 expectations hold",
+        ],
+    );
 }

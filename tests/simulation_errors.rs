@@ -184,11 +184,11 @@ bad_scenario!(
     "submit_bad_goals.ron:11:23",
     "did you mean `TP_E`?",
     "submit_bad_goals.ron:14:70",
-    "a submission adds goals, not macros",
+    "unknown time point `TP_G`",
     "did you mean `temperature`?",
     "a goal on `switch1` may only constrain `switch1`",
     "a Maintain goal needs a constraint",
-    "submitted goal `typed` has a type"
+    "unknown goal type `StayWarm`"
 );
 bad_scenario!(
     submit_in_rmpl,

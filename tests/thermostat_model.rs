@@ -33,7 +33,7 @@ const WARM: &str = "(temperature = warm-low or temperature = warm or temperature
 
 /// The RMPL scenarios this file runs, one test each. (Goal-network missions on the same plant
 /// have tests of their own: `tests/thermostat_missions.rs`.)
-const SCENARIOS: [&str; 7] = [
+const SCENARIOS: [&str; 8] = [
     "stay_warm.ron",
     "switch1_sticks_open.ron",
     "switch2_sticks_closed.ron",
@@ -41,6 +41,7 @@ const SCENARIOS: [&str; 7] = [
     "switch1_stuck_open_from_start.ron",
     "switch1_sticks_open_tactic_2.ron",
     "switch2_sticks_closed_tactic_2.ron",
+    "switch1_stuck_open_warms_with_switch2.ron",
 ];
 
 fn thermostat() -> Plant {
@@ -182,9 +183,10 @@ fn kairos_check_links_the_stay_warm_programs() {
 }
 
 /// Tactic 1 as a configuration goal (§6.3.3): one command, then the planner waits through the
-/// heater's warming; the thermostat's goal networks rely on this plan.
+/// heater's warming to `warm`, the WARM band the device rests in with one heater on (DESIGN.md
+/// §9: warm-low it leaves for warm by itself); the thermostat's goal networks rely on this plan.
 #[test]
-fn tactic_1_is_one_command_and_two_waits() {
+fn tactic_1_is_one_command_and_three_waits() {
     let (code, stdout, stderr) = kairos(&[
         "plan",
         "--plant",
@@ -204,6 +206,7 @@ fn tactic_1_is_one_command_and_two_waits() {
             "1. command switch1.cmd = close switch1: open -> closed",
             "2. wait, p 1 temperature: cold -> warming",
             "3. wait, after Uniform(0, 75) s temperature: warming -> warm-low",
+            "4. wait, after Exponential(0.014) s temperature: warm-low -> warm",
         ],
         "{stdout}"
     );
@@ -345,6 +348,26 @@ fn a_switch_stuck_open_from_the_start_is_diagnosed_when_the_warming_window_close
             "DIAGNOSIS switch1 = stuck-open",
         ],
     );
+}
+
+/// DESIGN.md §9 (redundancy): asked for WARM with no heater named and switch 1 stuck open, the
+/// executive closes switch 2 in the cycle switch 1 is diagnosed, and never reports the goal
+/// unreachable on the way.
+#[test]
+fn a_switch_stuck_open_is_bypassed_through_the_other_heater() {
+    let log = run_scenario("switch1_stuck_open_warms_with_switch2.ron");
+    assert_in_order(
+        &log,
+        &[
+            "command switch1.cmd = close",
+            "[ 77.000 s 0:01:17.000] #77",
+            "DIAGNOSIS switch1 = stuck-open",
+            "command switch2.cmd = close (switch2: open -> closed)",
+            "believed temperature: warming -> warm-low",
+        ],
+    );
+    assert!(!log.contains("unreachable"), "{log}");
+    assert!(!log.contains("GOAL FAILED"), "{log}");
 }
 
 /// The seed's system test 7 verdict: diagnosed while WARM, tactic 2 (heater 2) commanded in the

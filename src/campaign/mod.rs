@@ -89,7 +89,8 @@ pub struct RunRecord {
     /// The faults, oldest first.
     pub faults: Vec<FaultRecord>,
     /// True when the executive reported a failure (a `GoalFailed` or `PlanFailed` event, or for
-    /// a mission a `MissionGoalFailed` or `Safing`): a run that failed without one failed
+    /// a mission a `MissionGoalFailed` or `Safing`) or caught itself working against a goal
+    /// (`GoalContradicted`, `Chatter`: DESIGN.md §9): a run that failed without one failed
     /// silently.
     pub failure_reported: bool,
     /// Cycles run.
@@ -151,7 +152,10 @@ pub fn run_one(scenario: &Scenario, index: u64, seed: u64) -> RunRecord {
                     EventKind::GoalFailed { .. }
                     | EventKind::PlanFailed { .. }
                     | EventKind::MissionGoalFailed { .. }
-                    | EventKind::Safing { .. } => {
+                    | EventKind::NetworkStalled { .. }
+                    | EventKind::Safing { .. }
+                    | EventKind::GoalContradicted { .. }
+                    | EventKind::Chatter { .. } => {
                         failure_reported = true;
                     }
                     _ => {}

@@ -49,7 +49,8 @@ pub struct Summary {
     /// Runs that stopped on an error or a panic.
     pub errors: u64,
     /// Runs that did not pass and in which the executive reported no failure (`GoalFailed`,
-    /// `PlanFailed`) and did not stop on an error: silent failures.
+    /// `PlanFailed`, `GoalContradicted`, `Chatter`, ...) and did not stop on an error: silent
+    /// failures.
     pub silent: u64,
     /// Failures by first failing expectation, most frequent first.
     pub groups: Vec<FailureGroup>,

@@ -230,8 +230,11 @@ pub fn run_deep(paths: &[impl AsRef<Path>]) -> Result<(), Failure> {
             let found = deep::deep_check(&thca, &plant, DEEP_MARKINGS)
                 .map_err(|e| Failure::bad_input(format!("error: {}: {e}", model.display())))?;
             println!(
-                "{}: {}: against {}: {} reachable, {}, {}{}",
-                if found.conflicts.is_empty() && found.unreachable.is_empty() {
+                "{}: {}: against {}: {} reachable, {}, {}{}{}",
+                if found.conflicts.is_empty()
+                    && found.unreachable.is_empty()
+                    && found.restless.is_empty()
+                {
                     "ok"
                 } else {
                     "findings"
@@ -241,6 +244,10 @@ pub fn run_deep(paths: &[impl AsRef<Path>]) -> Result<(), Failure> {
                 count(found.markings, "marking"),
                 count(found.conflicts.len(), "goal conflict"),
                 count(found.unreachable.len(), "unreachable mode"),
+                match found.restless.len() {
+                    0 => String::new(),
+                    n => format!(", {} the plant leaves by itself", count(n, "goal")),
+                },
                 match (found.complete, found.undecided) {
                     (false, _) => format!(
                         "; stopped at {DEEP_MARKINGS} markings: conflicts beyond them are not looked for"

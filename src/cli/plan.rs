@@ -77,7 +77,7 @@ pub fn run(args: &PlanArgs) -> Result<(), Failure> {
         PlanOutcome::Achieved => Ok(()),
         other => Err(Failure::failed(format!(
             "the plan did not reach the goal state: {}",
-            outcome_text(other)
+            outcome_text(&plant, other)
         ))),
     }
 }
@@ -192,13 +192,46 @@ fn most_likely_initial(initial: &[f64]) -> ValueId {
     ValueId(best as u32)
 }
 
-fn outcome_text(outcome: &PlanOutcome) -> String {
+fn outcome_text(plant: &Plant, outcome: &PlanOutcome) -> String {
     match outcome {
+        PlanOutcome::Oscillating { components } => {
+            let names: Vec<&str> = components
+                .iter()
+                .map(|&c| plant.component(c).name())
+                .collect();
+            format!(
+                "the plan goes round: {} come back to a state already visited",
+                names.join(", ")
+            )
+        }
         PlanOutcome::Achieved => "goal state reached".to_string(),
         PlanOutcome::Failed(failure) => format!("no action: {}", failure.reason),
         PlanOutcome::Stalled { reason } => format!("stalled: {reason}"),
         PlanOutcome::StepLimit => "step limit reached".to_string(),
     }
+}
+
+/// "warning: the plant leaves this goal state by itself: ..." for each transition that leaves
+/// it with every control idle (DESIGN.md §9), located in the model by component and
+/// transition.
+fn leaving_lines(plant: &Plant, goal_state: &GoalState) -> Vec<String> {
+    goal_state
+        .leaving()
+        .iter()
+        .map(|&(c, t)| {
+            let component = plant.component(c);
+            let transition = &component.transitions()[t];
+            format!(
+                "warning: no state entailing the goal is one the plant rests in; this one it \
+                 leaves by itself: component `{}`, transition {} -> {} (guard `{}`, {})",
+                component.name(),
+                component.mode(goal_state.mode(c)).name,
+                component.mode(transition.target).name,
+                transition.guard.display(plant.table()),
+                transition.law
+            )
+        })
+        .collect()
 }
 
 /// Prints what `kairos plan` found, as text or JSON.
@@ -256,6 +289,9 @@ impl<'a> Report<'a> {
             goal_state.describe(self.plant),
             goal_state.reward()
         );
+        for line in leaving_lines(self.plant, goal_state) {
+            println!("{line}");
+        }
         println!("plan, one action per cycle, every command succeeding nominally:");
         let width = run
             .steps
@@ -273,7 +309,7 @@ impl<'a> Report<'a> {
         }
         println!(
             "{} after {} cycles",
-            outcome_text(&run.outcome),
+            outcome_text(self.plant, &run.outcome),
             run.steps.len()
         );
     }
@@ -345,7 +381,7 @@ impl<'a> Report<'a> {
                 "reward": goal_state.reward(),
             },
             "steps": steps,
-            "outcome": outcome_text(&run.outcome),
+            "outcome": outcome_text(self.plant, &run.outcome),
             "achieved": run.outcome == PlanOutcome::Achieved,
         });
         println!("{}", serde_json::to_string_pretty(&out).unwrap_or_default());

@@ -229,7 +229,7 @@ fn drawing(
     }
     for c in network.stn().constraints() {
         let (label, dashed) = match &c.provenance {
-            Provenance::Written(_) | Provenance::Submitted => {
+            Provenance::Written(_) | Provenance::Elaborated { .. } | Provenance::Submitted => {
                 (format!("[{}, {}] s", seconds(c.min), seconds(c.max)), false)
             }
             // An ordering the XGoal boxes already show is not drawn twice.

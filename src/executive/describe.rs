@@ -114,7 +114,7 @@ fn served(names: &dyn Names, serves: &[Served]) -> String {
         .map(|served| match served {
             Served::Program { goal, span } => format!("{goal} ({})", names.at(span)),
             Served::Mission { goal } => format!("goal {goal}"),
-            Served::Intended { goal } => format!("{goal} (the intended configuration)"),
+            Served::Intended { goal } => goal.clone(),
         })
         .collect();
     if goals.is_empty() {
@@ -169,17 +169,19 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             ),
         ),
         E::GoalFailed { goal, reason } => ("GOAL FAILED", format!("{goal}: {reason}")),
+        // The goal the retried command serves, as every command names its goal (DESIGN.md §9).
         E::Retrying {
+            goal,
             assignments,
             hypothesis,
             probability,
             attempt,
             budget,
-            ..
         } => (
             "RETRY",
             format!(
-                "{}: the goal is reachable if {hypothesis} (p {probability:.2}); retry {attempt} of {budget}",
+                "{} for {goal}: the goal is reachable if {hypothesis} (p {probability:.2}); retry \
+                 {attempt} of {budget}",
                 assignments.join(", ")
             ),
         ),
@@ -390,14 +392,17 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
                  withdrawn, no further command; {sv} = {value}"
             ),
         ),
-        E::SubmissionRefused { by, goals, reason } => (
+        E::SubmissionRefused {
+            by, goals, reason, ..
+        } => (
             "REFUSED",
             format!("{} submitted by `{by}`: {reason}", goals.join(", ")),
         ),
         E::TemporalInconsistency { point, cycle } => (
             "TEMPORAL",
             format!(
-                "firing {point} contradicts the network: {}",
+                "firing {point} contradicts the network: {}; the constraints not fired are \
+                 withdrawn",
                 cycle.join("; ")
             ),
         ),
@@ -414,6 +419,50 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
         E::Promoted { cause } => ("promoted", format!("the proposed network ({cause})")),
         E::PromotionFailed { reason } => ("PROMOTION", format!("failed: {reason}")),
         E::Safing { cause } => ("SAFING", cause.clone()),
+        E::GoalRecovered {
+            goal,
+            mode,
+            probability,
+        } => (
+            "recovered",
+            format!("{goal} holds again; ŝ has {mode} (p {probability:.2})"),
+        ),
+        E::NetworkStalled { points } => ("STALLED", points.join("; ")),
+        E::SafeGoalDropped { goal, reason } => {
+            ("SAFE DROP", format!("safe goal {goal} dropped: {reason}"))
+        }
+        E::XGoalWithdrawn { sv, goals } => (
+            "withdrawn",
+            format!(
+                "{}: no XGoal active since the promotion ({} no longer asked for)",
+                component(*sv),
+                goals.join(", ")
+            ),
+        ),
+        E::GoalContradicted {
+            goal,
+            command,
+            component: c,
+            mode,
+        } => (
+            "CONTRADICTED",
+            format!(
+                "withheld {}: it would move {} out of {mode}, which {goal} requires",
+                command.join(", "),
+                component(*c)
+            ),
+        ),
+        E::Chatter {
+            component: c,
+            mode,
+            cycles,
+        } => (
+            "CHATTER",
+            format!(
+                "{} commanded back into {mode}, which it was commanded out of {cycles} cycles ago",
+                component(*c)
+            ),
+        ),
     }
 }
 

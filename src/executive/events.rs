@@ -278,6 +278,9 @@ pub enum EventKind {
         goals: Vec<String>,
         /// Why ([`SubmitError`](super::SubmitError) in words).
         reason: String,
+        /// The goals of the running network it conflicts with (every one, DESIGN.md §15.2);
+        /// empty when it was refused for another reason.
+        conflicts: Vec<String>,
     },
     /// Elaboration chose a tactic for a goal of the network it then promoted
     /// (mds-goal-networks.md §2.1).
@@ -324,14 +327,71 @@ pub enum EventKind {
         /// The failure that led there, explained, on one line.
         cause: String,
     },
+    /// A goal of the mission's network that had failed holds again (DESIGN.md §15.2): it is
+    /// monitored again, and a new failure is reported and answered again.
+    GoalRecovered {
+        /// The goal's name.
+        goal: String,
+        /// The mode ŝ gives its state variable.
+        mode: String,
+        /// That mode's marginal probability.
+        probability: f64,
+    },
+    /// The mission's network has points left that nothing will fire (DESIGN.md §15.2: a
+    /// network that has stopped firing with time left says why); reported when that set
+    /// changes.
+    NetworkStalled {
+        /// Each stalled point and what it waits for, in words (`TP_E waits for TP_S, which
+        /// has not fired, past its latest time 161 s`).
+        points: Vec<String>,
+    },
+    /// A goal of the safe network could not be scheduled from the state safing found and was
+    /// dropped; the rest of the safe network runs (DESIGN.md §15.2: best effort).
+    SafeGoalDropped {
+        /// The goal's name.
+        goal: String,
+        /// Why, on one line (the scheduler's explanation).
+        reason: String,
+    },
+    /// A promotion (a re-elaboration, a submission, safing) left no XGoal active on a state
+    /// variable that had one: what it held is no longer asked for (DESIGN.md §15.2: the
+    /// promotion replaced the retired XGoals).
+    XGoalWithdrawn {
+        /// The state variable (a component).
+        sv: ComponentId,
+        /// The goals the withdrawn XGoal merged.
+        goals: Vec<String>,
+    },
+    /// The planner's command would have moved a component out of a mode an active goal
+    /// requires (DESIGN.md §9, goal-faithful commands): the command was withheld.
+    GoalContradicted {
+        /// The goal it would have broken, as text.
+        goal: String,
+        /// The command's `variable = value` assignments, as text.
+        command: Vec<String>,
+        /// The component it would have moved.
+        component: ComponentId,
+        /// The mode the goal requires, which the command would have left.
+        mode: String,
+    },
+    /// A component was commanded back into a mode it was commanded out of within the last N
+    /// cycles, with no diagnosis in between (DESIGN.md §9): the executive works against itself.
+    Chatter {
+        /// The component.
+        component: ComponentId,
+        /// The mode it is commanded back into.
+        mode: String,
+        /// How many cycles ago it was commanded out of it.
+        cycles: u64,
+    },
 }
 
 /// A goal a command serves: the goal of the component the planner's descent started from
 /// (`reconfiguration::Command::serves`) — the PDE's `on` serves `engine = standby` when the
 /// engine's heating needs the PDE on. For a program, the conjuncts of g(i) whose formula names
 /// that component's mode; for a mission, the constituent goals of the XGoal active on it; when
-/// neither names it, its mode in the intended configuration (goal interpretation chose it, or
-/// it is kept from an earlier goal).
+/// neither names it, its mode in the intended configuration, with the goal it is there for (a
+/// helper brought back after the goal it was moved for, or a mode the goal state needs).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Served {
     /// A goal the program asserts.
@@ -346,9 +406,11 @@ pub enum Served {
         /// The goal's name.
         goal: String,
     },
-    /// The component's mode in the intended configuration, which no asserted goal names.
+    /// The component's mode in the intended configuration, which no asserted goal names, and
+    /// the goal it is there for.
     Intended {
-        /// `component = mode`, as text.
+        /// `component = mode, bringing back a helper moved for GOAL`, or `component = mode in
+        /// the goal state of GOAL`, as text.
         goal: String,
     },
 }

@@ -5,7 +5,8 @@
 //! What is hashed: the cycle count and last time, the belief (each system state's modes and
 //! clock starts, and its probability rounded to [`PROBABILITY_RESOLUTION`]), ŝ, the control program's
 //! state (the sequencer's marking, clock references and open half-cycle, or the mission's
-//! firing times, active XGoals and failed goals), the intended configuration, the last command
+//! firing times, active XGoals and failed goals), the intended configuration, the helpers still
+//! to bring back and the recent commanded moves (`faithful.rs`), the last command
 //! μ (estimation's next step reads it), and what has been reported already (which decides the
 //! events of later cycles). What is not: caches that are pure functions of what is hashed
 //! (goal interpretation's last answer, the sequencer's entailment answers, the estimator's
@@ -47,6 +48,9 @@ impl Executive {
                 .for_each(|named| named.hash(state));
         }
         self.last_command.hash(state);
+        // The helpers to bring back, the recent commanded moves (chatter) and the last
+        // contradiction reported decide later commands and events.
+        self.faithful.hash(state);
         let reported = &self.reported;
         reported.goal_locations.hash(state);
         reported.asserted.hash(state);

@@ -23,8 +23,9 @@ use super::delegation::Delegations;
 use super::events::EventKind;
 use crate::estimation::PlantEstimate;
 use crate::goalnet::{
-    EstimateView, ExecutableNetwork, FailureReason, GoalController, GoalEvent, Mission,
-    MissionEvent, ScheduleError, TimePointId, Window, XGoal, display, judge_delegated, schedule,
+    EstimateView, ExecutableNetwork, FailureReason, GoalController, GoalEvent, GoalId, GoalNetwork,
+    Mission, MissionEvent, ScheduleError, TemporalConstraint, TimePointId, Waiting, Window, XGoal,
+    display, judge_delegated, schedule,
 };
 use crate::goalnet::{Submission, SubmitError};
 use crate::logic::{Formula, ValueId};
@@ -100,6 +101,9 @@ pub(super) struct MissionControl {
     delegations: Delegations,
     /// Per component, the marginal of each of its modes (reused from cycle to cycle).
     beliefs: Vec<Vec<f64>>,
+    /// Per state variable, the XGoal the events reported so far leave active: its end point and
+    /// goals (kept in step with the truth after a promotion, [`MissionControl::reconcile`]).
+    shown: Vec<(ComponentId, String, Vec<String>)>,
     /// Whether a cycle has been stepped: the first reports the XGoals active from the origin.
     started: bool,
     /// Whether completion has been reported.
@@ -129,6 +133,7 @@ impl MissionControl {
             delegated: Vec::new(),
             delegations,
             beliefs,
+            shown: Vec::new(),
             started: false,
             completed: false,
         };
@@ -146,6 +151,7 @@ impl MissionControl {
             controller.fingerprint(state);
         }
         self.pending.len().hash(state);
+        self.shown.hash(state);
         self.delegations.hash(state);
         self.started.hash(state);
         self.completed.hash(state);
@@ -208,8 +214,16 @@ impl MissionControl {
         let mut events = std::mem::take(&mut self.pending);
         events.extend(stepped);
         let refresh = events.iter().any(changes_windows);
+        let promoted = (events.iter()).any(|e| {
+            matches!(
+                e,
+                MissionEvent::Promoted { .. } | MissionEvent::Safing { .. }
+            )
+        });
         let mut kinds = delivered;
-        kinds.extend(self.describe_cycle(events, modes));
+        let mut described = self.describe_cycle(events, modes);
+        self.reconcile(&mut described, promoted);
+        kinds.extend(described);
         kinds.extend(sent);
         if refresh {
             self.refresh_windows();
@@ -241,10 +255,10 @@ impl MissionControl {
     ) -> Result<(), SubmitError> {
         let plant = &self.mission.plant;
         for goal in &submission.goals {
-            let fits = plant
-                .components()
-                .get(goal.sv.index())
-                .is_some_and(|c| c.modes().len() == goal.constraint.domain());
+            let fits = goal.sv.is_none_or(|sv| {
+                (plant.components().get(sv.index()))
+                    .is_some_and(|c| c.modes().len() == goal.constraint.domain())
+            });
             if !fits {
                 return Err(SubmitError::Domain(goal.name.clone()));
             }
@@ -286,6 +300,72 @@ impl MissionControl {
             kinds.extend(self.dispatched_from_origin());
         }
         kinds
+    }
+
+    /// Keeps [`MissionControl::shown`] in step with the cycle's events and, after a promotion
+    /// (which changes the timelines without firing anything), with the truth: an SV whose active
+    /// XGoal is not the one the events left there gets its dispatch, an SV left with none an
+    /// `XGoalWithdrawn` — so the log, the trace and expectations never see a retired XGoal as
+    /// active.
+    fn reconcile(&mut self, kinds: &mut Vec<EventKind>, promoted: bool) {
+        for kind in kinds.iter() {
+            match kind {
+                EventKind::XGoalDispatched {
+                    sv,
+                    interval: (_, end),
+                    goals,
+                    ..
+                } => {
+                    self.shown.retain(|(s, _, _)| s != sv);
+                    self.shown.push((*sv, end.clone(), goals.clone()));
+                }
+                EventKind::TimePointFired { point, .. }
+                | EventKind::TimePointForced { point, .. } => {
+                    self.shown.retain(|(_, end, _)| end != point);
+                }
+                _ => {}
+            }
+        }
+        let Some(controller) = self.controller.as_ref().filter(|_| promoted) else {
+            return;
+        };
+        let execution = controller.execution();
+        let network = &execution.executable().network;
+        let truth: Vec<&XGoal> = (execution.executable().timelines.iter())
+            .filter_map(|t| execution.active(t.sv))
+            .collect();
+        let mut corrections = Vec::new();
+        for xgoal in &truth {
+            let end = &network.point(xgoal.end).name;
+            let goals: Vec<String> = (xgoal.constituents.iter())
+                .map(|g| network.goal(*g).name.clone())
+                .collect();
+            let same = |(sv, e, g): &&(ComponentId, String, Vec<String>)| {
+                *sv == xgoal.sv && e == end && *g == goals
+            };
+            if !self.shown.iter().any(|s| same(&s)) {
+                corrections.push(self.dispatched(xgoal));
+            }
+        }
+        for (sv, _, goals) in &self.shown {
+            if !truth.iter().any(|x| x.sv == *sv) {
+                corrections.push(EventKind::XGoalWithdrawn {
+                    sv: *sv,
+                    goals: goals.clone(),
+                });
+            }
+        }
+        if !corrections.is_empty() {
+            self.shown = (truth.iter())
+                .map(|x| {
+                    let goals = (x.constituents.iter())
+                        .map(|g| network.goal(*g).name.clone())
+                        .collect();
+                    (x.sv, network.point(x.end).name.clone(), goals)
+                })
+                .collect();
+            kinds.extend(corrections);
+        }
     }
 
     /// Sums the plant states' probabilities into each component's mode marginals.
@@ -395,7 +475,7 @@ impl MissionControl {
                 ..
             } => EventKind::ResponseTaken {
                 goal: explanation.goal.clone(),
-                response: response.name(),
+                response: response.map_or("none", |r| r.name()),
                 explanation: one_line(&explanation.to_string()),
             },
             MissionEvent::Promoted { cause } => EventKind::Promoted { cause },
@@ -405,13 +485,16 @@ impl MissionControl {
             MissionEvent::Safing { cause } => EventKind::Safing {
                 cause: one_line(&cause),
             },
+            MissionEvent::SafeGoalDropped { goal, reason } => EventKind::SafeGoalDropped {
+                goal,
+                reason: one_line(&reason),
+            },
         };
         Some(kind)
     }
 
     /// The executive's event for an event of the running network's execution.
     fn describe_goal_event(&self, event: GoalEvent, modes: &[ValueId]) -> Option<EventKind> {
-        let plant = &self.mission.plant;
         let executable = self.executable();
         let network = &executable.network;
         let name = |p: TimePointId| network.point(p).name.clone();
@@ -437,40 +520,30 @@ impl MissionControl {
                 self.dispatched(executable.timeline(sv)?.xgoals.get(index)?)
             }
             GoalEvent::GoalFailed { goal: id, reason } => {
-                let goal = network.goal(id);
-                let delegated = (goal.delegate.map(|d| d.controller))
-                    .or_else(|| self.delegated.get(id.index()).copied().flatten());
-                if let Some(controller) = delegated {
-                    // The protocol's estimator is a sort conversion: its value is certain.
-                    let sv = &self.mission.controllers[controller].sv;
-                    return Some(EventKind::MissionGoalFailed {
-                        goal: goal.name.clone(),
-                        reason: failure_text(&reason, self.mission.knowledge_threshold),
-                        mode: format!("{sv} = {}", self.delegations.value(controller)),
-                        probability: 1.0,
-                    });
-                }
-                let sv = goal
-                    .sv
-                    .or_else(|| self.svs.get(id.index()).copied().flatten())
-                    .unwrap_or(ComponentId(0));
-                let mode = modes.get(sv.index()).copied().unwrap_or(ValueId(0));
+                let (mode, probability) = self.goal_mode(id, modes);
                 EventKind::MissionGoalFailed {
-                    goal: goal.name.clone(),
-                    reason: failure_text(&reason, self.mission.knowledge_threshold),
-                    mode: mode_name(plant, sv, mode),
-                    probability: self.beliefs[sv.index()]
-                        .get(mode.index())
-                        .copied()
-                        .unwrap_or(0.0),
+                    goal: network.goal(id).name.clone(),
+                    reason: failure_text(&reason, self.mission.knowledge_threshold, network),
+                    mode,
+                    probability,
                 }
             }
-            GoalEvent::TemporalInconsistency {
-                point,
-                inconsistency,
-            } => {
-                let text =
-                    display::explain(&ScheduleError::Inconsistent(inconsistency), network, plant);
+            GoalEvent::GoalRecovered { goal: id } => {
+                let (mode, probability) = self.goal_mode(id, modes);
+                EventKind::GoalRecovered {
+                    goal: network.goal(id).name.clone(),
+                    mode,
+                    probability,
+                }
+            }
+            GoalEvent::NetworkStalled { stalled } => EventKind::NetworkStalled {
+                points: (stalled.iter())
+                    .map(|(point, waiting)| self.stall_text(*point, waiting, window(*point)))
+                    .collect(),
+            },
+            GoalEvent::TemporalInconsistency { point, cycle } => {
+                let cycle: Vec<&TemporalConstraint> = cycle.iter().collect();
+                let text = display::constraint_lines(&cycle, network);
                 EventKind::TemporalInconsistency {
                     point: name(point),
                     cycle: text.lines().skip(1).map(|l| l.trim().to_string()).collect(),
@@ -481,13 +554,63 @@ impl MissionControl {
     }
 }
 
+impl MissionControl {
+    /// The mode ŝ (`modes`) gives a goal's state variable and its probability, as a failure or
+    /// a recovery names it: for a delegated goal, its controller's value (certain: the
+    /// protocol's estimator is a sort conversion).
+    fn goal_mode(&self, id: GoalId, modes: &[ValueId]) -> (String, f64) {
+        let network = &self.executable().network;
+        let goal = network.goal(id);
+        let delegated = (goal.delegate.map(|d| d.controller))
+            .or_else(|| self.delegated.get(id.index()).copied().flatten());
+        if let Some(controller) = delegated {
+            let sv = &self.mission.controllers[controller].sv;
+            return (
+                format!("{sv} = {}", self.delegations.value(controller)),
+                1.0,
+            );
+        }
+        let sv = goal
+            .sv
+            .or_else(|| self.svs.get(id.index()).copied().flatten())
+            .unwrap_or(ComponentId(0));
+        let mode = modes.get(sv.index()).copied().unwrap_or(ValueId(0));
+        let probability = (self.beliefs.get(sv.index()))
+            .and_then(|b| b.get(mode.index()))
+            .copied()
+            .unwrap_or(0.0);
+        (mode_name(&self.mission.plant, sv, mode), probability)
+    }
+
+    /// `TP_E: its latest time 376 s has passed and TP_S, which must fire first, has not`.
+    fn stall_text(&self, point: TimePointId, waiting: &Waiting, window: (f64, f64)) -> String {
+        let network = &self.executable().network;
+        let name = &network.point(point).name;
+        match waiting {
+            Waiting::NoWindow => format!("{name}: the network has no windows"),
+            Waiting::Point(q) => format!(
+                "{name}: its latest time {} s has passed and {}, which must fire first, has not",
+                window.1,
+                network.point(*q).name
+            ),
+            Waiting::Goal(g) => format!(
+                "{name}: it has no latest time and waits for {}, which has failed",
+                network.goal(*g).name
+            ),
+        }
+    }
+}
+
 /// Whether an event changes the windows an event reports (a firing grounds a point, a
 /// promotion reschedules).
 fn changes_windows(event: &MissionEvent) -> bool {
     matches!(
         event,
-        MissionEvent::Goal(GoalEvent::TimePointFired { .. } | GoalEvent::TimePointForced { .. })
-            | MissionEvent::Promoted { .. }
+        MissionEvent::Goal(
+            GoalEvent::TimePointFired { .. }
+                | GoalEvent::TimePointForced { .. }
+                | GoalEvent::TemporalInconsistency { .. }
+        ) | MissionEvent::Promoted { .. }
             | MissionEvent::Safing { .. }
     )
 }
@@ -511,6 +634,7 @@ fn promote(
             Some(error) => SubmitError::Refused {
                 error,
                 explanation: rejection.reason,
+                conflicts: rejection.conflicts,
             },
             None => SubmitError::NotElaborated(rejection.reason),
         }),
@@ -529,8 +653,12 @@ fn one_line(text: &str) -> String {
 }
 
 /// A failure's reason in words; the mode ŝ is in is shown beside it.
-fn failure_text(reason: &FailureReason, threshold: f64) -> String {
+fn failure_text(reason: &FailureReason, threshold: f64, network: &GoalNetwork) -> String {
     match reason {
+        FailureReason::Contradicted { point } => format!(
+            "{} fired where the network did not allow it (no cycle in its window)",
+            network.point(*point).name
+        ),
         FailureReason::Excursion(_) => "ŝ left the maintained set".to_string(),
         FailureReason::Unreachable(_) => "its set can no longer be reached".to_string(),
         FailureReason::EndForced(_) => "its end point was forced before the set was reached".into(),

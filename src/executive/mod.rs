@@ -30,7 +30,9 @@ mod delegation;
 mod describe;
 mod events;
 mod evidence;
+mod faithful;
 mod fingerprint;
+pub mod fprime;
 mod load;
 mod mission;
 mod named;
@@ -67,6 +69,7 @@ use crate::reconfiguration::{
 };
 use crate::sequencer::{self, ConfigurationGoal, LocationId, Sense, SequencerError, Thca};
 use control::Program;
+use faithful::Faithful;
 use observations::LastObservation;
 use oracle::{AnswerCache, CachedOracle, VersionedEstimate};
 
@@ -79,12 +82,25 @@ pub struct ExecutiveOptions {
     pub cycle_deadline: Option<Duration>,
     /// OPSAT's budget for mode estimation, per tracked state.
     pub estimation_budget: Budget,
+    /// Mode estimation stops this long after the cycle starts (goals submitted since the last
+    /// cycle count against it): every OPSAT search of the cycle's estimation — one per tracked
+    /// state, and any re-estimation of the history window or fall-back expansion — stops at
+    /// that instant, and the belief is the best found, reported by a search-cut event. It
+    /// bounds mode estimation as a whole, the phase that varies most; the sequencer and the
+    /// planner have no budget.
+    pub estimation_deadline: Option<Duration>,
     /// How much state, command and observation history to keep.
     pub retention: Retention,
     /// When the goal is unreachable from ŝ: how probable another tracked plant state must be to
     /// be acted on, and how many commands per goal may be sent on such states.
     pub ambiguity: AmbiguityOptions,
+    /// N of the `Chatter` event (DESIGN.md §9): a component commanded back into a mode it was
+    /// commanded out of within this many cycles, with no diagnosis in between, chatters.
+    pub chatter_cycles: u64,
 }
+
+/// The default of [`ExecutiveOptions::chatter_cycles`].
+pub const CHATTER_CYCLES: u64 = 10;
 
 impl Default for ExecutiveOptions {
     fn default() -> Self {
@@ -92,8 +108,10 @@ impl Default for ExecutiveOptions {
             kappa: 10,
             cycle_deadline: None,
             estimation_budget: Budget::default(),
+            estimation_deadline: None,
             retention: Retention::default(),
             ambiguity: AmbiguityOptions::default(),
+            chatter_cycles: CHATTER_CYCLES,
         }
     }
 }
@@ -232,6 +250,13 @@ impl ExecutiveBuilder {
         self
     }
 
+    /// Sets the time after a cycle's start by which mode estimation stops
+    /// ([`ExecutiveOptions::estimation_deadline`]).
+    pub fn estimation_deadline(mut self, deadline: Duration) -> Self {
+        self.options.estimation_deadline = Some(deadline);
+        self
+    }
+
     /// Sets how much history the timelines keep.
     pub fn retention(mut self, retention: Retention) -> Self {
         self.options.retention = retention;
@@ -242,6 +267,13 @@ impl ExecutiveBuilder {
     /// tracked plant state.
     pub fn ambiguity(mut self, ambiguity: AmbiguityOptions) -> Self {
         self.options.ambiguity = ambiguity;
+        self
+    }
+
+    /// Sets N of the `Chatter` event: how many cycles a component must stay out of a mode it
+    /// was commanded out of before a command back into it is not chatter.
+    pub fn chatter_cycles(mut self, cycles: u64) -> Self {
+        self.options.chatter_cycles = cycles;
         self
     }
 
@@ -285,6 +317,7 @@ impl ExecutiveBuilder {
             interpretation: None,
             ambiguity: Ambiguity::default(),
             intended: None,
+            faithful: Faithful::new(plant.components().len()),
             reported: Reported::default(),
             confidence_atoms,
             timelines,
@@ -440,6 +473,9 @@ pub struct Executive {
     /// The hypotheses other than ŝ acted on for the current goal.
     ambiguity: Ambiguity,
     intended: Option<GoalState>,
+    /// Helpers to bring back, recent commanded moves, the last contradiction reported
+    /// (`faithful.rs`).
+    faithful: Faithful,
     reported: Reported,
     confidence_atoms: Vec<(VarId, ValueId)>,
     timelines: Timelines,
@@ -449,6 +485,16 @@ pub struct Executive {
     /// Wall time spent in [`Executive::submit`] since the last cycle (counted in its times).
     submission_time: Duration,
 }
+
+// An executive moves between threads (one call at a time, DESIGN.md §10): an embedding host
+// steps it from whichever thread runs its flight loop, and the C ABI's handle is one executive.
+// Everything it owns is therefore `Send` — mode estimation's shared caches by `Arc`, the theory
+// on batsat with callbacks of its own (`opsat/sat.rs`) — and this fails to compile if a change
+// makes it otherwise.
+const _: () = {
+    const fn assert_send<T: Send>() {}
+    assert_send::<Executive>();
+};
 
 impl Executive {
     /// Starts building an executive for `program`: an RMPL program's [`Thca`], which must have
@@ -494,6 +540,11 @@ impl Executive {
         self.belief.as_ref()
     }
 
+    /// The time of the last cycle (`None` before the first).
+    pub fn last_time(&self) -> Option<f64> {
+        self.last_time
+    }
+
     /// The state timelines and the command and observation histories.
     pub fn timelines(&self) -> &Timelines {
         &self.timelines
@@ -530,11 +581,18 @@ impl Executive {
         // One clock reading per phase boundary, each phase ending where the next starts: four
         // readings a cycle, not eight (they were 4 % of the nominal EDL's run time).
         let started = Instant::now();
+        if let Some(deadline) = self.options.estimation_deadline {
+            self.estimator.set_budget(Budget {
+                until: Some(started + deadline.saturating_sub(self.submission_time)),
+                ..self.options.estimation_budget
+            });
+        }
         self.estimate(now, observed, &mut log)?;
         let estimated = Instant::now();
         let goal = self.sequence(now, &mut log)?;
         let sequenced = Instant::now();
-        let (goal_state, action) = self.reconfigure(goal.as_ref(), &mut log);
+        let (goal_state, mut action) = self.reconfigure(goal.as_ref(), &mut log);
+        self.keep_faithful(&mut action, goal.as_ref(), &mut log);
         let purpose = Purpose {
             goal: goal.as_ref(),
             intended: goal_state.as_ref(),
@@ -855,17 +913,26 @@ impl Executive {
         // (docs/design/reconfiguration.md, "The intended configuration").
         if let Some(intended) = &mut self.intended {
             self.reconfiguration.settle_in_place(intended, &modes);
+            self.faithful.settle(&modes, intended.modes());
         }
-        if let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) {
-            match self.interpret(goal, &modes) {
-                Ok(goal_state) => {
-                    self.reported.goal_failure = None;
-                    self.intended = Some(self.reconfiguration.settle(&goal_state, &modes));
-                }
-                Err(failed) => return self.retry_or_fail(goal, &modes, &failed, log),
-            }
-        } else {
+        if log
+            .events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Safing { .. }))
+        {
+            self.faithful.forget_helpers();
+        }
+        let Some(goal) = goal.filter(|g| !matches!(g.formula, Formula::True)) else {
+            // No goal: only helpers a plan moved are brought back (`faithful.rs`).
             self.reported.goal_failure = None;
+            return self.restore_helpers(&modes);
+        };
+        match self.interpret(goal, &modes) {
+            Ok(goal_state) => {
+                self.reported.goal_failure = None;
+                self.intended = Some(self.reconfiguration.settle(&goal_state, &modes));
+            }
+            Err(failed) => return self.retry_or_fail(goal, &modes, &failed, log),
         }
         let Some(intended) = &self.intended else {
             return (None, None);
@@ -931,12 +998,11 @@ impl Executive {
         (None, None)
     }
 
-    /// The configuration goal interpretation keeps where the goal allows: the intended one, or
-    /// ŝ before there is one.
+    /// The configuration goal interpretation keeps where the goal allows: ŝ, except for the
+    /// helpers still to be brought back to their intended modes (`faithful.rs`).
     fn keep(&self, modes: &[ValueId]) -> Vec<ValueId> {
-        self.intended
-            .as_ref()
-            .map_or_else(|| modes.to_vec(), |state| state.modes().to_vec())
+        let intended = self.intended.as_ref().map(GoalState::modes);
+        self.faithful.keep(modes, intended)
     }
 
     /// Goal interpretation of `goal` from ŝ, keeping the intended configuration where the goal
@@ -1055,8 +1121,18 @@ impl Executive {
                 .collect(),
         };
         if served.is_empty() {
-            served.extend(purpose.intended.map(|state| Served::Intended {
-                goal: table.assignment(var, state.mode(component)).to_string(),
+            served.extend(purpose.intended.map(|state| {
+                let mode = table.assignment(var, state.mode(component)).to_string();
+                let goal = match (&self.faithful.helpers[component.index()], purpose.goal) {
+                    (Some(moved_for), _) => {
+                        format!("{mode}, bringing back a helper moved for {moved_for}")
+                    }
+                    (None, Some(g)) => {
+                        format!("{mode} in the goal state of {}", g.formula.display(table))
+                    }
+                    (None, None) => mode,
+                };
+                Served::Intended { goal }
             }));
         }
         served

@@ -13,25 +13,31 @@ impl Executive {
     /// (DESIGN.md §15.4) and reschedules it from ŝ with the points already fired held at their
     /// times. A submission that does not resolve or cannot be scheduled (inconsistent,
     /// unmergeable, unachievable) is refused with the reason, and the running network is left
-    /// unchanged. New points fire no earlier than the last cycle's time. Before the first cycle
-    /// ŝ is the plant's most likely initial state.
+    /// unchanged. The submission is made at `now` — the time of the cycle it is made before,
+    /// at or after the last cycle's (a time before it is refused): new points fire no earlier,
+    /// and a point whose window would lie before it is refused (DESIGN.md §15.2). Before the
+    /// first cycle ŝ is the plant's most likely initial state.
     ///
     /// The time it takes is the next cycle's: [`PhaseTimes::submission`](super::PhaseTimes),
     /// counted in its total and so against its deadline.
-    pub fn submit(&mut self, submission: &Submission) -> Result<(), SubmitError> {
+    pub fn submit(&mut self, submission: &Submission, now: f64) -> Result<(), SubmitError> {
         let started = std::time::Instant::now();
-        let outcome = self.submit_now(submission);
+        let outcome = self.submit_now(submission, now);
         self.submission_time += started.elapsed();
         outcome
     }
 
-    fn submit_now(&mut self, submission: &Submission) -> Result<(), SubmitError> {
+    fn submit_now(&mut self, submission: &Submission, now: f64) -> Result<(), SubmitError> {
         let modes = if self.most_likely.is_empty() {
             self.plant.most_likely_initial()
         } else {
             self.most_likely.clone()
         };
-        let now = self.last_time.unwrap_or(0.0);
+        // NaN is not at or after anything: refused too.
+        let before = |last: &f64| now.partial_cmp(last).is_none_or(|o| o.is_lt());
+        if let Some(last) = self.last_time.filter(before) {
+            return Err(SubmitError::Late { now, last });
+        }
         match &mut self.control.0 {
             Program::Rmpl(_) => Err(SubmitError::NotAMission),
             Program::Mission(mission) => {

@@ -11,6 +11,11 @@
 //! - **Unreachable modes.** A component mode that no chain of transitions leads to from the
 //!   modes with an initial probability (guards ignored): dead model text, or a missing
 //!   transition.
+//! - **Goals the plant leaves by itself** (DESIGN.md §9). Each goal the program asserts is
+//!   interpreted from the plant's most likely initial state; when no state entailing it is one
+//!   the plant rests in, the goal state goal interpretation falls back on is left by a
+//!   transition that needs no command (`GoalState::leaving`): at run time the planner would
+//!   restore it and the plant leave it by turns. The finding names the goal and the transition.
 
 use std::collections::{HashSet, VecDeque};
 
@@ -19,6 +24,7 @@ use crate::diagnostic::{Diagnostic, Source, Span};
 use crate::logic::{Formula, ValueId};
 use crate::opsat::TheoryError;
 use crate::plant::{ComponentId, Plant};
+use crate::reconfiguration::Reconfiguration;
 use crate::sequencer::{LocationId, LocationKind, Thca};
 
 /// Two goals the program can assert in one cycle that the model makes inconsistent.
@@ -46,6 +52,20 @@ pub struct DeepFindings {
     /// Pairs of concurrently asserted goals whose consistency was not decided: a clock or
     /// confidence atom in a goal is decided at run time only.
     pub undecided: usize,
+    /// Goals whose every goal state the plant leaves by itself, from the initial state.
+    pub restless: Vec<RestlessGoal>,
+}
+
+/// A goal no state the plant rests in entails (see the module doc).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RestlessGoal {
+    /// Where the goal is written in the program.
+    pub span: Span,
+    /// The goal, displayed.
+    pub goal: String,
+    /// The transitions that leave the goal state by themselves: component, index into its
+    /// transitions.
+    pub leaving: Vec<(ComponentId, usize)>,
 }
 
 /// Runs both checks; at most `limit` markings are enumerated.
@@ -86,7 +106,50 @@ pub fn deep_check(thca: &Thca, plant: &Plant, limit: usize) -> Result<DeepFindin
         markings,
         complete,
         undecided,
+        restless: restless_goals(thca, plant, &mut theory)?,
     })
+}
+
+/// The goals of `thca` whose goal state from the plant's most likely initial state is one the
+/// plant leaves by itself (see the module doc); goals with clock or confidence atoms are left
+/// to run time, and so are goals unreachable from there (the executive reports those).
+fn restless_goals(
+    thca: &Thca,
+    plant: &Plant,
+    theory: &mut crate::opsat::Theory,
+) -> Result<Vec<RestlessGoal>, TheoryError> {
+    let reconfiguration = Reconfiguration::compile(plant)?;
+    let initial: Vec<ValueId> = plant
+        .components()
+        .iter()
+        .map(|c| {
+            let best = (c.initial().iter().enumerate())
+                .max_by(|a, b| a.1.total_cmp(b.1).then(b.0.cmp(&a.0)))
+                .map_or(0, |(i, _)| i);
+            ValueId(best as u32)
+        })
+        .collect();
+    let mut found: Vec<RestlessGoal> = Vec::new();
+    for location in thca.locations() {
+        let Some(goal) = location.goal() else {
+            continue;
+        };
+        let formula = thca.formula(goal.formula);
+        if formula.has_external_atoms() || found.iter().any(|r| r.span == goal.span) {
+            continue;
+        }
+        let Ok(state) = reconfiguration.interpret(theory, &initial, formula) else {
+            continue;
+        };
+        if !state.leaving().is_empty() {
+            found.push(RestlessGoal {
+                span: goal.span.clone(),
+                goal: formula.display(plant.table()).to_string(),
+                leaving: state.leaving().to_vec(),
+            });
+        }
+    }
+    Ok(found)
 }
 
 /// The pairs of goal locations marked together in some reachable marking, sorted; the number
@@ -256,9 +319,39 @@ pub fn describe(findings: &DeepFindings, thca: &Thca, plant: &Plant, model: &Sou
             .expected("a mode some transition enters, or one with an initial probability")
         })
         .collect();
+    let restless: Vec<Diagnostic> = (findings.restless.iter())
+        .map(|restless| {
+            let leaving: Vec<String> = (restless.leaving.iter())
+                .map(|&(c, t)| {
+                    let component = plant.component(c);
+                    let transition = &component.transitions()[t];
+                    format!(
+                        "`{}` leaves it by itself by its transition to {} (guard `{}`, {})",
+                        component.name(),
+                        component.mode(transition.target).name,
+                        transition.guard.display(plant.table()),
+                        transition.law
+                    )
+                })
+                .collect();
+            Diagnostic::new(
+                format!(
+                    "goal `{}` holds only in states the plant leaves by itself: {}",
+                    restless.goal,
+                    leaving.join("; ")
+                ),
+                restless.span.clone(),
+            )
+            .expected("a goal some state the plant rests in entails")
+            .note("at run time the planner would restore it and the plant leave it by turns")
+        })
+        .collect();
     let mut text = String::new();
     if !conflicts.is_empty() {
         text.push_str(&program.render(&conflicts));
+    }
+    if !restless.is_empty() {
+        text.push_str(&program.render(&restless));
     }
     if !modes.is_empty() {
         text.push_str(&model.render(&modes));

@@ -163,6 +163,7 @@ impl<'s, 'p> Worker<'s, 'p> {
                     plant: &scenario.plant,
                     world: &scenario.script.world,
                     controls: &scenario.script.controls,
+                    program: &scenario.program_source,
                 },
             ),
             choices: Vec::new(),
@@ -506,7 +507,7 @@ impl<'s, 'p> Worker<'s, 'p> {
 fn run_cycle(node: &mut Node<'_>, forced: &[usize], time: f64) -> Result<Step, String> {
     node.plant.force(forced);
     let observation = node.plant.observe(time);
-    let refused = submit_due(&mut node.plant, &mut node.executive);
+    let refused = submit_due(&mut node.plant, &mut node.executive, time);
     let mut step = (node.executive.step(time, &observation)).map_err(|e| e.to_string())?;
     report_refusals(&mut step, refused);
     let command: Vec<NamedValue> = (step.command.iter())

@@ -1,21 +1,35 @@
 //! The per-cycle mission executive (MDS's ElaborationManager, XGoalChecker and Executive
 //! together; mds-goal-networks.md §2.3, §2.5–2.9; DESIGN.md §15.2–15.3): a [`GoalController`]
 //! owns the running [`Execution`] and the elaboration tree, and each cycle
-//! 1. monitors the running network (the XGoalChecker);
-//! 2. gathers the cycle's failures and responds (§2.5 step 4, §2.6): each failed goal's type
-//!    gives its response — `Ignore`, `Safing`, `FailUp` to the parent (a root goes to safing),
-//!    `ReElaborate` the goal with its next tactic, cyclically, within its budget (§2.7); a
-//!    re-elaboration that finds no tactic is a failure of that goal with no response left: it
-//!    fails up. Re-elaborations are done once per goal per cycle; if any failure leads to
-//!    safing, safing wins and the safe network is promoted once. A mission with no goal types
-//!    declares no responses: its failures are reported and nothing is done;
-//! 3. fires points and dispatches (the Executive), on whatever network now runs.
+//! 1. monitors the running network (the XGoalChecker): failures, and goals that hold again;
+//! 2. answers the failures (§2.5 step 4, §2.6): each failed goal's type gives its response —
+//!    `Ignore`, `Safing`, `FailUp` to the parent (a root goes to safing), `ReElaborate` the goal
+//!    with its next tactic, cyclically, within its budget (§2.7); a re-elaboration that finds no
+//!    tactic (or whose goal's interval is over) is a failure of that goal with no response
+//!    left: it fails up. Re-elaborations are done once per goal per cycle; if any failure leads
+//!    to safing, safing wins and the safe network is promoted once;
+//! 3. fires points and dispatches (the Executive), on whatever network now runs; the failures
+//!    firing finds — a Transition goal whose end was forced unreached, the goals a contradicted
+//!    firing bounds — are answered in the same cycle, and the network then running fires again
+//!    (a few rounds; what is left is answered first thing the next cycle).
+//!
+//! **One path answers every failure, exactly once** (DESIGN.md §15.2): monitoring's, firing's,
+//! and a delegated goal's controller's all go through [`GoalController::step`]'s answer, and each `GoalFailed` gets one
+//! `ResponseTaken`: its chain, or — in a mission that declares no goal types, or once safing has
+//! been invoked — that no response is taken and why. A goal that fails again after recovering
+//! is answered again (a re-elaboration within its type's budget).
 //!
 //! Every promotion follows §2.3: the proposal is a copy of the running network
-//! ([`Proposal`]), edited (elaborated), scheduled from the current estimate (each SV must be
-//! able to move from where it is into the proposed XGoals, step c) with its new points anchored
-//! at or after now (step b), and only then replaces the running one; a failed promotion leaves
-//! the running network as it was and says why.
+//! ([`Proposal`]) without the retired elaboration's goals, unfired points *and* the temporal
+//! constraints its tactic wrote, edited (elaborated), scheduled from the current estimate (each
+//! SV must be able to move from where it is into the proposed XGoals, step c) with its new points
+//! anchored at or after now (step b) — a point whose window the proposal puts before now is
+//! refused — and only then replaces the running one; a failed promotion leaves the running
+//! network as it was and says why.
+//!
+//! **Safe networks are scheduled best effort** (§2.8): a safe goal that cannot be scheduled
+//! from the state safing finds (a valve stuck where it cannot be closed) is dropped and reported
+//! with its reason, and the rest of the safe network is promoted.
 //!
 //! The controller has the shape of [`Execution`] (`step`, `configuration_goal`) so an
 //! executive runs either; the mission's initial network is elaborated and promoted when the
@@ -24,18 +38,23 @@
 use super::achievable::judge_delegated;
 use super::elaborate::{Context, ElaborationState, Rejection, elaborate};
 use super::events::{Explanation, MissionEvent, ResponseStep};
-use super::execution::{EstimateView, Execution, FailureReason, GoalEvent};
+use super::execution::{EstimateView, Execution, FailureReason, GoalEvent, TIME_EPSILON};
 use super::goal::GoalId;
 use super::mission::Mission;
 use super::network::{ExecutableNetwork, GoalNetwork};
 use super::proposal::{Proposal, append_safe, copy};
-use super::schedule::schedule;
+use super::schedule::{ScheduleError, schedule};
 use super::tactic::Response;
 use super::time_point::TimePointId;
 use crate::logic::Formula;
 use crate::plant::ComponentId;
 use crate::protocol::posandhead::StateValue;
 use crate::reconfiguration::Reconfiguration;
+
+/// How often one cycle answers the failures firing finds and fires again (a response promotes
+/// a network whose points may be due at once); what the last round finds is answered first
+/// thing the next cycle.
+const ROUNDS: usize = 4;
 
 /// A mission being run, one cycle at a time.
 #[derive(Debug, Clone)]
@@ -48,6 +67,8 @@ pub struct GoalController {
     safed: bool,
     /// Events of the construction, reported by the first step.
     pending: Vec<MissionEvent>,
+    /// Failures found by the last round of a cycle, answered first thing the next.
+    unanswered: Vec<(GoalId, FailureReason)>,
     /// Per controller of the mission, its state variable's value as last observed: what its
     /// delegated goals are judged from at a promotion.
     delegated: Vec<StateValue>,
@@ -93,11 +114,12 @@ impl GoalController {
             reelaborations: vec![0; goals],
             safed: false,
             pending: Vec::new(),
+            unanswered: Vec::new(),
             delegated: (mission.controllers.iter())
                 .map(|c| c.initial_value())
                 .collect(),
         };
-        let mut proposal = controller.proposal(&[], &[], "the mission's network".into());
+        let mut proposal = controller.proposal(&[], &[], &[], "the mission's network".into());
         proposal.roots = (0..goals as u32).map(|g| (GoalId(g), 0)).collect();
         let mut events = Vec::new();
         if let Err(rejection) =
@@ -133,9 +155,10 @@ impl GoalController {
 
     /// Feeds what decides the controller's future to `state` (exploration's deduplication):
     /// the execution's state, the elaboration tree (each goal's type, whether it is retired,
-    /// the tactic in use per elaborated goal), the re-elaborations spent, whether it is safed
-    /// and whether construction events are still to be reported. The network follows from
-    /// these and the mission.
+    /// the tactic in use per elaborated goal, how often each was elaborated — the names of the
+    /// next elaboration), the re-elaborations spent, whether it is safed, the failures left to
+    /// answer and whether construction events are still to be reported. The network follows
+    /// from these and the mission.
     pub fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
         use std::hash::Hash;
         self.execution.fingerprint(state);
@@ -144,12 +167,17 @@ impl GoalController {
         for (goal, elaboration) in &self.state.elaborations {
             (goal, elaboration.tactic).hash(state);
         }
+        self.state.count.hash(state);
         self.reelaborations.hash(state);
         self.safed.hash(state);
+        for (goal, _) in &self.unanswered {
+            goal.hash(state);
+        }
         self.pending.is_empty().hash(state);
     }
 
-    /// One cycle at `now`: monitoring, the failure responses, then firing (§2.9 steps 3–5).
+    /// One cycle at `now`: monitoring, the answers to its failures, then firing, the answers to
+    /// firing's failures and firing again (§2.9 steps 3–5).
     pub fn step(
         &mut self,
         now: f64,
@@ -158,19 +186,21 @@ impl GoalController {
     ) -> Vec<MissionEvent> {
         let mut events = std::mem::take(&mut self.pending);
         let checked = self.execution.check(estimate, reconfiguration);
-        let failures: Vec<(GoalId, FailureReason)> = checked
-            .iter()
-            .filter_map(|e| match e {
-                GoalEvent::GoalFailed { goal, reason } => Some((*goal, reason.clone())),
-                _ => None,
-            })
-            .collect();
+        let mut failures = std::mem::take(&mut self.unanswered);
+        failures.extend(failures_in(&checked));
         events.extend(checked.into_iter().map(MissionEvent::Goal));
-        if !failures.is_empty() && !self.safed && self.responds() {
-            self.respond(now, estimate, reconfiguration, &failures, &mut events);
+        for _ in 0..ROUNDS {
+            if !failures.is_empty() {
+                self.answer(now, estimate, reconfiguration, &failures, &mut events);
+            }
+            let fired = self.execution.advance(now, estimate);
+            failures = failures_in(&fired);
+            events.extend(fired.into_iter().map(MissionEvent::Goal));
+            if failures.is_empty() {
+                break;
+            }
         }
-        let fired = self.execution.advance(now, estimate);
-        events.extend(fired.into_iter().map(MissionEvent::Goal));
+        self.unanswered = failures;
         events
     }
 
@@ -181,7 +211,7 @@ impl GoalController {
     }
 
     /// The controller of a delegated goal ended its constraint (see
-    /// [`Execution::end_delegated`]): a failure is reported, and responded to, by the next
+    /// [`Execution::end_delegated`]): a failure is reported, and answered, by the next
     /// [`GoalController::step`].
     pub fn end_delegated(&mut self, goal: GoalId, failure: Option<FailureReason>) {
         self.execution.end_delegated(goal, failure);
@@ -199,7 +229,7 @@ impl GoalController {
 
     /// A proposal: a copy of the running network to edit and [`GoalController::promote`].
     pub fn propose(&self) -> Proposal {
-        self.proposal(&[], &[], "a proposal".into())
+        self.proposal(&[], &[], &[], "a proposal".into())
     }
 
     /// Promotes an edited proposal at `now` (§2.3 steps a–j): its typed new goals are
@@ -231,11 +261,23 @@ impl GoalController {
         events
     }
 
-    /// A copy of the running network without `goals` and the unfired of `points`.
-    fn proposal(&self, goals: &[GoalId], points: &[TimePointId], cause: String) -> Proposal {
+    /// A copy of the running network without the `retire` goals, the unfired of `points`, and
+    /// the temporal constraints the elaborations of `retire` and `unelaborate` wrote.
+    fn proposal(
+        &self,
+        retire: &[GoalId],
+        unelaborate: &[GoalId],
+        points: &[TimePointId],
+        cause: String,
+    ) -> Proposal {
         let mut state = self.state.clone();
-        for g in goals {
+        for g in retire {
             state.retired[g.index()] = true;
+            state.elaborations.remove(g);
+        }
+        let mut unelaborated = state.retired.clone();
+        for g in unelaborate {
+            unelaborated[g.index()] = true;
             state.elaborations.remove(g);
         }
         let network = self.network();
@@ -248,7 +290,7 @@ impl GoalController {
             }
         }
         Proposal {
-            network: copy(network, &state.retired, &retired_points),
+            network: copy(network, &state.retired, &unelaborated, &retired_points),
             state,
             retired_points,
             roots: Vec::new(),
@@ -287,10 +329,13 @@ impl GoalController {
         let elaborated = elaborated.and_then(|elaborated| {
             let network = &elaborated.executable.network;
             let controllers = &self.mission.controllers;
-            match judge_delegated(network, controllers, &self.delegated, fired) {
+            let judged = judge_delegated(network, controllers, &self.delegated, fired);
+            let past = self.past_points(network, &proposal.retired_points, now);
+            match judged.and(past) {
                 Ok(()) => Ok(elaborated),
                 Err(error) => Err(Rejection {
                     reason: super::display::explain(&error, network, &self.mission.plant),
+                    conflicts: super::display::conflicts(&error, network),
                     error: Some(error),
                 }),
             }
@@ -315,7 +360,72 @@ impl GoalController {
         }
     }
 
-    /// Responds to the cycle's failures, all gathered first (§2.5 step 4).
+    /// The unfired points of a proposed network whose window lies before `now` (DESIGN.md
+    /// §15.2, promotion step b): a new point, or one whose latest time the proposal moved
+    /// before now. A point of the running network already overdue (it is forced this cycle)
+    /// is not the proposal's doing.
+    fn past_points(
+        &self,
+        network: &GoalNetwork,
+        retired: &[bool],
+        now: f64,
+    ) -> Result<(), ScheduleError> {
+        let running = self.network().stn();
+        let past: Vec<TimePointId> = (0..network.points().len() as u32)
+            .map(TimePointId)
+            .filter(|&p| !retired.get(p.index()).copied().unwrap_or(false))
+            .filter(|&p| self.execution.fired_at(p).is_none())
+            .filter(|&p| {
+                let Some(window) = network.stn().window(p) else {
+                    return false;
+                };
+                let before = running.window(p).map(|w| w.ub);
+                window.ub < now - TIME_EPSILON
+                    && before.is_none_or(|ub| window.ub < ub - TIME_EPSILON)
+            })
+            .collect();
+        if past.is_empty() {
+            Ok(())
+        } else {
+            Err(ScheduleError::InThePast { points: past, now })
+        }
+    }
+
+    /// Answers the failures of one round (DESIGN.md §15.2: one path, each failure exactly
+    /// once): after safing, and in a mission that declares no responses, each gets a
+    /// `ResponseTaken` saying no response is taken; otherwise its chain of responses.
+    fn answer(
+        &mut self,
+        now: f64,
+        estimate: EstimateView,
+        reconfiguration: &Reconfiguration,
+        failures: &[(GoalId, FailureReason)],
+        events: &mut Vec<MissionEvent>,
+    ) {
+        let none = if self.safed {
+            Some(ResponseStep::SafeNetworkRuns)
+        } else if !self.responds() {
+            Some(ResponseStep::NoResponses)
+        } else {
+            None
+        };
+        match none {
+            Some(step) => {
+                for (goal, reason) in failures {
+                    let mut explanation = self.explain(*goal, reason, estimate);
+                    explanation.steps.push(step.clone());
+                    events.push(MissionEvent::ResponseTaken {
+                        goal: *goal,
+                        response: None,
+                        explanation,
+                    });
+                }
+            }
+            None => self.respond(now, estimate, reconfiguration, failures, events),
+        }
+    }
+
+    /// Responds to a round's failures, all gathered first (§2.5 step 4).
     fn respond(
         &mut self,
         now: f64,
@@ -378,7 +488,7 @@ impl GoalController {
         for (goal, explanation, _) in chains {
             events.push(MissionEvent::ResponseTaken {
                 goal,
-                response: self.response(goal),
+                response: Some(self.response(goal)),
                 explanation,
             });
         }
@@ -389,9 +499,9 @@ impl GoalController {
     }
 
     /// Whether failures get responses: a mission that declares no goal types declares no
-    /// responses either, and its failed goals stay failed while the network runs on (as a
-    /// network ran before goal types existed). With types, a goal without one fails
-    /// up.
+    /// responses either, and its failed goals are answered "no response" while the network
+    /// runs on (as a network ran before goal types existed). With types, a goal without one
+    /// fails up.
     fn responds(&self) -> bool {
         !self.mission.elaborators.types.is_empty()
     }
@@ -500,15 +610,20 @@ impl GoalController {
         let goal_type = self.state.types[goal.index()].map(|t| self.mission.elaborators.get(t));
         let (tactics, budget) = goal_type.map_or((0, 0), |t| (t.tactics.len(), t.budget));
         let in_use = self.state.elaborations.get(&goal).map_or(0, |e| e.tactic);
+        let end = self.network().goal(goal).end;
         let attempt = if tactics == 0 {
             Err("its type has no tactic".to_string())
+        } else if self.execution.fired_at(end).is_some() {
+            let end = &self.network().point(end).name;
+            Err(format!(
+                "its interval is over (its end point {end} has fired)"
+            ))
         } else if self.reelaborations[goal.index()] >= budget {
             Err(format!("its re-elaboration budget of {budget} is spent"))
         } else {
             let (goals, points) = self.state.subtree(goal);
             let cause = format!("re-elaboration of {name}");
-            let mut proposal = self.proposal(&goals, &points, cause);
-            proposal.state.elaborations.remove(&goal);
+            let mut proposal = self.proposal(&goals, &[goal], &points, cause);
             proposal.roots = vec![(goal, (in_use + 1) % tactics)];
             self.try_promote(proposal, now, estimate, reconfiguration, events)
                 .map_err(|rejection| rejection.reason)
@@ -538,8 +653,11 @@ impl GoalController {
 
     /// Promotes the safe network (§2.8): every goal of the running network is retired and
     /// every unfired point with it; the safe network is appended from a promotion point fired
-    /// now. If the safe network cannot be scheduled from this state, the default one (every
-    /// SV unconstrained) is used and the cause says why.
+    /// now and scheduled best effort (DESIGN.md §15.2): a safe goal that cannot be scheduled
+    /// from this state is dropped, reported with the scheduler's reason, and the rest is
+    /// scheduled again. If what is left still cannot be (the safe network's times contradict
+    /// each other from here), the default one (every SV unconstrained) is used and the cause
+    /// says why.
     fn safe(
         &mut self,
         now: f64,
@@ -552,16 +670,41 @@ impl GoalController {
         let points: Vec<TimePointId> = (0..self.network().points().len() as u32)
             .map(TimePointId)
             .collect();
-        let proposal = self.proposal(&goals, &points, String::new());
+        let proposal = self.proposal(&goals, &[], &points, String::new());
         let (mut network, mut state) = (proposal.network, proposal.state);
         let base = (network.clone(), state.clone());
+        let first = network.goals().len();
         append_safe(&mut network, &mut state, &self.mission.safe, now);
-        let executable = match schedule(&network, reconfiguration, estimate.modes) {
+        let mut dropped = Vec::new();
+        let executable = loop {
+            let error = match schedule(&network, reconfiguration, estimate.modes) {
+                Ok(executable) => break Ok(executable),
+                Err(error) => error,
+            };
+            let culprits: Vec<GoalId> = culprits(&error)
+                .into_iter()
+                .filter(|g| g.index() >= first && network.goal(*g).sv.is_some())
+                .collect();
+            let why = super::display::explain(&error, &network, &self.mission.plant);
+            if culprits.is_empty() {
+                break Err(why);
+            }
+            for goal in culprits {
+                let name = network.goal(goal).name.clone();
+                network.retire_goal(goal);
+                state.retired[goal.index()] = true;
+                dropped.push(MissionEvent::SafeGoalDropped {
+                    goal: name,
+                    reason: why.clone(),
+                });
+            }
+        };
+        let executable = match executable {
             Ok(executable) => executable,
-            Err(error) => {
-                let why = super::display::explain(&error, &network, &self.mission.plant);
+            Err(why) => {
                 let instead = "every state variable is left unconstrained instead";
                 cause = format!("{cause} (the safe network cannot be scheduled: {why}; {instead})");
+                dropped.clear();
                 (network, state) = base;
                 append_safe(&mut network, &mut state, &GoalNetwork::new(), now);
                 // Grounded points and no goals: consistent, nothing to schedule.
@@ -577,5 +720,32 @@ impl GoalController {
         self.state = state;
         self.safed = true;
         events.push(MissionEvent::Safing { cause });
+        events.extend(dropped);
+    }
+}
+
+/// The failures among `events`.
+fn failures_in(events: &[GoalEvent]) -> Vec<(GoalId, FailureReason)> {
+    (events.iter())
+        .filter_map(|e| match e {
+            GoalEvent::GoalFailed { goal, reason } => Some((*goal, reason.clone())),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The goals a scheduling error blames, that dropping them could fix: an unachievable
+/// XGoal's constituents, the goals of an XGoal that cannot be entered, a goal that merges with
+/// none of those it overlaps, a delegated goal its controller cannot achieve, a goal the
+/// constraints force reversed or over no time. A temporal inconsistency blames no goal.
+fn culprits(error: &ScheduleError) -> Vec<GoalId> {
+    match error {
+        ScheduleError::Unachievable { xgoal, .. } => xgoal.constituents.clone(),
+        ScheduleError::TransitionUnachievable { next, .. } => next.constituents.clone(),
+        ScheduleError::Unmergeable { goal, .. } => vec![*goal],
+        ScheduleError::DelegatedUnachievable { goal, .. }
+        | ScheduleError::Reversed { goal, .. }
+        | ScheduleError::EmptyInterval { goal } => vec![*goal],
+        ScheduleError::Inconsistent(_) | ScheduleError::InThePast { .. } => Vec::new(),
     }
 }

@@ -8,7 +8,7 @@ use super::network::{ExecutableNetwork, GoalNetwork};
 use super::projection::Projection;
 use super::schedule::ScheduleError;
 use super::stn::Inconsistency;
-use super::temporal_constraint::{ConstraintId, Provenance};
+use super::temporal_constraint::{ConstraintId, Provenance, TemporalConstraint};
 use super::xgoal::XGoal;
 use crate::logic::ValueId;
 use crate::plant::{ComponentId, Plant};
@@ -137,16 +137,39 @@ fn modes(plant: &Plant, sv: ComponentId, values: &[ValueId]) -> String {
 pub fn explain(error: &ScheduleError, network: &GoalNetwork, plant: &Plant) -> String {
     match error {
         ScheduleError::Inconsistent(inconsistency) => inconsistent(inconsistency, network),
-        ScheduleError::Unmergeable { sv, goals } => {
-            let [a, b] = goals.map(|g| network.goal(g));
+        ScheduleError::Unmergeable {
+            sv,
+            goal,
+            conflicts,
+        } => {
+            let goal = network.goal(*goal);
+            let others: Vec<String> = (conflicts.iter())
+                .map(|g| network.goal(*g))
+                .map(|g| format!("`{}` ({})", g.name, g.text))
+                .collect();
             format!(
-                "unmergeable: on {}, goals `{}` ({}) and `{}` ({}) cannot hold together and \
-                 cannot be serialised either way",
+                "unmergeable: on {}, goal `{}` ({}) cannot hold together with {} and cannot be \
+                 serialised either way",
                 plant.component(*sv).name(),
-                a.name,
-                a.text,
-                b.name,
-                b.text
+                goal.name,
+                goal.text,
+                others.join(" nor with ")
+            )
+        }
+        ScheduleError::InThePast { points, now } => {
+            let points: Vec<String> = (points.iter())
+                .map(|p| {
+                    let window = network.stn().window(*p);
+                    let by = window.map_or_else(String::new, |w| {
+                        format!(" (window [{}, {}])", seconds(w.lb), seconds(w.ub))
+                    });
+                    format!("`{}`{by}", network.point(*p).name)
+                })
+                .collect();
+            format!(
+                "in the past: {} would have to fire before now ({} s)",
+                points.join(", "),
+                seconds(*now)
             )
         }
         ScheduleError::Unachievable { xgoal, from } => format!(
@@ -205,6 +228,17 @@ pub fn explain(error: &ScheduleError, network: &GoalNetwork, plant: &Plant) -> S
     }
 }
 
+/// The goals a scheduling error names as conflicting with the goal it could not place (every
+/// goal an unmergeable one cannot be serialised with), by name; none for other errors.
+pub fn conflicts(error: &ScheduleError, network: &GoalNetwork) -> Vec<String> {
+    match error {
+        ScheduleError::Unmergeable { conflicts, .. } => (conflicts.iter())
+            .map(|g| network.goal(*g).name.clone())
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
 fn inconsistent(inconsistency: &Inconsistency, network: &GoalNetwork) -> String {
     let mut out =
         String::from("inconsistent: the temporal constraints of this cycle cannot all hold");
@@ -221,21 +255,36 @@ fn inconsistent(inconsistency: &Inconsistency, network: &GoalNetwork) -> String 
 /// not hold (the scheduler's, added to a copy).
 fn constraint_line(network: &GoalNetwork, id: ConstraintId) -> Option<String> {
     let c = network.stn().constraints().get(id.index())?;
-    {
-        let why = match &c.provenance {
-            Provenance::Written(_) => "written".to_string(),
-            Provenance::AfterOrigin => "every point is at or after the origin".to_string(),
-            Provenance::Fired => "the point fired".to_string(),
-            Provenance::Scheduled { reason } => format!("scheduler: {reason}"),
-            Provenance::Submitted => "submitted".to_string(),
-            Provenance::GoalInterval => "a goal starts no later than it ends".to_string(),
-        };
-        Some(format!(
-            "\n  {} → {} ∈ [{}, {}] ({why})",
-            network.point(c.from).name,
-            network.point(c.to).name,
-            seconds(c.min),
-            seconds(c.max)
-        ))
-    }
+    Some(temporal_line(c, network))
+}
+
+/// The constraints, a line each, with where each came from: `\n  origin → TP_X ∈ [99, 99.5]
+/// (submitted)`.
+pub fn constraint_lines(constraints: &[&TemporalConstraint], network: &GoalNetwork) -> String {
+    constraints
+        .iter()
+        .map(|c| temporal_line(c, network))
+        .collect()
+}
+
+/// `\n  from → to ∈ [min, max] (why)`.
+fn temporal_line(c: &TemporalConstraint, network: &GoalNetwork) -> String {
+    let why = match &c.provenance {
+        Provenance::Written(_) => "written".to_string(),
+        Provenance::Elaborated { goal, .. } => {
+            format!("written by the tactic of {}", network.goal(*goal).name)
+        }
+        Provenance::AfterOrigin => "every point is at or after the origin".to_string(),
+        Provenance::Fired => "the point fired".to_string(),
+        Provenance::Scheduled { reason } => format!("scheduler: {reason}"),
+        Provenance::Submitted => "submitted".to_string(),
+        Provenance::GoalInterval => "a goal starts no later than it ends".to_string(),
+    };
+    format!(
+        "\n  {} → {} ∈ [{}, {}] ({why})",
+        network.point(c.from).name,
+        network.point(c.to).name,
+        seconds(c.min),
+        seconds(c.max)
+    )
 }

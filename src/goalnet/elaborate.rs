@@ -1,10 +1,17 @@
 //! Elaboration with tactic backtracking (mds-goal-networks.md §2.1; AG §1.2.5, §3.9; GP §3.6).
 //!
 //! A goal with a type is elaborated by one of its type's tactics: the tactic's points and goals
-//! are added under names qualified by the parent's (`stay-warm.TP_A`, `stay-warm.heater1`; a
-//! name already taken — by a retired elaboration — gets a prime: `stay-warm.TP_A′`), its
-//! temporal constraints are written
-//! between them and the parent's points, its child goals get the parent as parent. Children
+//! are added under names qualified by the parent's (`stay-warm.TP_A`, `stay-warm.heater1`), its
+//! temporal constraints are written between them and the parent's points (each remembers the
+//! elaboration it belongs to, [`Provenance::Elaborated`], so that a re-elaboration removes it
+//! with the elaboration), its child goals get the parent as parent.
+//!
+//! **Names are readable and stable**: the n-th elaboration of a goal (n ≥ 2: a
+//! re-elaboration) qualifies its items by the goal's name and n — `stay-warm#2.TP_A`,
+//! `stay-warm#2.heater1`, and below it `stay-warm#2.heater1.TP_H` — so a name says which
+//! elaboration made it and does not depend on what else was named before (the seeds write
+//! TP_A′; primes would grow with every re-elaboration). A name already taken all the same (a
+//! submission's) gets a prime. Children
 //! with a type are elaborated in turn, depth first (parent before children, children in the
 //! tactic's order). The whole network is then scheduled ([`schedule()`]: consistent,
 //! mergeable, achievable from the current estimate). On failure the search backtracks
@@ -57,6 +64,8 @@ pub struct ElaborationState {
     pub retired: Vec<bool>,
     /// The elaborated goals and what their tactic added.
     pub elaborations: BTreeMap<GoalId, Elaboration>,
+    /// Per goal elaborated at least once, how often (its items' names count them).
+    pub count: BTreeMap<GoalId, u32>,
 }
 
 impl ElaborationState {
@@ -108,6 +117,9 @@ pub struct Rejection {
     /// The scheduler's error of the last attempt (`None` when no attempt was scheduled: a
     /// tactic that could not be applied, or the budget): what a refused submission reports.
     pub error: Option<ScheduleError>,
+    /// The goals that error names as conflicting with the goal it could not place
+    /// ([`display::conflicts`]), by name.
+    pub conflicts: Vec<String>,
 }
 
 /// The choice the search made for one goal.
@@ -131,6 +143,7 @@ pub fn elaborate(
     let mut choices: Vec<usize> = Vec::new();
     for _ in 0..ELABORATION_BUDGET {
         let mut error = None;
+        let mut conflicts = Vec::new();
         let mut network = base.clone();
         let mut state = base_state.clone();
         let mut visits = Vec::new();
@@ -146,6 +159,7 @@ pub fn elaborate(
             anchor(&mut network, context);
             schedule(&network, context.reconfiguration, context.current).map_err(|e| {
                 let reason = display::explain(&e, &network, context.reconfiguration.plant());
+                conflicts = display::conflicts(&e, &network);
                 error = Some(e);
                 reason
             })
@@ -162,6 +176,7 @@ pub fn elaborate(
                 backtrack(&mut choices, visits, reason, events).map_err(|reason| Rejection {
                     reason,
                     error: error.take(),
+                    conflicts: std::mem::take(&mut conflicts),
                 })?
             }
         }
@@ -171,6 +186,7 @@ pub fn elaborate(
             "elaboration failed: its budget of {ELABORATION_BUDGET} schedulings is spent"
         ),
         error: None,
+        conflicts: Vec::new(),
     })
 }
 
@@ -266,11 +282,14 @@ fn apply(
 ) -> Result<Vec<GoalId>, String> {
     let parent = network.goal(goal).clone();
     let tactic = &context.elaborators.get(goal_type).tactics[index];
+    let ordinal = state.count.get(&goal).copied().unwrap_or(0) + 1;
+    state.count.insert(goal, ordinal);
+    let prefix = qualifier(&parent.name, ordinal);
     let locals: Vec<TimePointId> = tactic
         .points
         .iter()
         .map(|name| {
-            let name = format!("{}.{name}", parent.name);
+            let name = format!("{prefix}.{name}");
             let name = fresh(&name, |n| network.point_named(n).is_some());
             network.add_point(name, 0..0)
         })
@@ -287,8 +306,11 @@ fn apply(
         if (fired(from) && is_new(to)) || (fired(to) && is_new(from)) {
             continue; // conditional elaboration: the new point is anchored after now instead
         }
-        let constraint =
-            TemporalConstraint::new(from, to, c.min, c.max, Provenance::Written(c.span.clone()));
+        let provenance = Provenance::Elaborated {
+            goal,
+            span: c.span.clone(),
+        };
+        let constraint = TemporalConstraint::new(from, to, c.min, c.max, provenance);
         network
             .add_constraint(constraint)
             .map_err(|e| format!("tactic `{}`: {e:?}", tactic.name))?;
@@ -310,7 +332,7 @@ fn apply(
             ChildConstraint::Inherit => inherited(&parent, child.kind),
         };
         let id = network.add_goal(Goal {
-            name: fresh(&format!("{}.{}", parent.name, child.name), |n| {
+            name: fresh(&format!("{prefix}.{}", child.name), |n| {
                 network.goal_named(n).is_some()
             }),
             sv: Some(sv),
@@ -352,6 +374,16 @@ fn inherited(parent: &Goal, kind: GoalKind) -> (ConstraintSet, String) {
             String::new(),
         ),
         GoalKind::Unconstrained => (ConstraintSet::unconstrained(domain), String::new()),
+    }
+}
+
+/// What the `ordinal`-th elaboration of goal `name` qualifies its items' names with: `name`
+/// for the first, `name#2` for the second, and so on.
+pub fn qualifier(name: &str, ordinal: u32) -> String {
+    if ordinal <= 1 {
+        name.to_string()
+    } else {
+        format!("{name}#{ordinal}")
     }
 }
 

@@ -31,12 +31,13 @@ pub enum MissionEvent {
         /// Why (the scheduler's explanation, or the children's tactics all rejected).
         reason: String,
     },
-    /// A failed goal's response, carried out, with the whole chain.
+    /// A failed goal's response, carried out, with the whole chain: one per failure.
     ResponseTaken {
         /// The goal that failed.
         goal: GoalId,
-        /// Its type's response (the first step of the chain).
-        response: Response,
+        /// Its type's response (the first step of the chain); `None` when no response is
+        /// taken (the mission declares none, or the safe network runs).
+        response: Option<Response>,
         /// The chain, from the failure to its outcome.
         explanation: Explanation,
     },
@@ -54,6 +55,14 @@ pub enum MissionEvent {
     Safing {
         /// The failure that led there, explained.
         cause: String,
+    },
+    /// A goal of the safe network could not be scheduled from the state safing found, and was
+    /// dropped; the rest of the safe network runs (DESIGN.md §15.2, best effort).
+    SafeGoalDropped {
+        /// The goal's name.
+        goal: String,
+        /// The scheduler's reason.
+        reason: String,
     },
 }
 
@@ -96,6 +105,10 @@ pub enum ResponseStep {
         /// The ancestor re-elaborated in this cycle.
         by: String,
     },
+    /// The mission declares no goal types, so no responses: the network runs on.
+    NoResponses,
+    /// Safing has been invoked: the safe network runs, and its failures get no response.
+    SafeNetworkRuns,
 }
 
 /// Why a goal failed and what was done about it: "heater1 failed: switch1 = stuck-open (p 0.97)
@@ -130,6 +143,15 @@ impl fmt::Display for ResponseStep {
             ResponseStep::Safing => write!(f, "safing"),
             ResponseStep::Superseded => write!(f, "safing (another failure of this cycle)"),
             ResponseStep::Replaced { by } => write!(f, "replaced by the re-elaboration of {by}"),
+            ResponseStep::NoResponses => {
+                write!(
+                    f,
+                    "no response (the mission declares none): the network runs on"
+                )
+            }
+            ResponseStep::SafeNetworkRuns => {
+                write!(f, "no response (the safe network runs)")
+            }
         }
     }
 }

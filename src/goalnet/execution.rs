@@ -1,5 +1,5 @@
 //! Executing and monitoring a scheduled network, one cycle at a time (mds-goal-networks.md
-//! §2.4–2.5, §2.9; AG §1.2.7, GP §3.7–3.8; DESIGN.md §15.3).
+//! §2.4–2.5, §2.9; AG §1.2.7, GP §3.7–3.8; DESIGN.md §15.2–15.3).
 //!
 //! Each cycle, given the estimate ŝ (a mode per component) and the belief over each component's
 //! modes:
@@ -7,15 +7,34 @@
 //!    belief — a Maintain XGoal fails when ŝ leaves its set, a Transition XGoal when its set can
 //!    no longer be reached from ŝ (reconfiguration's reachability), any XGoal when its knowledge
 //!    part is not met (P of the most likely value below the threshold, or a least belief not
-//!    reached). A failed XGoal is narrowed to the constituent goals that fail on their own; each
-//!    is reported once and stays failed (the responses are [`GoalController`]'s);
+//!    reached). A failed XGoal is narrowed to the constituent goals that fail on their own. A
+//!    goal is reported failed when it starts failing, and **recovered** when it holds again
+//!    while its XGoal is active (`GoalRecovered`): it is then monitored as before, and fails —
+//!    and is reported, and answered — again if it fails again. A goal whose interval is over
+//!    (a Transition failed at its forced end) or whose failure came from outside monitoring (its
+//!    controller, a contradicted firing) does not recover. The responses are
+//!    [`GoalController`]'s;
 //! 2. **firing** (the Executive), repeated to a fixpoint: an unfired point fires when its
 //!    earliest time has passed, every point constrained to precede it (a constraint into it with
 //!    a minimum ≥ 0) has fired, and it is *ready*: every Maintain XGoal starting at it holds for
-//!    ŝ and every Transition XGoal ending at it has reached its set — or anyway at the first
-//!    cycle at or after its latest time (`TimePointForced`; a Transition XGoal ending there
-//!    unreached fails). Firing grounds the point and re-propagates incrementally, and
-//!    dispatches the XGoals that start there.
+//!    ŝ and every Transition XGoal ending at it has reached its set — or anyway at its latest
+//!    cycle: the first cycle at or after its latest time, or the last before it when the next
+//!    cycle (one period on, the period being the time since the previous cycle) would be past
+//!    it (`TimePointForced`; a Transition XGoal ending there unreached fails). Forcing at the
+//!    last cycle *inside* the window keeps the firing consistent with the network when cycles
+//!    do not line up with the bounds (mds-goal-networks.md §5 C7 keeps it so when they do).
+//!    Firing grounds the point and re-propagates incrementally, and dispatches the XGoals that
+//!    start there.
+//! 3. A firing the network contradicts — a point whose window holds no cycle's time fires at the
+//!    first cycle after it — is history: it stays, the constraints of the negative cycle that
+//!    are not firings are withdrawn ([`Stn::withdraw`](super::Stn::withdraw)) so that the rest
+//!    of the network keeps its windows and fires on, and every goal the point bounds fails
+//!    (DESIGN.md §15.2: "a firing that contradicts the network is a failure of the goals it
+//!    bounds"), answered like any other failure.
+//! 4. A network that has stopped firing with points left says why, once per change
+//!    ([`GoalEvent::NetworkStalled`]): a point past its latest time that an unfired point holds
+//!    back, a point with no window, or a point with no latest time that waits for a goal that
+//!    has failed.
 //!
 //! A goal **delegated** to a controller (a state variable that is not a
 //! component) is on no timeline: its controller judges it. [`Execution::end_delegated`] says that
@@ -23,8 +42,15 @@
 //! forced at its latest time, and the goal fails); a failure the controller reports is reported
 //! by the next monitoring, like any other, so the failure responses apply to it.
 //!
+//! Goal interpretation finding the configuration goal unreachable does not fail a goal by
+//! itself: without alternatives among redundant components its verdict can be wrong while the
+//! plant progresses (the thermostat's switch 1 stuck open, switch 2 warming the device), and
+//! failing — re-elaborating — on it broke runs that were going right. A tactic that cannot
+//! progress fails at its end point's forcing, with its response.
+//!
 //! The **configuration goal** is the conjunction of the active Maintain and Transition XGoals'
-//! control sets on controllable state variables; knowledge goals never become commands.
+//! control sets on controllable state variables — the running network's only: a promotion
+//! replaces the timelines, so a retired goal is on none; knowledge goals never become commands.
 
 use super::constraint_set::ConstraintSet;
 #[cfg(doc)]
@@ -32,11 +58,15 @@ use super::controller::GoalController;
 use super::goal::{GoalId, GoalKind};
 use super::network::ExecutableNetwork;
 use super::stn::{GroundError, Inconsistency};
+use super::temporal_constraint::{Provenance, TemporalConstraint};
 use super::time_point::TimePointId;
 use super::xgoal::XGoal;
 use crate::logic::{Formula, ValueId};
 use crate::plant::ComponentId;
 use crate::reconfiguration::Reconfiguration;
+
+/// Two times closer than this are the same instant (cycle times and bounds are sums of seconds).
+pub(crate) const TIME_EPSILON: f64 = 1e-6;
 
 /// What the estimator says this cycle: ŝ and the belief over each component's modes.
 #[derive(Debug, Clone, Copy)]
@@ -66,6 +96,24 @@ pub enum FailureReason {
         /// What the controller said (or did not say), in words.
         why: String,
     },
+    /// A point bounding the goal fired where the network did not allow it (no cycle fell in
+    /// its window); the constraints its firing contradicted were withdrawn.
+    Contradicted {
+        /// The point.
+        point: TimePointId,
+    },
+}
+
+impl FailureReason {
+    /// Whether a goal failed for this reason is judged again by monitoring, and recovers when
+    /// it holds: a failure monitoring found. A forced end, a contradicted firing and a
+    /// controller's verdict are over.
+    fn recovers(&self) -> bool {
+        matches!(
+            self,
+            FailureReason::Excursion(_) | FailureReason::Unreachable(_) | FailureReason::NotKnown
+        )
+    }
 }
 
 /// Something that happened to the network this cycle.
@@ -76,11 +124,12 @@ pub enum GoalEvent {
         /// The point.
         point: TimePointId,
     },
-    /// A point fired at its latest time without its XGoals ready.
+    /// A point fired at its latest cycle without its XGoals ready.
     TimePointForced {
         /// The point.
         point: TimePointId,
-        /// How late past its latest time, seconds.
+        /// How late past its latest time, seconds (negative: the last cycle before it, the
+        /// next one being past it).
         late_by: f64,
     },
     /// An XGoal became active on its state variable.
@@ -97,13 +146,36 @@ pub enum GoalEvent {
         /// Why.
         reason: FailureReason,
     },
-    /// Grounding a (forced) point contradicted the network.
+    /// A goal that had failed holds again; it is monitored as before.
+    GoalRecovered {
+        /// The goal.
+        goal: GoalId,
+    },
+    /// Grounding a point contradicted the network; the constraints of the cycle that are not
+    /// firings were withdrawn.
     TemporalInconsistency {
         /// The point.
         point: TimePointId,
-        /// The negative cycle.
-        inconsistency: Inconsistency,
+        /// The constraints of the negative cycle, as they were (a promotion later in the cycle
+        /// renumbers the network's constraints; point and goal ids stay).
+        cycle: Vec<TemporalConstraint>,
     },
+    /// Points are left that nothing will fire (reported when the set changes).
+    NetworkStalled {
+        /// Each stalled point and what it waits for.
+        stalled: Vec<(TimePointId, Waiting)>,
+    },
+}
+
+/// What a stalled point waits for.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Waiting {
+    /// The network has no windows (it could not be propagated).
+    NoWindow,
+    /// Its latest time has passed and this point, which must fire first, has not.
+    Point(TimePointId),
+    /// It has no latest time and waits for this goal to hold, which has failed.
+    Goal(GoalId),
 }
 
 /// A scheduled network being executed.
@@ -115,34 +187,43 @@ pub struct Execution {
     fired: Vec<Option<f64>>,
     /// Per timeline, the index of its active XGoal.
     active: Vec<Option<usize>>,
-    /// Goals that failed (they stay failed).
-    failed: Vec<bool>,
+    /// Per goal, why it is failing (`None`: it holds, or has recovered).
+    failing: Vec<Option<FailureReason>>,
     /// Per point, the points that must fire before it.
     predecessors: Vec<Vec<TimePointId>>,
     /// Points of an earlier network that a promotion retired: they never fire.
     retired: Vec<bool>,
     /// Per goal, whether the controller of a delegated goal has ended its constraint.
     ended: Vec<bool>,
-    /// Failures of delegated goals their controllers reported, for the next monitoring.
+    /// Failures a delegated goal's controller reported, for the next monitoring.
     reported: Vec<(GoalId, FailureReason)>,
+    /// The time of the last [`Execution::advance`]: the next cycle is expected one period on.
+    last_advance: Option<f64>,
+    /// The stalled points last reported.
+    stalled: Vec<TimePointId>,
 }
 
 impl Execution {
     /// Feeds what decides the execution's future to `state` (exploration's deduplication): the
-    /// firing times, the active XGoal per timeline, the failed goals and the retired points. The
-    /// windows and predecessors follow from the network and the firing times.
+    /// firing times, the active XGoal per timeline, the failing goals, the retired points, the
+    /// reports pending, the last cycle's time (the period forcing reads) and the stall last
+    /// reported. The windows and predecessors follow from the network and the firing times.
     pub fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
         use std::hash::Hash;
         for time in &self.fired {
             time.map(f64::to_bits).hash(state);
         }
         self.active.hash(state);
-        self.failed.hash(state);
+        for failing in &self.failing {
+            failing.is_some().hash(state);
+        }
         self.retired.hash(state);
         self.ended.hash(state);
         for (goal, _) in &self.reported {
             goal.hash(state);
         }
+        self.last_advance.map(f64::to_bits).hash(state);
+        self.stalled.hash(state);
     }
 
     /// Starts executing `executable` with the mission's knowledge threshold; the origin has
@@ -156,7 +237,7 @@ impl Execution {
             executable,
             threshold,
             fired,
-            vec![false; goals],
+            vec![None; goals],
             vec![false; n],
         );
         execution.ended = vec![false; goals];
@@ -165,21 +246,23 @@ impl Execution {
 
     /// Continues `previous` on `executable`, a promoted network that extends its network (the
     /// same ids for the same points and goals, new ones after; mds-goal-networks.md §2.3 steps
-    /// d–i): fired points stay fired at their times, failed goals stay failed, the points
+    /// d–i): fired points stay fired at their times, failing goals stay failing, the points
     /// `retired` marks (of the old network, no longer wanted) never fire, and each timeline's
     /// active XGoal is the one whose start has fired and whose end has not.
     pub fn resume(executable: ExecutableNetwork, previous: &Execution, retired: Vec<bool>) -> Self {
         let network = &executable.network;
         let mut fired = previous.fired.clone();
         fired.resize(network.points().len(), None);
-        let mut failed = previous.failed.clone();
-        failed.resize(network.goals().len(), false);
+        let mut failing = previous.failing.clone();
+        failing.resize(network.goals().len(), None);
         let mut ended = previous.ended.clone();
         ended.resize(network.goals().len(), false);
         let mut execution =
-            Self::with_history(executable, previous.threshold, fired, failed, retired);
+            Self::with_history(executable, previous.threshold, fired, failing, retired);
         execution.ended = ended;
         execution.reported = previous.reported.clone();
+        execution.last_advance = previous.last_advance;
+        execution.stalled = previous.stalled.clone();
         execution
     }
 
@@ -187,7 +270,7 @@ impl Execution {
         executable: ExecutableNetwork,
         threshold: f64,
         fired: Vec<Option<f64>>,
-        failed: Vec<bool>,
+        failing: Vec<Option<FailureReason>>,
         mut retired: Vec<bool>,
     ) -> Self {
         let network = &executable.network;
@@ -209,11 +292,13 @@ impl Execution {
             threshold,
             fired,
             active,
-            failed,
+            failing,
             predecessors,
             retired,
             ended: Vec::new(),
             reported: Vec::new(),
+            last_advance: None,
+            stalled: Vec::new(),
         }
     }
 
@@ -232,11 +317,6 @@ impl Execution {
         &self.fired
     }
 
-    /// Whether each goal has failed, by goal id.
-    pub fn failed_goals(&self) -> &[bool] {
-        &self.failed
-    }
-
     /// The network being executed (windows shrink as points fire).
     pub fn executable(&self) -> &ExecutableNetwork {
         &self.executable
@@ -247,9 +327,9 @@ impl Execution {
         self.fired.get(point.index()).copied().flatten()
     }
 
-    /// Whether a goal has failed.
+    /// Whether a goal is failing (it failed and has not recovered).
     pub fn has_failed(&self, goal: GoalId) -> bool {
-        self.failed.get(goal.index()).copied().unwrap_or(false)
+        self.failing.get(goal.index()).is_some_and(Option::is_some)
     }
 
     /// The controller of a delegated goal ended its constraint: achieved (`None`) or not (the
@@ -308,10 +388,24 @@ impl Execution {
         events
     }
 
-    /// The second half of a cycle (§2.9 step 5, the Executive): firing to a fixpoint.
+    /// The second half of a cycle (§2.9 step 5, the Executive): firing to a fixpoint, then
+    /// whether the network has stalled. Called again in a cycle (after a promotion), it fires
+    /// what the promoted network makes due.
     pub fn advance(&mut self, now: f64, estimate: EstimateView) -> Vec<GoalEvent> {
         let mut events = Vec::new();
-        while self.fire_one(now, estimate, &mut events) {}
+        // The next cycle is expected one period on; none is known before a second cycle.
+        let next = self
+            .last_advance
+            .filter(|last| now > *last + TIME_EPSILON)
+            .map(|last| 2.0 * now - last);
+        while self.fire_one(now, next, estimate, &mut events) {}
+        if self
+            .last_advance
+            .is_none_or(|last| now > last + TIME_EPSILON)
+        {
+            self.last_advance = Some(now);
+        }
+        events.extend(self.stall(now));
         events
     }
 
@@ -343,7 +437,8 @@ impl Execution {
             .filter_map(|(t, a)| a.map(|i| &t.xgoals[i]))
     }
 
-    /// Checks every active XGoal; narrows failures to constituents (§2.5).
+    /// Checks every active XGoal; narrows failures to constituents, and notes the failed
+    /// constituents that hold again (§2.5).
     fn monitor(
         &mut self,
         estimate: EstimateView,
@@ -351,6 +446,7 @@ impl Execution {
         events: &mut Vec<GoalEvent>,
     ) {
         let mut failures = Vec::new();
+        let mut recoveries = Vec::new();
         for xgoal in self.active_xgoals() {
             let (mode, belief) = (
                 estimate.modes[xgoal.sv.index()],
@@ -375,29 +471,50 @@ impl Execution {
                     None
                 }
             };
-            if judge(xgoal.kind, &xgoal.constraint).is_none() {
-                continue;
-            }
+            let xgoal_fails = judge(xgoal.kind, &xgoal.constraint).is_some();
             for &id in &xgoal.constituents {
+                let failing = self.failing[id.index()].as_ref();
+                if !xgoal_fails && failing.is_none() {
+                    continue; // the XGoal holds, so does every constituent
+                }
                 let goal = self.executable.network.goal(id);
-                if let Some(reason) = judge(goal.kind, &goal.constraint) {
-                    failures.push((id, reason));
+                let verdict = judge(goal.kind, &goal.constraint);
+                match (verdict, failing) {
+                    (Some(reason), None) => failures.push((id, reason)),
+                    (None, Some(reason)) if reason.recovers() => recoveries.push(id),
+                    _ => {}
                 }
             }
+        }
+        for goal in recoveries {
+            self.failing[goal.index()] = None;
+            events.push(GoalEvent::GoalRecovered { goal });
         }
         for (goal, reason) in failures {
             self.fail(goal, reason, events);
         }
     }
 
+    /// Reports `goal` failed unless it is failing already.
     fn fail(&mut self, goal: GoalId, reason: FailureReason, events: &mut Vec<GoalEvent>) {
-        if !std::mem::replace(&mut self.failed[goal.index()], true) {
+        let Some(failing) = self.failing.get_mut(goal.index()) else {
+            return;
+        };
+        if failing.is_none() {
+            *failing = Some(reason.clone());
             events.push(GoalEvent::GoalFailed { goal, reason });
         }
     }
 
-    /// Fires the first point that should fire now; false when none does.
-    fn fire_one(&mut self, now: f64, estimate: EstimateView, events: &mut Vec<GoalEvent>) -> bool {
+    /// Fires the first point that should fire now; false when none does. `next` is when the
+    /// next cycle is expected.
+    fn fire_one(
+        &mut self,
+        now: f64,
+        next: Option<f64>,
+        estimate: EstimateView,
+        events: &mut Vec<GoalEvent>,
+    ) -> bool {
         let n = self.fired.len();
         for i in 0..n {
             let point = TimePointId(i as u32);
@@ -410,14 +527,16 @@ impl Execution {
             let predecessors_fired = self.predecessors[i]
                 .iter()
                 .all(|q| self.fired[q.index()].is_some());
-            if now < window.lb || !predecessors_fired {
+            if now < window.lb - TIME_EPSILON || !predecessors_fired {
                 continue;
             }
+            let latest = now >= window.ub - TIME_EPSILON
+                || next.is_some_and(|next| next > window.ub + TIME_EPSILON);
             let ready = self.ready(point, estimate);
-            if !ready && now < window.ub {
+            if !ready && !latest {
                 continue;
             }
-            // Forced only when not ready: a ready point at its latest time is on time.
+            // Forced only when not ready: a ready point at its latest cycle is on time.
             let late_by = (!ready).then_some(now - window.ub);
             self.fire(point, now, late_by, estimate, events);
             return true;
@@ -430,7 +549,7 @@ impl Execution {
     /// XGoal ending there has reached its set, and every delegated goal ending there has been
     /// ended by its controller. The incoming half is why a point that ends a transition waits
     /// within its window for the transition to complete, and is forced — failing the transition
-    /// unreached — only at its latest time; without it an on-time end would let an unreached
+    /// unreached — only at its latest cycle; without it an on-time end would let an unreached
     /// Transition goal pass unnoticed.
     fn ready(&self, point: TimePointId, estimate: EstimateView) -> bool {
         let holds = |x: &XGoal| {
@@ -443,14 +562,17 @@ impl Execution {
         let delegated_ended = (self.executable.network.goals().iter().enumerate())
             .filter(|(_, g)| g.delegate.is_some() && g.end == point)
             .all(|(i, _)| self.ended[i]);
-        delegated_ended
-            && self.executable.timelines.iter().all(|t| {
-                t.xgoals.iter().all(|x| {
-                    let entering = x.start == point && x.kind == GoalKind::Maintain;
-                    let completing = x.end == point && x.kind == GoalKind::Transition;
-                    !(entering || completing) || holds(x)
-                })
-            })
+        delegated_ended && self.gating(point).all(holds)
+    }
+
+    /// The XGoals `point`'s readiness waits for: the Maintain XGoals starting there and the
+    /// Transition XGoals ending there.
+    fn gating(&self, point: TimePointId) -> impl Iterator<Item = &XGoal> {
+        let timelines = self.executable.timelines.iter();
+        timelines.flat_map(|t| &t.xgoals).filter(move |x| {
+            (x.start == point && x.kind == GoalKind::Maintain)
+                || (x.end == point && x.kind == GoalKind::Transition)
+        })
     }
 
     fn fire(
@@ -472,10 +594,7 @@ impl Execution {
         if let Err(GroundError::Inconsistent(inconsistency)) =
             self.executable.network.stn_mut().ground(point, now)
         {
-            events.push(GoalEvent::TemporalInconsistency {
-                point,
-                inconsistency,
-            });
+            self.contradicted(point, inconsistency, events);
         }
         for (t, timeline) in self.executable.timelines.iter().enumerate() {
             if let Some(index) = timeline.xgoals.iter().position(|x| x.start == point) {
@@ -487,6 +606,52 @@ impl Execution {
             } else if timeline.xgoals.iter().any(|x| x.end == point) {
                 self.active[t] = None;
             }
+        }
+    }
+
+    /// `point` fired where the network did not allow it: the firing stays (it happened), the
+    /// constraints of each negative cycle that are not firings (nor a point's `[0, +∞)` from the
+    /// origin) are withdrawn until the network is consistent again, and every goal the point
+    /// bounds fails.
+    fn contradicted(
+        &mut self,
+        point: TimePointId,
+        inconsistency: Inconsistency,
+        events: &mut Vec<GoalEvent>,
+    ) {
+        let stn = self.executable.network.stn_mut();
+        let mut cycle = inconsistency.cycle.clone();
+        // Each round withdraws at least one constraint, or stops.
+        for _ in 0..stn.constraints().len() {
+            let withdrawn: Vec<_> = (cycle.iter().copied())
+                .filter(|&id| {
+                    !matches!(
+                        stn.constraint(id).provenance,
+                        Provenance::Fired | Provenance::AfterOrigin
+                    )
+                })
+                .collect();
+            if withdrawn.is_empty() {
+                break;
+            }
+            match stn.withdraw(&withdrawn) {
+                Ok(()) => break,
+                Err(next) => cycle = next.cycle,
+            }
+        }
+        self.predecessors = self.executable.network.stn().predecessors();
+        let stn = self.executable.network.stn();
+        let cycle = (inconsistency.cycle.iter())
+            .map(|id| stn.constraint(*id).clone())
+            .collect();
+        events.push(GoalEvent::TemporalInconsistency { point, cycle });
+        let bounded: Vec<GoalId> = (self.executable.network.goals().iter().enumerate())
+            .filter(|(_, g)| g.sv.is_some() || g.delegate.is_some())
+            .filter(|(_, g)| g.start == point || g.end == point)
+            .map(|(i, _)| GoalId(i as u32))
+            .collect();
+        for goal in bounded {
+            self.fail(goal, FailureReason::Contradicted { point }, events);
         }
     }
 
@@ -520,5 +685,65 @@ impl Execution {
         for (goal, reason) in failures {
             self.fail(goal, reason, events);
         }
+    }
+
+    /// The points nothing will fire, reported when that set changes (DESIGN.md §15.2: a network
+    /// that has stopped firing with time left says why).
+    fn stall(&mut self, now: f64) -> Option<GoalEvent> {
+        let stalled = self.stalled_points(now);
+        let points: Vec<TimePointId> = stalled.iter().map(|(p, _)| *p).collect();
+        if points == self.stalled {
+            return None;
+        }
+        self.stalled = points;
+        (!stalled.is_empty()).then_some(GoalEvent::NetworkStalled { stalled })
+    }
+
+    /// Every unfired point (not retired) that cannot fire any more, and what it waits for: no
+    /// window; past its latest time behind an unfired point; or no latest time, enabled, and
+    /// held back by a goal that is failing.
+    fn stalled_points(&self, now: f64) -> Vec<(TimePointId, Waiting)> {
+        let stn = self.executable.network.stn();
+        // Only a failing goal holds a point back for ever: without one, no search of the
+        // timelines (this runs every cycle).
+        let any_failing = self.failing.iter().any(Option::is_some);
+        let mut stalled = Vec::new();
+        for i in 0..self.fired.len() {
+            let point = TimePointId(i as u32);
+            if self.fired[i].is_some() || self.retired[i] {
+                continue;
+            }
+            let Some(window) = stn.window(point) else {
+                stalled.push((point, Waiting::NoWindow));
+                continue;
+            };
+            let unfired = (self.predecessors[i].iter())
+                .find(|q| self.fired[q.index()].is_none())
+                .copied();
+            if now > window.ub + TIME_EPSILON {
+                stalled.push((point, unfired.map_or(Waiting::NoWindow, Waiting::Point)));
+            } else if any_failing
+                && window.ub.is_infinite()
+                && unfired.is_none()
+                && now >= window.lb
+            {
+                let failed = self.failed_holding_back(point);
+                stalled.extend(failed.map(|g| (point, Waiting::Goal(g))));
+            }
+        }
+        stalled
+    }
+
+    /// A failing goal among those `point`'s readiness waits for (whatever ŝ is).
+    fn failed_holding_back(&self, point: TimePointId) -> Option<GoalId> {
+        let network = &self.executable.network;
+        let gating = self.gating(point);
+        let delegated = (network.goals().iter().enumerate())
+            .filter(|(i, g)| g.delegate.is_some() && g.end == point && !self.ended[*i])
+            .map(|(i, _)| GoalId(i as u32));
+        gating
+            .flat_map(|x| x.constituents.iter().copied())
+            .chain(delegated)
+            .find(|&g| self.has_failed(g))
     }
 }

@@ -22,7 +22,9 @@
 //!         goals: [
 //!             // sv: a component (its mode variable is the state variable). kind: Maintain
 //!             // (hold throughout), Transition (reach by the end point), Knowledge, or
-//!             // Unconstrained. Maintain and Transition need a constraint over the SV alone.
+//!             // Unconstrained. Maintain and Transition need a constraint over the SV alone:
+//!             // its modes, or its attributes and what its modes decide
+//!             // (`payload.current = nominal` admits the modes that entail it).
 //!             Goal(name: "heater1", sv: "switch1", kind: Maintain,
 //!                  constraint: "switch1 = closed or switch1 = stuck-closed",
 //!                  start: "TP_S", end: "TP_E", parent: "StayWarm", priority: 1),
@@ -53,10 +55,12 @@
 //!
 //! Every error names the file, line and column, shows the text and says what was expected.
 
+mod attribute_goal;
 mod delegated;
 mod elaborators;
 mod submission;
 
+pub use submission::parse_submission;
 pub(crate) use submission::resolve_submission;
 
 use std::path::Path;
@@ -320,24 +324,7 @@ impl Loader<'_> {
         let mut network = GoalNetwork::new();
         self.points(&mut network, file, &[Step::Field(field)]);
         self.constraints(&mut network, file, &[Step::Field(field)]);
-        for (index, spec) in file.macros.iter().enumerate() {
-            let item = Item::listed(field, "macros", index);
-            let header = Header {
-                name: &spec.name,
-                start: &spec.start,
-                end: &spec.end,
-                parent: spec.parent.as_deref(),
-                priority: spec.priority,
-            };
-            if let Some(goal) = self.header(&network, &item, &header) {
-                network.add_goal(goal(
-                    None,
-                    GoalKind::Unconstrained,
-                    ConstraintSet::unconstrained(0),
-                    String::new(),
-                ));
-            }
-        }
+        self.macros(&mut network, file, &[Step::Field(field)]);
         for (index, spec) in file.goals.iter().enumerate() {
             let item = Item::listed(field, "goals", index);
             self.goal(plant, &mut network, item, spec);
@@ -346,6 +333,31 @@ impl Loader<'_> {
             self.inconsistent(&network, field, &inconsistency);
         }
         network
+    }
+
+    /// The network's macros (goals with no state variable), the network being at `at` in the
+    /// file.
+    fn macros(&mut self, network: &mut GoalNetwork, file: &NetworkFile, at: &[Step]) {
+        for (index, spec) in file.macros.iter().enumerate() {
+            let item = Item {
+                prefix: [at, &[Step::Field("macros"), Step::Index(index)]].concat(),
+            };
+            let header = Header {
+                name: &spec.name,
+                start: &spec.start,
+                end: &spec.end,
+                parent: spec.parent.as_deref(),
+                priority: spec.priority,
+            };
+            if let Some(goal) = self.header(network, &item, &header) {
+                network.add_goal(goal(
+                    None,
+                    GoalKind::Unconstrained,
+                    ConstraintSet::unconstrained(0),
+                    String::new(),
+                ));
+            }
+        }
     }
 
     /// The network's points, the network being at `at` in the file.
@@ -599,12 +611,16 @@ impl Loader<'_> {
                 let decided = (0..domain as u32)
                     .map(|v| admits(ValueId(v)))
                     .collect::<Option<Vec<bool>>>();
-                let Some(admitted) = decided else {
-                    self.errors.push(fail(
-                        format!("a goal on `{sv_name}` may only constrain `{sv_name}`"),
-                        &format!("a formula over `{sv_name} = value` atoms"),
-                    ));
-                    return None;
+                // Over attributes or derived states: the modes that entail it.
+                let admitted = match decided {
+                    Some(admitted) => admitted,
+                    None => match attribute_goal::admitted(plant, sv, &formula) {
+                        Ok(admitted) => admitted,
+                        Err(refused) => {
+                            self.errors.push(fail(refused.message, &refused.expected));
+                            return None;
+                        }
+                    },
                 };
                 let set = ConstraintSet::control(domain, |v| admitted[v.index()]);
                 if set.is_empty() {

@@ -53,7 +53,7 @@ pub use constraint_set::ConstraintSet;
 pub use controller::GoalController;
 pub use elaborate::{Elaboration, ElaborationState, Rejection};
 pub use events::{Explanation, MissionEvent, ResponseStep};
-pub use execution::{EstimateView, Execution, FailureReason, GoalEvent};
+pub use execution::{EstimateView, Execution, FailureReason, GoalEvent, Waiting};
 pub use goal::{Delegate, Goal, GoalId, GoalKind};
 pub use mission::{Mission, MissionErrors};
 pub use network::{ExecutableNetwork, GoalNetwork, ORIGIN_NAME, Timeline};

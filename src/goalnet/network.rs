@@ -58,6 +58,16 @@ impl GoalNetwork {
         GoalId(self.goals.len() as u32 - 1)
     }
 
+    /// Takes a goal out of the network without moving any id: it keeps its name, points and
+    /// parent but constrains no state variable (never scheduled, monitored or delegated) — a
+    /// goal a re-elaboration or safing retired, or a safe goal dropped.
+    pub fn retire_goal(&mut self, goal: GoalId) {
+        if let Some(goal) = self.goals.get_mut(goal.index()) {
+            goal.sv = None;
+            goal.delegate = None;
+        }
+    }
+
     /// Every point, the origin first; a point's index is its id.
     pub fn points(&self) -> &[TimePoint] {
         &self.points

@@ -5,9 +5,13 @@
 //!
 //! The copy keeps what happened: fired points stay grounded at their times (their `Fired`
 //! constraints), written and submitted constraints stay. It drops the scheduler's constraints
-//! (the proposal is scheduled afresh) and everything that touches a *retired* point (an unfired
-//! point of a removed elaboration, which never fires). A retired goal stays in the list, as a
-//! goal with no state variable, so that no id moves; it is never scheduled.
+//! (the proposal is scheduled afresh), the constraints withdrawn after a contradicted firing,
+//! everything that touches a *retired* point (an unfired point of a removed elaboration, which
+//! never fires), and the constraints a removed elaboration's tactic wrote — between fired points
+//! too: the replaced tactic's `TP_A → TP_S ∈ [60, 150]` must not bound the tactic that replaces
+//! it (DESIGN.md §15.2: a promotion replaces the retired constraints, points and XGoals). A
+//! retired goal stays in the list, as a goal with no state variable, so that no id moves; it is
+//! never scheduled.
 
 #[cfg(doc)]
 use super::controller::GoalController;
@@ -75,10 +79,12 @@ impl Proposal {
 }
 
 /// The copy of `network` a proposal starts from: scheduler constraints dropped, retired points
-/// cut loose, retired goals without a state variable.
+/// cut loose, the constraints elaborated for the goals `unelaborated` marks dropped, retired
+/// goals without a state variable.
 pub(super) fn copy(
     network: &GoalNetwork,
     retired_goals: &[bool],
+    unelaborated: &[bool],
     retired_points: &[bool],
 ) -> GoalNetwork {
     let mut out = GoalNetwork::new();
@@ -86,24 +92,29 @@ pub(super) fn copy(
         out.add_point(point.name.clone(), point.span.clone());
     }
     let retired = |p: TimePointId| retired_points.get(p.index()).copied().unwrap_or(false);
-    for c in network.stn().constraints() {
-        let derived = matches!(
-            c.provenance,
-            Provenance::AfterOrigin | Provenance::Scheduled { .. } | Provenance::GoalInterval
-        );
-        if derived || retired(c.from) || retired(c.to) {
+    let stn = network.stn();
+    for (i, c) in stn.constraints().iter().enumerate() {
+        let derived = match &c.provenance {
+            Provenance::AfterOrigin | Provenance::Scheduled { .. } | Provenance::GoalInterval => {
+                true
+            }
+            Provenance::Elaborated { goal, .. } => {
+                unelaborated.get(goal.index()).copied().unwrap_or(false)
+            }
+            Provenance::Written(_) | Provenance::Fired | Provenance::Submitted => false,
+        };
+        let withdrawn = stn.is_withdrawn(ConstraintId(i as u32));
+        if derived || withdrawn || retired(c.from) || retired(c.to) {
             continue;
         }
         // Both points exist (same ids) and the bounds were valid in the original.
         let _ = out.add_constraint(c.clone());
     }
     for (i, goal) in network.goals().iter().enumerate() {
-        let mut goal = goal.clone();
+        let id = out.add_goal(goal.clone());
         if retired_goals.get(i).copied().unwrap_or(false) {
-            goal.sv = None;
-            goal.delegate = None;
+            out.retire_goal(id);
         }
-        out.add_goal(goal);
     }
     out
 }

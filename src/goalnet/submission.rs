@@ -1,12 +1,14 @@
 //! Goals submitted to a running mission (DESIGN.md §15.4; mds-goal-networks.md §2.1–2.2): what
 //! a submission adds — new time points, the temporal constraints that place them, goals over
-//! them — and how it is added to a [`Proposal`] of the running network. Scheduling the proposal,
+//! them, each of which may have one of the mission's goal types (elaborated at promotion: the
+//! seeds' "submit StayWarm at 10 s") — and how it is added to a [`Proposal`] of the running
+//! network. Scheduling the proposal,
 //! and refusing it with the running network left as it was, is the executive's
 //! (`Executive::submit`).
 
 use super::{
     ConstraintSet, Goal, GoalKind, GoalNetwork, Proposal, Provenance, ScheduleError,
-    TemporalConstraint, TimePointId,
+    TemporalConstraint, TimePointId, TypeId,
 };
 use crate::logic;
 use crate::plant::ComponentId;
@@ -36,14 +38,14 @@ pub struct SubmittedConstraint {
     pub max: f64,
 }
 
-/// A goal to add (as a mission file's `Goal`, its constraint already a [`ConstraintSet`] over the
-/// state variable's modes).
+/// A goal to add (as a mission file's `Goal` or `Macro`, its constraint already a
+/// [`ConstraintSet`] over the state variable's modes).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SubmittedGoal {
     /// Its name, unique in the network.
     pub name: String,
-    /// The state variable.
-    pub sv: ComponentId,
+    /// The state variable; `None` for a macro goal.
+    pub sv: Option<ComponentId>,
     /// How the constraint is judged.
     pub kind: GoalKind,
     /// The constraint on the SV's modes.
@@ -58,6 +60,9 @@ pub struct SubmittedGoal {
     pub parent: Option<String>,
     /// Its priority.
     pub priority: i32,
+    /// Its goal type (one of the mission's): the goal is elaborated by the type's tactics when
+    /// the submission is promoted, and fails with the type's response.
+    pub goal_type: Option<TypeId>,
 }
 
 /// Why a submission was refused (the running network is unchanged).
@@ -96,14 +101,34 @@ pub enum SubmitError {
     #[error("the submission cannot be elaborated: {0}")]
     NotElaborated(String),
     /// The network with the submission cannot be scheduled (inconsistent, unmergeable,
-    /// unachievable).
+    /// unachievable, or a point it would have fire in the past).
     #[error("the submission cannot be scheduled: {explanation}")]
     Refused {
         /// The scheduler's error.
         error: ScheduleError,
         /// It in words, with the evidence (`goalnet::display::explain`).
         explanation: String,
+        /// Every goal a submitted goal conflicts with, by name (empty unless unmergeable).
+        conflicts: Vec<String>,
     },
+    /// A submission at a time before the last cycle's.
+    #[error("submitted at {now} s, before the last cycle ({last} s)")]
+    Late {
+        /// The time given.
+        now: f64,
+        /// The last cycle's time.
+        last: f64,
+    },
+}
+
+impl SubmitError {
+    /// The goals of the running network a refused submission conflicts with, by name.
+    pub fn conflicts(&self) -> &[String] {
+        match self {
+            SubmitError::Refused { conflicts, .. } => conflicts,
+            _ => &[],
+        }
+    }
 }
 
 impl Submission {
@@ -150,7 +175,7 @@ impl Submission {
             };
             let goal = Goal {
                 name: g.name.clone(),
-                sv: Some(g.sv),
+                sv: g.sv,
                 kind: g.kind,
                 constraint: g.constraint.clone(),
                 delegate: None,
@@ -161,7 +186,7 @@ impl Submission {
                 priority: g.priority,
                 span: 0..0,
             };
-            proposal.add_goal(goal, None);
+            proposal.add_goal(goal, g.goal_type);
         }
         Ok(())
     }

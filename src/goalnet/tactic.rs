@@ -71,7 +71,8 @@ pub struct GoalType {
 pub struct Tactic {
     /// Its name (`"heater 1"`), for messages.
     pub name: String,
-    /// The points it adds, by local name (a re-elaboration adds fresh ones: `TP_A′`).
+    /// The points it adds, by local name (a re-elaboration adds fresh ones:
+    /// `stay-warm#2.TP_A`).
     pub points: Vec<String>,
     /// The temporal constraints it adds.
     pub constraints: Vec<TacticConstraint>,
@@ -117,7 +118,7 @@ pub enum ChildConstraint {
 /// A goal a tactic adds.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChildGoal {
-    /// Its name (made unique in the network with primes: `heater1′`).
+    /// Its name, local to its parent (`heater1`: `stay-warm.heater1`, `stay-warm#2.heater1`).
     pub name: String,
     /// Its type, if it has one (an elaborator, a failure response).
     pub goal_type: Option<TypeId>,
@@ -168,8 +169,9 @@ impl Elaborators {
 
 /// Every name a point or goal of a running mission can have (the mission's own, those its
 /// elaborations give — `stay-warm.TP_A`, `stay-warm.get-warm.heater1` — and the safe
-/// network's), without the primes a re-elaboration adds (`stay-warm.TP_A′`): what a scenario's
-/// expectations may name before the run has made them.
+/// network's), without the elaboration counts a re-elaboration adds (`stay-warm#2.TP_A`) or the
+/// primes a name taken already gets: what a scenario's expectations may name before the run has
+/// made them.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MissionNames {
     /// Time points.
@@ -179,10 +181,18 @@ pub struct MissionNames {
 }
 
 impl MissionNames {
-    /// Whether `name`, primes aside, is one of `names`.
+    /// Whether `name`, elaboration counts (`#2`) and primes aside, is one of `names`.
     fn has(names: &[String], name: &str) -> bool {
-        let unprimed = name.trim_end_matches('′');
-        names.iter().any(|n| n == unprimed)
+        let plain: Vec<&str> = name
+            .trim_end_matches('′')
+            .split('.')
+            .map(|segment| match segment.rsplit_once('#') {
+                Some((base, n)) if !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()) => base,
+                _ => segment,
+            })
+            .collect();
+        let plain = plain.join(".");
+        names.contains(&plain)
     }
 
     /// Whether a point can have this name.
@@ -222,6 +232,12 @@ impl Elaborators {
         names
     }
 
+    /// Adds the names the tactics of type `t` give a goal named `goal` (a typed goal submitted
+    /// to the running mission), and their typed children's.
+    pub fn add_elaborated(&self, goal: &str, t: TypeId, names: &mut MissionNames) {
+        self.elaborated_names(goal, t, &mut Vec::new(), names);
+    }
+
     /// The names `goal`'s tactics (of type `t`) give, and their typed children's, depth first.
     fn elaborated_names(
         &self,
@@ -247,5 +263,28 @@ impl Elaborators {
             }
         }
         path.pop();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The names a scenario's expectations may use (docs/design/goal-networks.md, "Names").
+
+    use super::MissionNames;
+
+    /// An elaboration count on any segment, and primes, are set aside: `stay-warm#2.TP_A` is a
+    /// name `stay-warm.TP_A` stands for; a `#` not followed by digits is not a count.
+    #[test]
+    fn elaboration_counts_and_primes_are_set_aside() {
+        let names = MissionNames {
+            points: vec!["stay-warm.TP_A".into(), "stay-warm.heater1.TP_H".into()],
+            goals: vec!["stay-warm.heater1".into()],
+        };
+        assert!(names.has_point("stay-warm#2.TP_A"));
+        assert!(names.has_point("stay-warm#3.heater1#2.TP_H"));
+        assert!(names.has_point("stay-warm.TP_A′"));
+        assert!(names.has_goal("stay-warm#12.heater1"));
+        assert!(!names.has_goal("stay-warm#x.heater1"));
+        assert!(!names.has_point("stay-warm#2.TP_B"));
     }
 }

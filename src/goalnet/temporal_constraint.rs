@@ -2,6 +2,7 @@
 //! means `min ≤ t(to) − t(from) ≤ max`, with `−∞`/`+∞` allowed for an open side. Every
 //! constraint remembers where it came from, so a negative cycle can be explained.
 
+use super::goal::GoalId;
 use super::time_point::TimePointId;
 use crate::diagnostic::Span;
 
@@ -22,6 +23,14 @@ impl ConstraintId {
 pub enum Provenance {
     /// Written in the mission file, at this span.
     Written(Span),
+    /// Written by the tactic that elaborated this goal, at this span of the mission: it goes
+    /// with that elaboration (a re-elaboration or safing removes it).
+    Elaborated {
+        /// The goal whose elaboration added it.
+        goal: GoalId,
+        /// Where the tactic writes it.
+        span: Span,
+    },
     /// Every point is at or after the origin: `Z → p ∈ [0, +∞)`, added with the point.
     AfterOrigin,
     /// The point fired at this time: `Z → p ∈ [τ, τ]` (grounding, AG §1.2.7 d).

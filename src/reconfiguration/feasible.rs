@@ -16,12 +16,23 @@
 //!   reaches modes of the nominal envelope: the component is moved on to one of those.
 //! - A mode of the irreversible frontier is **feasible as a final goal** when the policy reaches
 //!   it from every helper mode; goal interpretation offers it only when the configuration goal
-//!   names it.
+//!   names it. So is a mode the policy reaches from the current one and from every helper mode
+//!   but cannot leave again with the components upstream as they are (a load kept powered by a
+//!   supply stuck on: the way back needs the supply off). From every helper mode, because the
+//!   planner may first move the component as a helper for a step downstream (to a mode from
+//!   which the policy's way to the final mode needs an upstream mode that cannot be had).
 //! - Within a causal unit (a cycle of influence), a sub-goal on a component not yet computed is
 //!   trusted only when that component is already in the mode needed (conservative).
+//! - A move with several candidates (transitions between the same two modes, alternative
+//!   requirements of a guard: DESIGN.md §9, redundancy) is possible when one of them is: a bus
+//!   fed by regulator A or B stays reachable while either regulator can be switched on. A
+//!   sub-goal is met by a helper mode of its component that is the sub-goal's mode or serves
+//!   as well (a switch stuck open, whose only helper mode is that fault, serves `open`). A
+//!   blocked move keeps, per candidate, what it lacks, for the goal failure's reason.
 
 use super::policy::{ConcurrentPolicy, PolicyStep};
 use super::reachability::members;
+use super::requirement::Requirement;
 use crate::logic::ValueId;
 use crate::plant::{ComponentId, ModeKind, Plant};
 
@@ -34,6 +45,20 @@ pub(crate) struct Feasible {
     pub finals: Vec<Vec<bool>>,
     /// Components whose helper modes limited each component's (the causes of a restriction).
     pub blocked_by: Vec<Vec<ComponentId>>,
+    /// Per component, the moves it could not make: each with, per alternative way of making it
+    /// (DESIGN.md §9, redundancy), the sub-goals that cannot be had.
+    pub blocked_moves: Vec<Vec<BlockedMove>>,
+}
+
+/// A move of a component that no alternative makes possible from the current state.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct BlockedMove {
+    /// The mode it would leave.
+    pub source: ValueId,
+    /// The mode it would enter.
+    pub target: ValueId,
+    /// Per alternative, the sub-goals on components upstream that cannot be achieved.
+    pub alternatives: Vec<Vec<(ComponentId, ValueId)>>,
 }
 
 /// Computes the feasible modes for the state `current` (one mode per component).
@@ -48,24 +73,32 @@ pub(crate) fn feasible(
         helpers: vec![Vec::new(); n],
         finals: vec![Vec::new(); n],
         blocked_by: vec![Vec::new(); n],
+        blocked_moves: vec![Vec::new(); n],
     };
     for &c in upstream_first {
         let policy = &policies[c.index()];
         let kinds: Vec<ModeKind> = plant.component(c).modes().iter().map(|m| m.kind).collect();
-        let (helpers, finals, blocked) = {
+        let (helpers, finals, blocked, moves) = {
             let mut walker = Walker {
                 policy,
                 state: &state,
                 current,
                 blocked: Vec::new(),
+                moves: Vec::new(),
             };
-            let helpers = walker.helpers(current[c.index()], &kinds);
-            let finals = walker.finals(current[c.index()], &helpers);
-            (helpers, finals, walker.blocked)
+            let (helpers, one_way) = walker.helpers(current[c.index()], &kinds);
+            let mut finals = walker.finals(current[c.index()], &helpers);
+            // As for the irreversible frontier, from every helper mode too: the planner may move
+            // the component as a helper for a step downstream before it heads there.
+            for v in one_way {
+                finals[v.index()] |= members(&helpers).all(|h| walker.reaches(h, v));
+            }
+            (helpers, finals, walker.blocked, walker.moves)
         };
         state.helpers[c.index()] = helpers;
         state.finals[c.index()] = finals;
         state.blocked_by[c.index()] = blocked;
+        state.blocked_moves[c.index()] = moves;
     }
     state
 }
@@ -76,29 +109,57 @@ struct Walker<'a> {
     state: &'a Feasible,
     current: &'a [ValueId],
     blocked: Vec<ComponentId>,
+    moves: Vec<BlockedMove>,
 }
 
 impl Walker<'_> {
-    /// A step's sub-goals are all achievable.
+    /// Some candidate of the move `step` makes (a transition between its two modes, with one
+    /// of its alternative requirements) has every sub-goal met in the current state or
+    /// achievable; otherwise the move is recorded as blocked, with what each candidate lacks.
     fn step_ok(&mut self, step: &PolicyStep) -> bool {
-        let Ok(requirement) = &step.requirement else {
-            return false;
-        };
-        for &(u, v) in &requirement.modes {
-            let helpers = &self.state.helpers[u.index()];
-            let ok = if helpers.is_empty() {
-                self.current[u.index()] == v
-            } else {
-                helpers[v.index()]
-            };
-            if !ok {
-                if !self.blocked.contains(&u) {
-                    self.blocked.push(u);
-                }
-                return false;
+        let mut lacking = Vec::new();
+        for (_, requirement) in self.policy.candidates_between(step.source, step.target) {
+            let missing: Vec<(ComponentId, ValueId)> = requirement
+                .modes
+                .iter()
+                .copied()
+                .filter(|&(u, v)| !self.achievable(requirement, u, v))
+                .collect();
+            if missing.is_empty() {
+                return true;
+            }
+            if !lacking.contains(&missing) {
+                lacking.push(missing);
             }
         }
-        true
+        for &(u, _) in lacking.iter().flatten() {
+            if !self.blocked.contains(&u) {
+                self.blocked.push(u);
+            }
+        }
+        let known = self
+            .moves
+            .iter()
+            .any(|m| m.source == step.source && m.target == step.target);
+        if !known && !lacking.is_empty() {
+            self.moves.push(BlockedMove {
+                source: step.source,
+                target: step.target,
+                alternatives: lacking,
+            });
+        }
+        false
+    }
+
+    /// The sub-goal `u = v` of `requirement` can be had: some helper mode of `u` meets it (`v`,
+    /// or a mode that serves as well — a switch stuck open, its only helper mode, for `open`).
+    /// A component not computed yet (within a causal unit) is trusted only where it is now.
+    fn achievable(&self, requirement: &Requirement, u: ComponentId, v: ValueId) -> bool {
+        let helpers = &self.state.helpers[u.index()];
+        if helpers.is_empty() {
+            return requirement.is_met(u, v, self.current[u.index()]);
+        }
+        members(helpers).any(|w| requirement.is_met(u, v, w))
     }
 
     /// The planner reaches `to` from `from` by following the policy.
@@ -107,7 +168,11 @@ impl Walker<'_> {
         policy.walk(from, to, |step| self.step_ok(step)).is_some()
     }
 
-    fn helpers(&mut self, current: ValueId, kinds: &[ModeKind]) -> Vec<bool> {
+    /// The helper modes, and the modes the policy reaches from `current` that it cannot come
+    /// back from with the components upstream as they are (a load that a supply stuck on keeps
+    /// powered): feasible as a final goal, which goal interpretation offers when the goal names
+    /// it, but no helper.
+    fn helpers(&mut self, current: ValueId, kinds: &[ModeKind]) -> (Vec<bool>, Vec<ValueId>) {
         let n = kinds.len();
         let reachability = self.policy.reachability();
         let mut set = vec![false; n];
@@ -129,8 +194,12 @@ impl Walker<'_> {
             *member &= Some(rank(v)) == best;
         }
         let anchor = set[current.index()].then_some(current);
+        let reached = set.clone();
         self.prune(&mut set, anchor);
-        set
+        let one_way = members(&reached)
+            .filter(|v| !set[v.index()] && kinds[v.index()] == ModeKind::Nominal)
+            .collect();
+        (set, one_way)
     }
 
     /// Removes modes that cannot be reached from, or cannot return to, another member, until

@@ -23,7 +23,7 @@
 
 use std::fmt;
 
-use super::feasible::{Feasible, feasible};
+use super::feasible::{BlockedMove, Feasible, feasible};
 use super::reachability::members;
 use super::{ConcurrentPolicy, Reconfiguration};
 use crate::logic::{Atom, Formula, ValueId, VarId};
@@ -49,6 +49,9 @@ pub struct GoalState {
     /// `named[c]`: the configuration goal names `c = modes[c]` explicitly.
     named: Vec<bool>,
     reward: f64,
+    /// The transitions that leave this state by themselves, when goal interpretation found no
+    /// state the plant rests in ([`GoalState::leaving`]); empty for a resting state.
+    leaving: Vec<(ComponentId, usize)>,
 }
 
 impl GoalState {
@@ -67,7 +70,17 @@ impl GoalState {
             modes,
             named: flags,
             reward,
+            leaving: Vec::new(),
         }
+    }
+
+    /// The transitions (component, index into its transitions) that take the plant out of this
+    /// state by themselves — with every control idle, their guards hold in it — when goal
+    /// interpretation found no state entailing the goal that the plant rests in (DESIGN.md §9).
+    /// The planner reaches such a state and the plant leaves it: `kairos plan` says so instead
+    /// of alternating commands to its step limit. Empty for a state the plant rests in.
+    pub fn leaving(&self) -> &[(ComponentId, usize)] {
+        &self.leaving
     }
 
     /// The goal state to keep once the plant is in `current`: every transient mode the goal
@@ -150,6 +163,35 @@ fn left_for_good(plant: &Plant, policy: &ConcurrentPolicy, kept: ValueId, here: 
     let nominal =
         plant.component(policy.component()).modes()[here.index()].kind == ModeKind::Nominal;
     kept != here && nominal && !policy.reachability().is_reversible(here, kept)
+}
+
+/// The transitions whose guards, with every control idle, hold in `state` (see
+/// [`GoalState::leaving`]): checked on the model's constraints with the state's modes.
+fn leaving(reconfiguration: &Reconfiguration, state: &GoalState) -> Vec<(ComponentId, usize)> {
+    let plant = reconfiguration.plant();
+    let Ok(mut theory) = Theory::new(plant.table().clone(), &plant.constraints()) else {
+        return Vec::new();
+    };
+    let mut assumptions: Vec<Literal> = plant
+        .component_ids()
+        .map(|(id, c)| Literal::Is(c.mode_var(), state.mode(id)))
+        .collect();
+    assumptions.extend(plant.controls().iter().map(|c| Literal::Is(c.var, c.idle)));
+    let mut out = Vec::new();
+    for (id, component) in plant.component_ids() {
+        for &t in component.outgoing(state.mode(id)) {
+            let transition = &component.transitions()[t];
+            let nominal = component.mode(transition.target).kind != ModeKind::Fault;
+            if nominal
+                && theory
+                    .entails(&assumptions, &transition.guard)
+                    .unwrap_or(false)
+            {
+                out.push((id, t));
+            }
+        }
+    }
+    out
 }
 
 /// The summed reward of one mode per component.
@@ -301,14 +343,34 @@ pub(crate) fn interpret(
     let domains = domains(reconfiguration, current, &feasible, &named);
     let parts = goal_parts(theory, goal).map_err(GoalFailed::bad_input)?;
     let ocsp = goal_ocsp(plant, (current, keep), &domains, &named, &parts)?;
-    match first_entailing(plant, theory, &ocsp, goal)? {
+    // A goal state the plant rests in (see `Reconfiguration::resting`), when there is one;
+    // otherwise the goal is one the plant leaves by itself, and the state says so.
+    let mut search = Search::NoneConsistent;
+    let mut restless = false;
+    if let Some(resting) = reconfiguration.resting() {
+        let literal = theory
+            .define(resting)
+            .map_err(|e| GoalFailed::bad_input(e.to_string()))?;
+        let mut at_rest = ocsp.clone();
+        at_rest.assume(literal);
+        search = first_entailing(plant, theory, &at_rest, goal)?;
+        restless = !matches!(search, Search::Found(_));
+    }
+    if !matches!(search, Search::Found(_)) {
+        search = first_entailing(plant, theory, &ocsp, goal)?;
+    }
+    match search {
         Search::Found(modes) => {
             let named: Vec<ComponentId> = plant
                 .component_ids()
                 .map(|(id, _)| id)
                 .filter(|id| named[id.index()].contains(&modes[id.index()]))
                 .collect();
-            Ok(GoalState::new(plant, modes, &named))
+            let mut state = GoalState::new(plant, modes, &named);
+            if restless {
+                state.leaving = leaving(reconfiguration, &state);
+            }
+            Ok(state)
         }
         Search::NoneEntails { cut } => {
             let scope = if cut {
@@ -628,22 +690,13 @@ fn describe_reach(
             name(here)
         )
     };
-    let blockers: Vec<String> = why.feasible.blocked_by[c.index()]
-        .iter()
-        .map(|&u| {
-            let upstream = plant.component(u);
-            format!(
-                "{} is {}",
-                upstream.name(),
-                upstream.mode(current[u.index()]).name
-            )
-        })
-        .collect();
-    if !blockers.is_empty() {
-        text.push_str(&format!(
-            " (its transitions need components upstream: {})",
-            blockers.join(", ")
-        ));
+    let moves = &why.feasible.blocked_moves[c.index()];
+    if !moves.is_empty() {
+        let sentences: Vec<String> = moves
+            .iter()
+            .map(|m| describe_blocked_move(plant, current, c, m))
+            .collect();
+        text.push_str(&format!(" ({})", sentences.join("; ")));
     }
     let unnamed: Vec<&str> = (0..component.modes().len())
         .map(|v| ValueId(v as u32))
@@ -661,6 +714,45 @@ fn describe_reach(
         ));
     }
     text
+}
+
+/// "powered needs reg_a = on (reg_a is failed) or reg_b = on (reg_b is failed)": every
+/// alternative way of making a blocked move, each with the sub-goals it cannot have and where
+/// their components are (DESIGN.md §9: an unreachable goal names each alternative and why).
+fn describe_blocked_move(
+    plant: &Plant,
+    current: &[ValueId],
+    c: ComponentId,
+    blocked: &BlockedMove,
+) -> String {
+    let component = plant.component(c);
+    let ways: Vec<String> = blocked
+        .alternatives
+        .iter()
+        .map(|missing| {
+            missing
+                .iter()
+                .map(|&(u, v)| {
+                    let upstream = plant.component(u);
+                    let (name, wanted) = (upstream.name(), &upstream.mode(v).name);
+                    let here = current[u.index()];
+                    if here == v {
+                        // Where it is, but not where it can stay (a repair mode it moves on from).
+                        format!("{name} = {wanted} ({name} cannot stay in {wanted})")
+                    } else {
+                        format!("{name} = {wanted} ({name} is {})", upstream.mode(here).name)
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(" and ")
+        })
+        .collect();
+    format!(
+        "{} -> {} needs {}",
+        component.mode(blocked.source).name,
+        component.mode(blocked.target).name,
+        ways.join(" or ")
+    )
 }
 
 #[cfg(test)]

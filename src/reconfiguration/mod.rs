@@ -70,6 +70,44 @@ pub struct Reconfiguration {
     /// transition index: while the planner waits on a timed transition it commands only what
     /// cannot touch the awaited transition's guard.
     guards: Vec<Vec<Dependencies>>,
+    /// The plant's *resting* condition: no component is in a mode that a nominal transition
+    /// leaves by itself, given the other components' modes and every control idle (see
+    /// [`Reconfiguration::resting`]); `None` when no transition depends on other components.
+    resting: Option<Formula>,
+}
+
+/// See [`Reconfiguration::resting`].
+fn resting_condition(plant: &Plant) -> Option<Formula> {
+    let idle = |atom: &crate::logic::Atom| match *atom {
+        crate::logic::Atom::Is(x, v) => plant
+            .controls()
+            .iter()
+            .find(|c| c.var == x)
+            .map(|c| c.idle == v),
+        _ => None,
+    };
+    let mut parts = Vec::new();
+    for (_, component) in plant.component_ids() {
+        for m in 0..component.modes().len() as u32 {
+            let source = ValueId(m);
+            if component.mode(source).kind == ModeKind::Fault {
+                continue;
+            }
+            for &t in component.outgoing(source) {
+                let transition = &component.transitions()[t];
+                if component.mode(transition.target).kind == ModeKind::Fault {
+                    continue;
+                }
+                let guard = transition.guard.ground(&mut |atom| idle(atom));
+                if matches!(guard, Formula::True | Formula::False) {
+                    continue;
+                }
+                let at = Formula::is(component.mode_var(), source);
+                parts.push(Formula::Implies(Box::new(at), Box::new(guard.negate())));
+            }
+        }
+    }
+    (!parts.is_empty()).then(|| Formula::all(parts))
 }
 
 impl Reconfiguration {
@@ -123,7 +161,20 @@ impl Reconfiguration {
             policies,
             upstream_first,
             guards,
+            resting: resting_condition(plant),
         })
+    }
+
+    /// The condition goal interpretation puts on a goal state so that the plant stays in it
+    /// (DESIGN.md §9, goal-faithful commands): for every nominal transition whose guard, with
+    /// every control idle, depends on the modes of components (a payload that is unpowered
+    /// once its supply goes, a temperature that warms while a heater is on), `component = its
+    /// source mode ⇒ not guard`. A goal state that breaks it is one the plant leaves by itself:
+    /// the planner would restore it, the plant leave it again, and the two would take turns for
+    /// ever. Transitions that need nothing (transient modes, timed exits) are goal
+    /// interpretation's domain rule instead.
+    pub fn resting(&self) -> Option<&Formula> {
+        self.resting.as_ref()
     }
 
     /// The plant the policies were compiled from.

@@ -17,10 +17,10 @@
 
 use super::Reconfiguration;
 use super::goal::{GoalState, check_state};
-use super::policy::{PolicyEntry, PolicyStep};
+use super::policy::{ConcurrentPolicy, PolicyEntry, PolicyStep};
 use super::requirement::Requirement;
 use crate::logic::{ValueId, VarId};
-use crate::plant::{Commands, ComponentId, InputError, Plant, TransitionLaw};
+use crate::plant::{Commands, ComponentId, InputError, ModeKind, Plant, TransitionLaw};
 
 /// A command toward the goal: control assignments for this cycle.
 #[derive(Debug, Clone, PartialEq)]
@@ -173,7 +173,7 @@ pub(crate) fn next_action(
         }
         match planner.descend(c, target) {
             Action::Idle(next) => {
-                reserved.add(reconfiguration, &planner.trail, Some(&next));
+                reserved.add(reconfiguration, &planner.trail, Some((&next, current)));
                 wait.get_or_insert(next);
             }
             // While a transition that happens by itself is awaited, goals that need none of
@@ -197,10 +197,12 @@ pub(crate) fn next_action(
 ///
 /// One *descent* per component, in the causal graph's downstream-first order: empty when the
 /// component is in its goal mode; otherwise the descent the planner walks for it — the
-/// component's distance along its compiled policy to its goal mode, then the number of its next
-/// step's sub-goals still to achieve (from the first unmet one, in the planner's order), then
-/// that sub-goal's component's distance to the sub-goal mode, and so on down to the component
-/// that acts or waits. Descents compare lexicographically, and the list of them too.
+/// component's distance along its compiled policy to its goal mode, then the rank of the way
+/// chosen for its next step (faulty, undone, pending, order: see `Rank`; *pending* is the
+/// number of that way's sub-goals still to achieve, from the first unmet one in the planner's
+/// order), then that sub-goal's component's distance to the sub-goal mode, and so on down to
+/// the component that acts or waits. Descents compare lexicographically, and the list of them
+/// too.
 ///
 /// Under nominal execution the measure strictly decreases every cycle, so the planner cannot
 /// livelock:
@@ -211,14 +213,24 @@ pub(crate) fn next_action(
 ///   the same step stay met (they are more downstream, so achieving it cannot move them) and
 ///   the pending count drops;
 /// - a cycle that only waits lets the first awaited transition happen, which is the first
-///   descent's own next step.
+///   descent's own next step;
+/// - with several ways to take a step (DESIGN.md §9, redundancy) the planner takes the least
+///   rank, which is part of the measure: no fault appears under nominal execution (a repair
+///   only clears one), *undone* is fixed by the goal state, and the chosen way's *pending*
+///   does not grow (above). So the least rank at a level never grows, and it changes only
+///   when another way's rank falls below it — a strict decrease at that level, whatever
+///   happens below it. While it stays the same the same way is chosen (the order is part of
+///   the rank) and the argument above applies to it. (The ways considered are those whose
+///   sub-goals can be achieved from ŝ; under nominal execution components move within their
+///   reversible regions, which is what decides that, so the set does not change either.)
 ///
 /// Goals reached stay reached: a descent moves only its component and what is upstream of it,
 /// never a component earlier in the order.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Progress {
-    /// Per component in downstream-first order: distance, pending sub-goals, distance, pending,
-    /// ..., distance; empty when the component is in its goal mode.
+    /// Per component in downstream-first order: distance, the chosen way's rank (faulty,
+    /// undone, pending, order), distance, rank, ..., distance; empty when the component is in
+    /// its goal mode.
     pub descents: Vec<Vec<usize>>,
 }
 
@@ -242,7 +254,12 @@ pub(crate) fn progress(
             planner
                 .trail
                 .iter()
-                .flat_map(|link| std::iter::once(link.distance).chain(link.pending))
+                .flat_map(|link| {
+                    let rank = link
+                        .rank
+                        .map(|r| [usize::from(r.faulty), r.undone, r.pending, r.order]);
+                    std::iter::once(link.distance).chain(rank.into_iter().flatten())
+                })
                 .collect()
         })
         .collect();
@@ -251,8 +268,10 @@ pub(crate) fn progress(
 
 /// What the held-back descents of a cycle rely on: the components on their chains, the
 /// sub-goal components of every step on them (met or not), and, for a wait, whatever the
-/// awaited guard reads. A later goal is served meanwhile only by a command that touches none
-/// of it.
+/// awaited guard reads and the sub-goal components of every later step of the waiting chain's
+/// ways to their targets (a helper already where a later step needs it, moved meanwhile for a
+/// later goal into a mode it cannot come back from, would leave the waiting goal no way on).
+/// A later goal is served meanwhile only by a command that touches none of it.
 #[derive(Debug, Default)]
 struct Reservation {
     components: Vec<ComponentId>,
@@ -260,13 +279,28 @@ struct Reservation {
 }
 
 impl Reservation {
-    fn add(&mut self, reconfiguration: &Reconfiguration, trail: &[Link], wait: Option<&Wait>) {
+    fn add(
+        &mut self,
+        reconfiguration: &Reconfiguration,
+        trail: &[Link],
+        wait: Option<(&Wait, &[ValueId])>,
+    ) {
         for link in trail {
             self.components.push(link.component);
             self.components
                 .extend(link.sub_goals.iter().map(|&(u, _)| u));
         }
-        if let Some(wait) = wait {
+        if let Some((wait, current)) = wait {
+            for link in trail {
+                let policy = reconfiguration.policy(link.component);
+                let components = &mut self.components;
+                policy.walk(current[link.component.index()], link.target, |step| {
+                    for (_, requirement) in policy.candidates_between(step.source, step.target) {
+                        components.extend(requirement.modes.iter().map(|&(u, _)| u));
+                    }
+                    true
+                });
+            }
             self.components.push(wait.component);
             let guard = reconfiguration.guard_dependencies(wait.component, wait.transition);
             self.components.extend(&guard.modes);
@@ -284,18 +318,45 @@ impl Reservation {
     }
 }
 
+/// How a candidate way of taking a move ranks (see [`Planner::choose`]); smaller first, member
+/// by member. Part of the measure of progress ([`Progress`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Rank {
+    /// Some unmet sub-goal's component is in a fault mode (it needs a repair).
+    faulty: bool,
+    /// Sub-goals the goal state wants elsewhere (they would be undone after the move).
+    undone: usize,
+    /// Sub-goals still to achieve, from the first unmet one on, in the planner's order.
+    pending: usize,
+    /// The candidate's position among the move's candidates (compiled, cheapest first).
+    order: usize,
+}
+
+/// How many sub-goals of `requirement`, from the first unmet one in `current` on, are still to
+/// achieve.
+fn pending(requirement: &Requirement, current: &[ValueId]) -> usize {
+    requirement
+        .unmet(current)
+        .next()
+        .map_or(0, |(i, _)| requirement.modes.len() - i)
+}
+
 /// One level of a descent: a component on its way to a target, and its next step's
 /// sub-goals.
 #[derive(Debug)]
 struct Link {
     component: ComponentId,
+    /// The mode the descent wants it in.
+    target: ValueId,
     /// Steps along the component's policy to its target.
     distance: usize,
     /// The next step's sub-goals, in the planner's order.
     sub_goals: Vec<(ComponentId, ValueId)>,
-    /// How many of them, from the first unmet one on, are still to achieve (`None` when the
-    /// descent stopped at this level without looking at the step: a failure).
-    pending: Option<usize>,
+    /// How the way chosen for the next step ranked among the step's candidates ([`Rank`]: its
+    /// last-but-one member is how many of its sub-goals, from the first unmet one on, are still
+    /// to achieve); `None` when the descent stopped at this level without looking at the step:
+    /// a failure.
+    rank: Option<Rank>,
 }
 
 /// One cycle's depth-first descent through the policies.
@@ -305,6 +366,10 @@ struct Planner<'a> {
     goal: &'a GoalState,
     /// The levels of the current descent, from its root (to catch cycles and to measure it).
     trail: Vec<Link>,
+    /// Whether a component can be brought to a mode from ŝ, as found this cycle (filled only
+    /// for moves with several candidates; a few entries, so a list: a quiet cycle builds
+    /// nothing).
+    usable: Vec<((ComponentId, ValueId), bool)>,
 }
 
 impl<'a> Planner<'a> {
@@ -318,6 +383,7 @@ impl<'a> Planner<'a> {
             current,
             goal,
             trail: Vec::new(),
+            usable: Vec::new(),
         }
     }
 
@@ -340,48 +406,178 @@ impl<'a> Planner<'a> {
                 );
             }
             let here = self.current[c.index()];
-            let policy = self.reconfiguration.policy(c);
-            let (step, irreversible) = match policy.entry(here, target) {
-                PolicyEntry::Next { step, irreversible } => (&policy.steps()[step], irreversible),
+            let reconfiguration = self.reconfiguration;
+            let policy = reconfiguration.policy(c);
+            let (step_index, irreversible) = match policy.entry(here, target) {
+                PolicyEntry::Next { step, irreversible } => (step, irreversible),
                 PolicyEntry::Stay => return Action::Achieved,
                 PolicyEntry::Failure => {
                     return self.fail(c, target, "no plannable path leads there");
                 }
             };
+            let step = &policy.steps()[step_index];
             let mut link = Link {
                 component: c,
+                target,
                 distance: policy.distance(here, target).unwrap_or(usize::MAX),
                 sub_goals: Vec::new(),
-                pending: None,
+                rank: None,
             };
             let explicit = self.goal.mode(c) == target && self.goal.is_named(c);
-            let requirement = match &step.requirement {
-                _ if irreversible && !explicit => {
-                    Err("the step would be irreversible and the goal does not name the target")
-                }
-                Ok(requirement) => Ok(requirement),
-                Err(_) => Err("the next step's guard cannot be established"),
+            let chosen = match &step.requirement {
+                _ if irreversible && !explicit => Err(
+                    "the step would be irreversible and the goal does not name the target"
+                        .to_string(),
+                ),
+                Ok(_) => self.choose(policy, step_index),
+                Err(_) => Err("the next step's guard cannot be established".to_string()),
             };
-            let requirement = match requirement {
-                Ok(requirement) => requirement,
+            let (step, requirement, rank) = match chosen {
+                Ok(chosen) => chosen,
                 Err(why) => {
                     self.trail.push(link);
-                    return self.fail(c, target, why);
+                    return self.fail(c, target, &why);
                 }
             };
             // Sub-goals are stored most downstream first (see `Reconfiguration::compile`).
-            let unmet = requirement
-                .modes
-                .iter()
-                .position(|&(u, v)| self.current[u.index()] != v);
+            let unmet = requirement.unmet(self.current).next().map(|(i, _)| i);
             link.sub_goals.clone_from(&requirement.modes);
-            link.pending = Some(unmet.map_or(0, |i| requirement.modes.len() - i));
+            link.rank = Some(rank);
             self.trail.push(link);
             match unmet {
                 Some(i) => (c, target) = requirement.modes[i],
                 None => return self.act(c, step, requirement),
             }
         }
+    }
+
+    /// The way to take the move `step` names (DESIGN.md §9, redundancy): of its candidates (the
+    /// transitions between the two modes and each one's alternative requirements), those whose
+    /// unmet sub-goals can all be achieved from ŝ; among them the least [`Rank`]: no component
+    /// ŝ believes faulty, then the fewest sub-goals the goal state wants elsewhere (each would
+    /// be undone after the move), then the fewest sub-goals still to achieve, then the first
+    /// compiled (cheapest). The choice depends only on ŝ and the goal state, and it changes only
+    /// to a candidate of smaller rank (see [`Progress`]): the planner never switches back to
+    /// undo a step of its own plan. A move with one candidate is taken as it is (its sub-goals
+    /// fail on their own if they must).
+    fn choose(
+        &mut self,
+        policy: &'a ConcurrentPolicy,
+        step: usize,
+    ) -> Result<(&'a PolicyStep, &'a Requirement, Rank), String> {
+        let steps = policy.steps();
+        let current = self.current;
+        let goal = self.goal;
+        let mut candidates = policy.candidates(step);
+        let Some(first) = candidates.next() else {
+            return Err("the next step's guard cannot be established".to_string());
+        };
+        if candidates.next().is_none() {
+            let rank = Rank {
+                faulty: false,
+                undone: 0,
+                pending: pending(first.1, current),
+                order: 0,
+            };
+            return Ok((&steps[first.0], first.1, rank));
+        }
+        let mut best: Option<(Rank, usize, &'a Requirement)> = None;
+        for (order, (i, requirement)) in policy.candidates(step).enumerate() {
+            // Sub-goals the goal state wants elsewhere would be undone once the move is made:
+            // the planner prefers the way that leaves every helper where the goal state has it.
+            let undone = requirement
+                .modes
+                .iter()
+                .filter(|&&(u, v)| !requirement.is_met(u, v, goal.mode(u)))
+                .count();
+            let mut faulty = false;
+            let mut usable = true;
+            for (_, (u, v)) in requirement.unmet(current) {
+                faulty |= self.is_faulty(u);
+                if !self.usable(u, v, 0) {
+                    usable = false;
+                    break;
+                }
+            }
+            let rank = Rank {
+                faulty,
+                undone,
+                pending: pending(requirement, current),
+                order,
+            };
+            if usable && best.as_ref().is_none_or(|(b, ..)| rank < *b) {
+                best = Some((rank, i, requirement));
+            }
+        }
+        match best {
+            Some((rank, i, requirement)) => Ok((&steps[i], requirement, rank)),
+            None => Err(self.no_candidate(policy, step)),
+        }
+    }
+
+    /// True when ŝ has `u` in a fault mode.
+    fn is_faulty(&self, u: ComponentId) -> bool {
+        let component = self.reconfiguration.plant().component(u);
+        component.mode(self.current[u.index()]).kind == ModeKind::Fault
+    }
+
+    /// True when the planner can bring `u` to `v` from ŝ: every move on its policy's path has a
+    /// candidate whose unmet sub-goals can be achieved in turn (a circular need cannot).
+    fn usable(&mut self, u: ComponentId, v: ValueId, depth: usize) -> bool {
+        if let Some(&(_, known)) = self.usable.iter().find(|(key, _)| *key == (u, v)) {
+            return known;
+        }
+        if depth > self.current.len() {
+            return false;
+        }
+        // Provisionally unusable: a need that comes back round to `u = v` cannot be met.
+        self.usable.push(((u, v), false));
+        let slot = self.usable.len() - 1;
+        let reconfiguration = self.reconfiguration;
+        let policy = reconfiguration.policy(u);
+        let current = self.current;
+        let ok = policy
+            .walk(current[u.index()], v, |step| {
+                policy
+                    .candidates_between(step.source, step.target)
+                    .any(|(_, requirement)| {
+                        requirement
+                            .unmet(current)
+                            .all(|(_, (w, m))| w != u && self.usable(w, m, depth + 1))
+                    })
+            })
+            .is_some();
+        self.usable[slot].1 = ok;
+        ok
+    }
+
+    /// Why no candidate of the move `step` names can be used: each alternative with the
+    /// sub-goals it cannot have.
+    fn no_candidate(&mut self, policy: &'a ConcurrentPolicy, step: usize) -> String {
+        let reconfiguration = self.reconfiguration;
+        let plant = reconfiguration.plant();
+        let current = self.current;
+        let mut ways = Vec::new();
+        for (_, requirement) in policy.candidates(step) {
+            let blocked: Vec<String> = requirement
+                .unmet(current)
+                .filter(|&(_, (u, v))| !self.usable(u, v, 0))
+                .map(|(_, (u, v))| {
+                    let component = plant.component(u);
+                    format!(
+                        "{} = {} ({} is {})",
+                        component.name(),
+                        component.mode(v).name,
+                        component.name(),
+                        component.mode(current[u.index()]).name
+                    )
+                })
+                .collect();
+            if !blocked.is_empty() && !ways.contains(&blocked.join(" and ")) {
+                ways.push(blocked.join(" and "));
+            }
+        }
+        format!("no way to establish its guard: {}", ways.join(", or "))
     }
 
     /// The step's command, or a wait when it needs none.

@@ -28,8 +28,12 @@ pub struct PolicyStep {
     pub source: ValueId,
     /// The mode it enters.
     pub target: ValueId,
-    /// What its guard needs, or why nothing the planner does makes it hold.
+    /// What its guard needs (its cheapest alternative), or why nothing the planner does makes
+    /// it hold.
     pub requirement: Result<Requirement, Unplannable>,
+    /// Every minimal alternative requirement of its guard, cheapest first (the first is
+    /// `requirement`'s); empty when unplannable. A bus fed by regulator A or B has two.
+    pub alternatives: Vec<Requirement>,
     /// True when it leaves a fault mode: a repair.
     pub repair: bool,
 }
@@ -158,11 +162,35 @@ impl ConcurrentPolicy {
             .map(|step| step.target)
     }
 
+    /// The ways to take the step `step` names: every plannable step with its source and target
+    /// (the transitions declared between the two modes, in declaration order) and each of its
+    /// alternative requirements, cheapest first — the planner's candidates for that move.
+    pub fn candidates(&self, step: usize) -> impl Iterator<Item = (usize, &Requirement)> + '_ {
+        let (source, target) = (self.steps[step].source, self.steps[step].target);
+        self.candidates_between(source, target)
+    }
+
+    /// [`ConcurrentPolicy::candidates`] of the move from `source` to `target`.
+    pub fn candidates_between(
+        &self,
+        source: ValueId,
+        target: ValueId,
+    ) -> impl Iterator<Item = (usize, &Requirement)> + '_ {
+        self.steps
+            .iter()
+            .enumerate()
+            .filter(move |(_, s)| s.source == source && s.target == target)
+            .flat_map(|(i, s)| s.alternatives.iter().map(move |r| (i, r)))
+    }
+
     /// Puts every step's sub-goals in the planner's order: by `rank` (a component's position
     /// in the causal graph's downstream-first order).
     pub(crate) fn order_sub_goals(&mut self, rank: &[usize]) {
         for step in &mut self.steps {
             if let Ok(requirement) = &mut step.requirement {
+                requirement.modes.sort_by_key(|(u, _)| rank[u.index()]);
+            }
+            for requirement in &mut step.alternatives {
                 requirement.modes.sort_by_key(|(u, _)| rank[u.index()]);
             }
         }
@@ -210,11 +238,17 @@ fn planning_steps(
             if component.mode(transition.target).kind == ModeKind::Fault {
                 continue;
             }
+            let (requirement, alternatives) =
+                match compiler.requirements(id, source, &transition.guard)? {
+                    Ok(alternatives) => (Ok(alternatives[0].clone()), alternatives),
+                    Err(unplannable) => (Err(unplannable), Vec::new()),
+                };
             steps.push(PolicyStep {
                 transition: t,
                 source,
                 target: transition.target,
-                requirement: compiler.requirement(id, source, &transition.guard)?,
+                requirement,
+                alternatives,
                 repair: component.mode(source).kind == ModeKind::Fault,
             });
         }

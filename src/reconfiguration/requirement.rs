@@ -7,11 +7,23 @@
 //! over controls `K` and upstream components `U`, the compiler tries control assignments with
 //! 0, 1, 2, … non-idle values (a transition that fires with every control idle is an **Idle**
 //! step — the timed transitions of §6.3.3), and for each, full assignments of `U` over their
-//! *nominal* modes (§6.3's first assumption: planning ignores faults). The first assignment that
-//! is consistent and entails the group, given the component's source mode and with every other
+//! *nominal* modes (§6.3's first assumption: planning ignores faults). Every assignment that is
+//! consistent and entails the group, given the component's source mode and with every other
 //! upstream component free over its nominal modes, is shrunk by deletion to a minimal set of
 //! mode sub-goals. A sub-goal that every nominal mode satisfies (a tank that is only ever
 //! `full`) therefore disappears, as in Table 6.2.
+//!
+//! **Redundancy** (DESIGN.md §9, beyond §6.3's one requirement per transition): a guard may be
+//! entailed by several minimal sets — a bus fed by regulator A *or* B has `reg_a = on` and
+//! `reg_b = on`. All of them are kept, per group, at the fewest commands that work; a
+//! transition's alternatives are the combinations of its groups' (at most
+//! [`MAX_ALTERNATIVES`]), cheapest first (fewest commands, then fewest sub-goals, then the order
+//! found). Which one the planner uses is decided online from ŝ (`planner.rs`).
+//!
+//! A sub-goal names a nominal mode, but other modes of its component — a fault among them —
+//! may make the guard hold as well: a heater switch stuck open leaves its heater off exactly as
+//! the `open` sub-goal asks. Each alternative records them ([`Requirement::satisfied_by`]), so
+//! that a sub-goal already held that way is met, not pursued.
 //!
 //! For the propulsion engine's `off → heating` (guard `engine.cmd = standby`) this finds
 //! `PDE = on` and `PDE.cmd = engine-standby`: the model's interconnection `PDE.engine_cmd =
@@ -25,6 +37,10 @@ use crate::plant::{ComponentId, ModeKind, Plant};
 /// At most this many candidate assignments are tried per group of a guard; a guard more
 /// entangled than that is left unplannable (and says so) rather than stalling compilation.
 const CANDIDATE_BUDGET: usize = 20_000;
+
+/// At most this many alternative requirements are kept per transition (the product of its
+/// groups' alternatives is cut there, cheapest first within each group).
+pub const MAX_ALTERNATIVES: usize = 16;
 
 /// One thing a guard needs, as a policy table shows it (Table 6.2).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -47,12 +63,34 @@ pub struct Requirement {
     /// What the guard needs as a policy table shows it: mode sub-goals, then the inputs that
     /// the command sets.
     pub conditions: Vec<Condition>,
+    /// Other modes (fault modes included) in which a sub-goal's component makes the guard hold
+    /// just as well, all else as the requirement says: `(switch1, stuck-open)` next to the
+    /// sub-goal `switch1 = open`. Sorted.
+    pub satisfied_by: Vec<(ComponentId, ValueId)>,
 }
 
 impl Requirement {
     /// True when no command is needed: the planner waits (§6.3.3's Idle).
     pub fn is_idle(&self) -> bool {
         self.controls.is_empty()
+    }
+
+    /// True when `u`, in `mode`, meets the sub-goal the requirement has on it: it is in the
+    /// sub-goal's mode or in one that serves as well ([`Requirement::satisfied_by`]).
+    pub fn is_met(&self, u: ComponentId, goal: ValueId, mode: ValueId) -> bool {
+        mode == goal || self.satisfied_by.binary_search(&(u, mode)).is_ok()
+    }
+
+    /// The sub-goals not met in `current` (a mode per component), in the planner's order.
+    pub fn unmet<'r>(
+        &'r self,
+        current: &'r [ValueId],
+    ) -> impl Iterator<Item = (usize, (ComponentId, ValueId))> + 'r {
+        self.modes
+            .iter()
+            .enumerate()
+            .filter(move |&(_, &(u, v))| !self.is_met(u, v, current[u.index()]))
+            .map(|(i, &m)| (i, m))
     }
 }
 
@@ -103,7 +141,7 @@ fn groups<'f>(
 }
 
 /// A support found for one group: its sub-goals and commands.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 struct Support {
     modes: Vec<(ComponentId, ValueId)>,
     controls: Vec<(VarId, ValueId)>,
@@ -147,6 +185,66 @@ fn choose(n: usize, k: usize) -> Vec<Vec<usize>> {
     let mut out = Vec::new();
     go(0, n, k, &mut Vec::with_capacity(k), &mut out);
     out
+}
+
+/// Keeps the supports no other support of the same commands is a proper subset of, fewest
+/// sub-goals first (stable, so ties keep the order found).
+fn minimal_supports(mut found: Vec<Support>) -> Vec<Support> {
+    let dominated = |s: &Support, by: &Support| {
+        by.controls == s.controls
+            && by.modes.len() < s.modes.len()
+            && by.modes.iter().all(|m| s.modes.contains(m))
+    };
+    let keep: Vec<bool> = found
+        .iter()
+        .map(|s| !found.iter().any(|other| dominated(s, other)))
+        .collect();
+    let mut kept = keep.iter();
+    found.retain(|_| kept.next().copied().unwrap_or(false));
+    found.sort_by_key(|s| s.modes.len());
+    found
+}
+
+/// The first `limit` choices of one support per group, in odometer order (the first group's
+/// choice varies fastest), each as an index per group.
+fn combinations(per_group: &[Vec<Support>], limit: usize) -> Vec<Vec<usize>> {
+    let sizes: Vec<usize> = per_group.iter().map(Vec::len).collect();
+    let mut digits = vec![0; sizes.len()];
+    let mut out = Vec::new();
+    loop {
+        out.push(digits.clone());
+        if out.len() >= limit || !advance(&mut digits, &sizes) {
+            return out;
+        }
+    }
+}
+
+/// One alternative: the chosen support of each group, as sub-goals, commands and conditions
+/// (sub-goals of groups met without a command first, then the inputs a command sets).
+fn assemble(groups: &[Group<'_>], per_group: &[Vec<Support>], choice: &[usize]) -> Requirement {
+    let mut requirement = Requirement {
+        modes: Vec::new(),
+        controls: Vec::new(),
+        conditions: Vec::new(),
+        satisfied_by: Vec::new(),
+    };
+    let mut inputs = Vec::new();
+    for ((group, supports), &pick) in groups.iter().zip(per_group).zip(choice) {
+        let support = &supports[pick];
+        if support.controls.is_empty() {
+            requirement
+                .conditions
+                .extend(support.modes.iter().map(|&(u, v)| Condition::Mode(u, v)));
+        } else {
+            inputs.extend(group.parts.iter().map(|p| Condition::Input((*p).clone())));
+        }
+        requirement.modes.extend(&support.modes);
+        requirement.controls.extend(&support.controls);
+    }
+    requirement.conditions.extend(inputs);
+    requirement.modes.sort_unstable();
+    requirement.controls.sort_unstable();
+    requirement
 }
 
 /// Compiles guards into [`Requirement`]s with its own copy of the plant's theory.
@@ -196,37 +294,33 @@ impl<'a> GuardCompiler<'a> {
         })
     }
 
-    /// What the guard of a transition of `component` leaving `source` needs.
-    pub fn requirement(
+    /// What the guard of a transition of `component` leaving `source` needs: every minimal
+    /// alternative, cheapest first (see the module doc), or why none exists.
+    pub fn requirements(
         &mut self,
         component: ComponentId,
         source: ValueId,
         guard: &Formula,
-    ) -> Result<Result<Requirement, Unplannable>, TheoryError> {
-        let mut requirement = Requirement {
-            modes: Vec::new(),
-            controls: Vec::new(),
-            conditions: Vec::new(),
-        };
-        let mut inputs = Vec::new();
-        for group in groups(self.plant, self.influence, component, guard) {
-            let Some(support) = self.solve(component, source, &group)? else {
-                return Ok(Err(self.unplannable(&group)));
-            };
-            if support.controls.is_empty() {
-                requirement
-                    .conditions
-                    .extend(support.modes.iter().map(|&(u, v)| Condition::Mode(u, v)));
-            } else {
-                inputs.extend(group.parts.iter().map(|p| Condition::Input((*p).clone())));
+    ) -> Result<Result<Vec<Requirement>, Unplannable>, TheoryError> {
+        let groups = groups(self.plant, self.influence, component, guard);
+        let mut per_group = Vec::with_capacity(groups.len());
+        for group in &groups {
+            let supports = self.solve(component, source, group)?;
+            if supports.is_empty() {
+                return Ok(Err(self.unplannable(group)));
             }
-            requirement.modes.extend(support.modes);
-            requirement.controls.extend(support.controls);
+            per_group.push(supports);
         }
-        requirement.conditions.extend(inputs);
-        requirement.modes.sort_unstable();
-        requirement.controls.sort_unstable();
-        if !self.jointly_consistent(component, source, &requirement) {
+        let mut alternatives = Vec::new();
+        for choice in combinations(&per_group, MAX_ALTERNATIVES) {
+            let mut requirement = assemble(&groups, &per_group, &choice);
+            if self.jointly_consistent(component, source, &requirement) {
+                requirement.satisfied_by =
+                    self.equivalents(component, source, &requirement, guard)?;
+                alternatives.push(requirement);
+            }
+        }
+        if alternatives.is_empty() {
             return Ok(Err(Unplannable {
                 reason: format!(
                     "the parts of `{}` need commands or modes that exclude each other",
@@ -234,7 +328,46 @@ impl<'a> GuardCompiler<'a> {
                 ),
             }));
         }
-        Ok(Ok(requirement))
+        alternatives.sort_by_key(|r| (r.controls.len(), r.modes.len()));
+        Ok(Ok(alternatives))
+    }
+
+    /// Per sub-goal of `requirement`, the other modes of its component (fault modes too) that
+    /// make `guard` hold as well, the rest of the requirement unchanged.
+    fn equivalents(
+        &mut self,
+        component: ComponentId,
+        source: ValueId,
+        requirement: &Requirement,
+        guard: &Formula,
+    ) -> Result<Vec<(ComponentId, ValueId)>, TheoryError> {
+        let upstream: Vec<ComponentId> = requirement.modes.iter().map(|&(u, _)| u).collect();
+        let query = Query {
+            component,
+            source,
+            upstream: &upstream,
+            controls: requirement
+                .controls
+                .iter()
+                .map(|&(x, v)| Literal::Is(x, v))
+                .collect(),
+        };
+        let mut out = Vec::new();
+        for (i, &(u, v)) in requirement.modes.iter().enumerate() {
+            for w in 0..self.plant.component(u).modes().len() as u32 {
+                let w = ValueId(w);
+                if w == v {
+                    continue;
+                }
+                let mut modes = requirement.modes.clone();
+                modes[i] = (u, w);
+                if self.supports(&self.assumptions(&query, &modes), guard)? {
+                    out.push((u, w));
+                }
+            }
+        }
+        out.sort_unstable();
+        Ok(out)
     }
 
     fn unplannable(&self, group: &Group<'_>) -> Unplannable {
@@ -283,18 +416,19 @@ impl<'a> GuardCompiler<'a> {
         self.theory.entails(assumptions, formula)
     }
 
-    /// The support with the fewest commands, then the fewest sub-goals (see the module doc).
+    /// Every minimal support with the fewest commands that work, fewest sub-goals first (see the
+    /// module doc); empty when no command and no upstream modes make the group hold.
     fn solve(
         &mut self,
         component: ComponentId,
         source: ValueId,
         group: &Group<'_>,
-    ) -> Result<Option<Support>, TheoryError> {
+    ) -> Result<Vec<Support>, TheoryError> {
         let formula = Formula::all(group.parts.iter().map(|p| (*p).clone()));
         let controls = &group.deps.controls;
         let mut budget = CANDIDATE_BUDGET;
         for k in 0..=controls.len() {
-            let mut best: Option<Support> = None;
+            let mut found: Vec<Support> = Vec::new();
             'commands: for chosen in choose(controls.len(), k) {
                 for command in self.command_combinations(controls, &chosen) {
                     let query = Query {
@@ -303,24 +437,23 @@ impl<'a> GuardCompiler<'a> {
                         upstream: &group.deps.modes,
                         controls: self.control_literals(controls, &command),
                     };
-                    if let Some(modes) = self.best_modes(&query, &formula, &mut budget)? {
-                        if best.as_ref().is_none_or(|b| modes.len() < b.modes.len()) {
-                            best = Some(Support {
-                                modes,
-                                controls: command,
-                            });
-                        }
+                    for modes in self.minimal_modes(&query, &formula, &mut budget)? {
+                        found.push(Support {
+                            modes,
+                            controls: command.clone(),
+                        });
                     }
-                    if budget == 0 || best.as_ref().is_some_and(|b| b.modes.is_empty()) {
+                    // Nothing beats a support that needs no sub-goal.
+                    if budget == 0 || found.iter().any(|s| s.modes.is_empty()) {
                         break 'commands;
                     }
                 }
             }
-            if best.is_some() || budget == 0 {
-                return Ok(best);
+            if !found.is_empty() || budget == 0 {
+                return Ok(minimal_supports(found));
             }
         }
-        Ok(None)
+        Ok(Vec::new())
     }
 
     /// Every assignment of non-idle values to the chosen controls (the others stay idle).
@@ -386,77 +519,66 @@ impl<'a> GuardCompiler<'a> {
             .collect()
     }
 
-    /// Under the query's commands, the smallest set of upstream modes that makes `formula`
-    /// hold, if any.
-    fn best_modes(
+    /// Under the query's commands, every minimal set of upstream modes that makes `formula`
+    /// hold: partial assignments of the upstream components by increasing size, each kept when
+    /// it supports the formula and contains no smaller support already kept. A support stays
+    /// one when more components are fixed (entailment is monotone), so this finds exactly the
+    /// minimal ones.
+    fn minimal_modes(
         &mut self,
         query: &Query<'_>,
         formula: &Formula,
         budget: &mut usize,
-    ) -> Result<Option<Vec<(ComponentId, ValueId)>>, TheoryError> {
+    ) -> Result<Vec<Vec<(ComponentId, ValueId)>>, TheoryError> {
         *budget = budget.saturating_sub(1);
         let free = self.assumptions(query, &[]);
         // Any support is consistent with the formula, so one check rules most commands out.
         let mut with_formula = free.clone();
         with_formula.push(self.theory.define(formula)?);
         if self.theory.consistent(&with_formula) != Consistency::Consistent {
-            return Ok(None);
+            return Ok(Vec::new());
         }
         if self.supports(&free, formula)? {
-            return Ok(Some(Vec::new()));
+            return Ok(vec![Vec::new()]);
         }
-        let sizes: Vec<usize> = query
-            .upstream
-            .iter()
-            .map(|u| self.nominal_modes[u.index()].len())
-            .collect();
-        if sizes.is_empty() || sizes.contains(&0) {
-            return Ok(None);
-        }
-        let mut digits = vec![0; sizes.len()];
-        let mut best: Option<Vec<(ComponentId, ValueId)>> = None;
-        loop {
-            if *budget == 0 {
-                return Ok(best);
-            }
-            *budget -= 1;
-            let modes: Vec<(ComponentId, ValueId)> = query
-                .upstream
-                .iter()
-                .zip(&digits)
-                .map(|(&u, &d)| (u, self.nominal_modes[u.index()][d]))
-                .collect();
-            if self.supports(&self.assumptions(query, &modes), formula)? {
-                let minimal = self.shrink(query, modes, formula)?;
-                if best.as_ref().is_none_or(|b| minimal.len() < b.len()) {
-                    best = Some(minimal);
+        let upstream = query.upstream;
+        let mut found: Vec<Vec<(ComponentId, ValueId)>> = Vec::new();
+        for size in 1..=upstream.len() {
+            for chosen in choose(upstream.len(), size) {
+                let sizes: Vec<usize> = chosen
+                    .iter()
+                    .map(|&i| self.nominal_modes[upstream[i].index()].len())
+                    .collect();
+                if sizes.contains(&0) {
+                    continue;
+                }
+                let mut digits = vec![0; size];
+                loop {
+                    if *budget == 0 {
+                        return Ok(found);
+                    }
+                    *budget -= 1;
+                    let modes: Vec<(ComponentId, ValueId)> = chosen
+                        .iter()
+                        .zip(&digits)
+                        .map(|(&i, &d)| {
+                            let u = upstream[i];
+                            (u, self.nominal_modes[u.index()][d])
+                        })
+                        .collect();
+                    let covered = found
+                        .iter()
+                        .any(|smaller| smaller.iter().all(|m| modes.contains(m)));
+                    if !covered && self.supports(&self.assumptions(query, &modes), formula)? {
+                        found.push(modes);
+                    }
+                    if !advance(&mut digits, &sizes) {
+                        break;
+                    }
                 }
             }
-            if !advance(&mut digits, &sizes) {
-                return Ok(best);
-            }
         }
-    }
-
-    /// Deletion-based shrinking: drop each sub-goal whose absence (the component free over its
-    /// nominal modes) still entails the formula.
-    fn shrink(
-        &mut self,
-        query: &Query<'_>,
-        mut modes: Vec<(ComponentId, ValueId)>,
-        formula: &Formula,
-    ) -> Result<Vec<(ComponentId, ValueId)>, TheoryError> {
-        let mut i = 0;
-        while i < modes.len() {
-            let mut fewer = modes.clone();
-            fewer.remove(i);
-            if self.supports(&self.assumptions(query, &fewer), formula)? {
-                modes = fewer;
-            } else {
-                i += 1;
-            }
-        }
-        Ok(modes)
+        Ok(found)
     }
 
     /// The whole requirement is consistent (its groups' supports do not contradict).
@@ -558,6 +680,72 @@ mod tests {
         assert!(!to_b.is_idle());
         let wait = requirement(step(&reconfiguration, &plant, "gadget", "a", "e"));
         assert!(wait.is_idle() && wait.modes.is_empty() && wait.conditions.is_empty());
+    }
+
+    /// DESIGN.md §9 (redundancy): the payload of `models/power.ron` is powered through
+    /// regulator A or regulator B; both minimal alternatives are compiled, cheapest first.
+    #[test]
+    fn every_minimal_alternative_of_a_guard_is_compiled() {
+        let plant = model("power");
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let step = step(&reconfiguration, &plant, "payload", "unpowered", "powered");
+        let mode = |c: &str, m: &str| {
+            (
+                component(&plant, c),
+                super::super::testing::mode(&plant, c, m),
+            )
+        };
+        let ways: Vec<Vec<(crate::plant::ComponentId, crate::logic::ValueId)>> = step
+            .alternatives
+            .iter()
+            .map(|r| {
+                let mut modes = r.modes.clone();
+                modes.sort_unstable();
+                modes
+            })
+            .collect();
+        let with = |regulator: &str| {
+            let mut modes = vec![
+                mode("battery", "charged"),
+                mode(regulator, "on"),
+                mode("load_switch", "closed"),
+            ];
+            modes.sort_unstable();
+            modes
+        };
+        assert_eq!(ways, [with("reg_a"), with("reg_b")]);
+        assert!(step.alternatives.iter().all(Requirement::is_idle));
+        assert_eq!(step.requirement.as_ref().ok(), step.alternatives.first());
+    }
+
+    /// A fault mode that makes the guard hold as the sub-goal's mode does is recorded: the
+    /// thermostat's switch stuck open keeps its heater off exactly as `open` does. Transitions
+    /// between the same two modes are candidates of one move.
+    #[test]
+    fn a_fault_that_serves_a_sub_goal_is_recorded() {
+        let plant = model("thermostat");
+        let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+        let temperature = component(&plant, "temperature");
+        let (cold, warming) = (
+            mode(&plant, "temperature", "cold"),
+            mode(&plant, "temperature", "warming"),
+        );
+        let policy = reconfiguration.policy(temperature);
+        let switch1 = component(&plant, "switch1");
+        let (open, stuck_open) = (
+            mode(&plant, "switch1", "open"),
+            mode(&plant, "switch1", "stuck-open"),
+        );
+        // The three transitions cold -> warming (heater 1, heater 2, both) are one move's
+        // candidates; the second needs switch 1 open.
+        assert_eq!(policy.candidates_between(cold, warming).count(), 3);
+        let (_, heater2) = policy
+            .candidates_between(cold, warming)
+            .find(|(_, r)| r.modes.contains(&(switch1, open)))
+            .expect("the transition on heater 2 alone needs switch 1 open");
+        assert!(heater2.satisfied_by.contains(&(switch1, stuck_open)));
+        assert!(heater2.is_met(switch1, open, stuck_open));
+        assert!(!heater2.is_met(switch1, open, mode(&plant, "switch1", "closed")));
     }
 
     #[test]

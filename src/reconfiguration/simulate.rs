@@ -53,6 +53,12 @@ pub enum PlanOutcome {
     },
     /// The step limit was reached first.
     StepLimit,
+    /// The run came back to a state it had already been in: these components went round
+    /// (the goal state is one the plant leaves by itself, see [`GoalState::leaving`]).
+    Oscillating {
+        /// The components whose modes changed between the two visits.
+        components: Vec<ComponentId>,
+    },
 }
 
 /// A simulated run from a start state to a goal state.
@@ -73,7 +79,7 @@ pub(crate) fn simulate_nominal(
     max_steps: usize,
 ) -> Result<NominalRun, StepError> {
     let mut state = start.to_vec();
-    let mut steps = Vec::new();
+    let mut steps: Vec<PlanStep> = Vec::new();
     for _ in 0..max_steps {
         let action = reconfiguration.next_action(&state, goal);
         match action {
@@ -95,6 +101,19 @@ pub(crate) fn simulate_nominal(
             moves,
             state: state.clone(),
         });
+        // A nominal run that comes back to a state goes round for ever: say who goes round.
+        let earlier = std::iter::once(start)
+            .chain(steps[..steps.len() - 1].iter().map(|s| s.state.as_slice()))
+            .position(|seen| seen == state.as_slice());
+        if let Some(first) = earlier {
+            let mut components: Vec<ComponentId> = steps[first..]
+                .iter()
+                .flat_map(|s| s.moves.iter().map(|m| m.component))
+                .collect();
+            components.sort_unstable();
+            components.dedup();
+            return Ok(finish(steps, PlanOutcome::Oscillating { components }));
+        }
     }
     Ok(finish(steps, PlanOutcome::StepLimit))
 }

@@ -3,15 +3,22 @@
 //! SCENARIO` exits non-zero when one fails").
 //!
 //! *Eventual* expectations (`Estimated`, `Commanded`, `Diagnosed`, `Achieved`, `GoalFailed`,
-//! `Completed`, `Reported`, `Fired`, `Failed`, and `EstimatedAt`, `XGoalActive` at their time)
-//! are met at the first cycle that shows them inside their window and fail if the run ends
-//! without one; *never* expectations (`NeverEstimated`, `NeverCommanded`, `NeverReported`,
-//! `NeverFired`, `NeverFailed`) fail at the first cycle inside their window that shows what they
-//! exclude and hold otherwise.
+//! `Completed`, `Reported`, `Fired`, `Failed`, `Recovered`, and `EstimatedAt`, `XGoalActive` at
+//! their time) are met at the first cycle that shows them inside their window and fail if the
+//! run ends without one; *never* expectations (`NeverEstimated`, `NeverCommanded`,
+//! `NeverReported`, `NeverFired`, `NeverFailed`, `NeverXGoalActive`) fail at the first cycle
+//! inside their window that shows what they exclude and hold otherwise, and so does the
+//! invariant `Always(that: …)` at the first cycle its condition ([`Condition`]) does not hold.
+//!
+//! `Reported` and `NeverReported` may say what the event must say (`saying: "…"`): a part of
+//! its text as the mission log prints it — the goals a refusal names, a forced point's
+//! lateness, the response taken, the tactic chosen and why another was rejected.
 
+use super::condition::{Condition, Cycle};
 use super::format::EventName;
 use super::script::{Delay, ScriptedPlant, TIME_EPSILON};
-use crate::executive::{Event, EventKind, Step};
+use crate::diagnostic::Source;
+use crate::executive::{Event, EventKind, Step, describe_event};
 use crate::logic::{Formula, ValueId, VarId, VarTable};
 use crate::plant::{ComponentId, Plant};
 use crate::sequencer::LocationId;
@@ -131,10 +138,12 @@ pub enum ExpectationKind {
         /// When.
         window: Window,
     },
-    /// An event of this kind is reported in the window.
+    /// An event of this kind is reported in the window (saying this, if given).
     Reported {
         /// The kind.
         event: EventName,
+        /// A part of its text as the log prints it.
+        saying: Option<String>,
         /// When.
         window: Window,
     },
@@ -144,10 +153,12 @@ pub enum ExpectationKind {
         /// The alternatives.
         members: Vec<ExpectationKind>,
     },
-    /// No event of this kind is reported in the window.
+    /// No event of this kind (saying this, if given) is reported in the window.
     NeverReported {
         /// The kind.
         event: EventName,
+        /// A part of its text as the log prints it.
+        saying: Option<String>,
         /// When.
         window: Window,
     },
@@ -189,6 +200,31 @@ pub enum ExpectationKind {
         /// The time.
         time: f64,
     },
+    /// The mission's goal (by name), having failed, is reported holding again in the window.
+    Recovered {
+        /// The goal's name.
+        goal: String,
+        /// When.
+        window: Window,
+    },
+    /// At no cycle in the window is an XGoal active on the state variable (merging this goal,
+    /// if one is given).
+    NeverXGoalActive {
+        /// The state variable.
+        sv: ComponentId,
+        /// A constituent goal's name.
+        goal: Option<String>,
+        /// When.
+        window: Window,
+    },
+    /// The condition holds at every cycle in the window (an invariant `kairos explore` checks
+    /// on every path).
+    Always {
+        /// The condition.
+        condition: Condition,
+        /// When.
+        window: Window,
+    },
 }
 
 impl ExpectationKind {
@@ -201,6 +237,8 @@ impl ExpectationKind {
                 | ExpectationKind::NeverReported { .. }
                 | ExpectationKind::NeverFired { .. }
                 | ExpectationKind::NeverFailed { .. }
+                | ExpectationKind::NeverXGoalActive { .. }
+                | ExpectationKind::Always { .. }
         )
     }
 }
@@ -249,6 +287,8 @@ pub(crate) struct Names<'a> {
     pub(crate) plant: &'a Plant,
     pub(crate) world: &'a VarTable,
     pub(crate) controls: &'a [(VarId, ValueId)],
+    /// The program or mission, for the events' text (`saying`).
+    pub(crate) program: &'a Source,
 }
 
 /// Checks a scenario's expectations cycle by cycle.
@@ -267,8 +307,10 @@ pub(crate) struct Checker<'a> {
     /// Commands matched so far, for each `CommandsInOrder` expectation.
     matched: Vec<usize>,
     /// The mission's active XGoals: per state variable, its end point and constituent goals
-    /// (from the dispatch and firing events).
+    /// (from the dispatch, withdrawal and firing events).
     active: Vec<ActiveXGoal>,
+    /// Per expectation, the flags of its condition's `Once`s (`Always` only).
+    memory: Vec<Vec<bool>>,
 }
 
 /// An XGoal active on a state variable, as its dispatch reported it.
@@ -281,10 +323,17 @@ struct ActiveXGoal {
 
 impl<'a> Checker<'a> {
     pub(crate) fn new(expectations: &'a [Expectation], names: Names<'a>) -> Self {
+        let memory = (expectations.iter())
+            .map(|e| match &e.kind {
+                ExpectationKind::Always { condition, .. } => vec![false; condition.slots()],
+                _ => Vec::new(),
+            })
+            .collect();
         Checker {
             progress: vec![Progress::Open; expectations.len()],
             late: vec![None; expectations.len()],
             matched: vec![0; expectations.len()],
+            memory,
             expectations,
             names,
             goals: Vec::new(),
@@ -317,7 +366,8 @@ impl<'a> Checker<'a> {
     /// Feeds what decides the verdicts still to come to `state` (exploration's deduplication):
     /// each expectation's progress (open, met or failed, not when or why), the commands of
     /// each sequence matched so far, the goals asserted (an achievement is matched by its
-    /// text), whether a diagnosis came late, and the mission's active XGoals.
+    /// text), whether a diagnosis came late, the mission's active XGoals and the invariants'
+    /// `Once` flags.
     pub(crate) fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
         use std::hash::Hash;
         for progress in &self.progress {
@@ -331,6 +381,7 @@ impl<'a> Checker<'a> {
         for active in &self.active {
             (active.sv, &active.end, &active.goals).hash(state);
         }
+        self.memory.hash(state);
     }
 
     /// Checks one cycle.
@@ -363,6 +414,7 @@ impl<'a> Checker<'a> {
             EventKind::TimePointFired { point, .. } | EventKind::TimePointForced { point, .. } => {
                 self.active.retain(|a| &a.end != point);
             }
+            EventKind::XGoalWithdrawn { sv, .. } => self.active.retain(|a| a.sv != *sv),
             EventKind::XGoalDispatched {
                 sv,
                 interval: (_, end),
@@ -522,8 +574,13 @@ impl<'a> Checker<'a> {
                         .iter()
                         .any(|e| matches!(e.kind, EventKind::ProgramCompleted))
             }
-            K::Reported { event, window } => {
-                window.contains(t) && step.events.iter().any(|e| is(*event, e))
+            K::Reported {
+                event,
+                saying,
+                window,
+            } => {
+                window.contains(t)
+                    && (step.events.iter()).any(|e| self.reports(*event, saying.as_deref(), e))
             }
             K::Fired { point, window } => window.contains(t) && Self::fired(point, step),
             K::NeverFired { point, window } => {
@@ -550,11 +607,15 @@ impl<'a> Checker<'a> {
                     Err(why) => Progress::Failed(format!("at {}, {why}", seconds(t))),
                 };
             }
-            K::NeverReported { event, window } => {
+            K::NeverReported {
+                event,
+                saying,
+                window,
+            } => {
                 if let Some(e) = step
                     .events
                     .iter()
-                    .find(|e| window.contains(t) && is(*event, e))
+                    .find(|e| window.contains(t) && self.reports(*event, saying.as_deref(), e))
                 {
                     return Progress::Failed(format!(
                         "reported at {} ({:?})",
@@ -564,12 +625,72 @@ impl<'a> Checker<'a> {
                 }
                 return Progress::Open;
             }
+            K::Recovered { goal, window } => window.contains(t)
+                && step.events.iter().any(
+                    |e| matches!(&e.kind, EventKind::GoalRecovered { goal: g, .. } if g == goal),
+                ),
+            K::NeverXGoalActive { sv, goal, window } => {
+                if window.contains(t) && self.xgoal_active(*sv, goal.as_deref()).is_ok() {
+                    let what = self.active.iter().find(|a| a.sv == *sv);
+                    let goals = what.map(|a| a.goals.join(", ")).unwrap_or_default();
+                    return Progress::Failed(format!(
+                        "at {} an XGoal merging {goals} was active",
+                        seconds(t)
+                    ));
+                }
+                return Progress::Open;
+            }
+            K::Always { condition, window } => {
+                let mut memory = std::mem::take(&mut self.memory[i]);
+                let holds = self.condition_holds(condition, &mut memory, step, plant);
+                self.memory[i] = memory;
+                if window.contains(t) && !holds {
+                    return Progress::Failed(format!("not at {}", seconds(t)));
+                }
+                return Progress::Open;
+            }
         };
         if shown {
             Progress::Met(t)
         } else {
             Progress::Open
         }
+    }
+
+    /// Whether `event` is of kind `name` and, if `saying` is given, says it (its text as the
+    /// mission log prints it contains it).
+    fn reports(&self, name: EventName, saying: Option<&str>, event: &Event) -> bool {
+        is(name, event)
+            && saying.is_none_or(|text| {
+                describe_event(self.names.plant, self.names.program, &event.kind)
+                    .1
+                    .contains(text)
+            })
+    }
+
+    /// Whether `condition` holds at this cycle (updating its `Once` flags in `memory`).
+    fn condition_holds(
+        &self,
+        condition: &Condition,
+        memory: &mut [bool],
+        step: &Step,
+        plant: &ScriptedPlant<'_>,
+    ) -> bool {
+        let held = |var: VarId| plant.value(var);
+        let active = |goal: &str| {
+            self.active
+                .iter()
+                .any(|a| a.goals.iter().any(|g| g == goal))
+        };
+        let cycle = Cycle {
+            plant: self.names.plant,
+            world: self.names.world,
+            step,
+            held: &held,
+            active: &active,
+            is,
+        };
+        condition.holds(&cycle, memory)
     }
 
     /// The next command of a `CommandsInOrder` expectation.

@@ -28,6 +28,8 @@ pub(super) struct ScenarioFile {
     #[serde(default)]
     pub(super) kappa: Option<i64>,
     #[serde(default)]
+    pub(super) chatter_cycles: Option<i64>,
+    #[serde(default)]
     pub(super) deadline: Option<f64>,
     #[serde(default)]
     pub(super) believed: Entries<String>,
@@ -115,6 +117,7 @@ pub(super) struct RuleFile {
 pub(super) enum TriggerFile {
     Command(String),
     Estimate(String),
+    While(String),
     Time(f64),
     Cycle(i64),
     Optional {
@@ -212,6 +215,8 @@ pub(super) enum ExpectFile {
     Reported {
         event: EventName,
         #[serde(default)]
+        saying: Option<String>,
+        #[serde(default)]
         after: Option<f64>,
         #[serde(default)]
         by: Option<f64>,
@@ -219,6 +224,8 @@ pub(super) enum ExpectFile {
     AnyOf(Vec<ExpectFile>),
     NeverReported {
         event: EventName,
+        #[serde(default)]
+        saying: Option<String>,
         #[serde(default)]
         from: Option<f64>,
         #[serde(default)]
@@ -259,6 +266,43 @@ pub(super) enum ExpectFile {
         goal: Option<String>,
         time: f64,
     },
+    Recovered {
+        goal: String,
+        #[serde(default)]
+        after: Option<f64>,
+        #[serde(default)]
+        by: Option<f64>,
+    },
+    NeverXGoalActive {
+        sv: String,
+        #[serde(default)]
+        goal: Option<String>,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+    Always {
+        that: ConditionFile,
+        #[serde(default)]
+        from: Option<f64>,
+        #[serde(default)]
+        to: Option<f64>,
+    },
+}
+
+/// A condition on one cycle, for `Always(that: ...)` (`simulation::condition`).
+#[derive(Deserialize)]
+pub(super) enum ConditionFile {
+    Plant(String),
+    Estimated(String),
+    Reported(EventName),
+    Active(String),
+    Not(Box<ConditionFile>),
+    All(Vec<ConditionFile>),
+    Any(Vec<ConditionFile>),
+    Implies(Box<ConditionFile>, Box<ConditionFile>),
+    Once(Box<ConditionFile>),
 }
 
 /// The kinds of executive event an expectation can name (`Reported(event: Diagnosis)`).
@@ -335,6 +379,18 @@ pub enum EventName {
     PromotionFailed,
     /// The safe network was promoted.
     Safing,
+    /// A mission goal that had failed holds again.
+    GoalRecovered,
+    /// The mission's network has points left that nothing will fire.
+    NetworkStalled,
+    /// A goal of the safe network was dropped (it could not be scheduled).
+    SafeGoalDropped,
+    /// A promotion took the active XGoal off a state variable.
+    XGoalWithdrawn,
+    /// A command would have left a mode an active goal requires (withheld).
+    GoalContradicted,
+    /// A component was commanded back into a mode it was commanded out of within N cycles.
+    Chatter,
 }
 
 impl EventName {
@@ -377,6 +433,12 @@ impl EventName {
             E::Promoted { .. } => EventName::Promoted,
             E::PromotionFailed { .. } => EventName::PromotionFailed,
             E::Safing { .. } => EventName::Safing,
+            E::GoalRecovered { .. } => EventName::GoalRecovered,
+            E::NetworkStalled { .. } => EventName::NetworkStalled,
+            E::SafeGoalDropped { .. } => EventName::SafeGoalDropped,
+            E::XGoalWithdrawn { .. } => EventName::XGoalWithdrawn,
+            E::GoalContradicted { .. } => EventName::GoalContradicted,
+            E::Chatter { .. } => EventName::Chatter,
         }
     }
 }
@@ -424,6 +486,7 @@ mod tests {
         reference::add::<DelayFile>(&mut tracer);
         reference::add::<TriggerFile>(&mut tracer);
         reference::add::<SimulatorFile>(&mut tracer);
+        reference::add::<ConditionFile>(&mut tracer);
         reference::add::<ExpectFile>(&mut tracer);
         reference::add::<ScriptFile>(&mut tracer);
         reference::add::<ScenarioFile>(&mut tracer);
@@ -438,6 +501,7 @@ mod tests {
                 ("DeliverFile", "scenario.md", "Deliveries"),
                 ("SimulatorFile", "scenario.md", "A model-driven plant"),
                 ("ExpectFile", "scenario.md", "Expectations"),
+                ("ConditionFile", "scenario.md", "Conditions"),
                 ("EventName", "scenario.md", "Event kinds"),
                 ("Network", "mission.md", "`Network(...)`"),
                 ("Constraint", "mission.md", "`Constraint(...)`"),

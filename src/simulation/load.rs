@@ -12,7 +12,7 @@ use crate::diagnostic::{
     Diagnostic, ReadError, Source, SourceErrors, Span, did_you_mean, ron_error,
 };
 use crate::diagnostic::{LoadErrors, resolve_path};
-use crate::executive::ScheduledMission;
+use crate::executive::{CHATTER_CYCLES, ScheduledMission};
 use crate::goalnet::{display, mission};
 use crate::logic::{self, Formula, ValueId, VarId, VarTable};
 use crate::plant::{ComponentId, Plant};
@@ -121,7 +121,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, LoadErrors> 
     let declared: Vec<String> = (parts.iter())
         .flat_map(|(_, part)| part.rules.iter().map(|rule| rule.name.clone()))
         .collect();
-    let mission = program.mission().map(|m| &m.mission().network);
+    let mission = program.mission().map(|m| m.mission());
     let mut script = super::load_script::script(&plant, mission, &mut parts, settings.end);
     drop(parts);
     script.pinned = super::load_script::pinned(&mut ctx, &file.choose, &script);
@@ -165,6 +165,7 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, LoadErrors> 
         cycle: settings.cycle,
         end: settings.end,
         kappa: settings.kappa,
+        chatter_cycles: settings.chatter_cycles,
         deadline: settings.deadline,
         script,
         model,
@@ -217,6 +218,7 @@ struct Settings {
     cycle: f64,
     end: f64,
     kappa: usize,
+    chatter_cycles: u64,
     deadline: Option<Duration>,
 }
 
@@ -253,6 +255,19 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
             DEFAULT_KAPPA
         }
     };
+    let chatter_cycles = match file.chatter_cycles {
+        None => CHATTER_CYCLES,
+        Some(n) if n >= 1 => u64::try_from(n).unwrap_or(u64::MAX),
+        Some(n) => {
+            ctx.error(
+                &[Step::Field("chatter_cycles")],
+                format!("a chatter window of {n} cycles sees no return"),
+                "the number of cycles within which a command back into a mode left is chatter, \
+                 at least 1",
+            );
+            CHATTER_CYCLES
+        }
+    };
     let deadline = file.deadline.and_then(|d| {
         // `try_from_secs_f64`, not `from_secs_f64`: a deadline past `Duration::MAX` (1e20 s)
         // panics in the latter.
@@ -277,6 +292,7 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
         cycle,
         end,
         kappa,
+        chatter_cycles,
         deadline,
     }
 }
@@ -675,13 +691,14 @@ mod tests {
         );
     }
 
-    /// A scenario without `name` is named after its file; κ defaults; hidden variables start
-    /// at their first value.
+    /// A scenario without `name` is named after its file; κ and the chatter window default;
+    /// hidden variables start at their first value.
     #[test]
     fn defaults() {
         let scenario = engine_camera(r#"hidden: { "weather": ["calm", "storm"] }"#);
         assert_eq!(scenario.name, "test");
         assert_eq!(scenario.kappa, DEFAULT_KAPPA);
+        assert_eq!(scenario.chatter_cycles, CHATTER_CYCLES);
         assert_eq!(scenario.deadline, None);
         let weather = scenario.script.hidden()[0];
         assert_eq!(scenario.script.initial(), [(weather, ValueId(0))]);
@@ -692,7 +709,7 @@ mod tests {
     fn bad_numbers_are_reported_together() {
         let text = "Scenario(program: \"programs/engine_burn.rmpl\", \
                     plant: \"models/engine_camera.ron\", cycle: 0.0, end: -1.0, kappa: 0, \
-                    deadline: -0.5)";
+                    chatter_cycles: 0, deadline: -0.5)";
         let errors = load_source(
             &Source::new("bad.ron", text),
             Path::new(env!("CARGO_MANIFEST_DIR")),
@@ -703,6 +720,7 @@ mod tests {
             "cycle period 0 is not a positive number of seconds",
             "end time -1 is not a time",
             "κ = 0 tracks no state",
+            "a chatter window of 0 cycles sees no return",
             "cycle deadline -0.5 is not a positive number of seconds",
         ] {
             assert!(

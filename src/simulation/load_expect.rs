@@ -1,8 +1,9 @@
 //! Loading a scenario's expectations, each problem located in the scenario file.
 
 use super::ScenarioProgram;
+use super::condition::Condition;
 use super::expect::{Expectation, ExpectationKind, Window};
-use super::format::{DelayFile, ExpectFile};
+use super::format::{ConditionFile, DelayFile, EventName, ExpectFile};
 use super::load::{FileCtx, VarClasses, Vars, formula};
 use super::script::{Delay, Script};
 use crate::diagnostic::locate::Step;
@@ -32,18 +33,66 @@ pub(super) fn expectations(
             .map_or_else(Vec::new, |t| program_goals(plant, t)),
         names: program.mission().map(|m| {
             let mission = m.mission();
-            mission.elaborators.names(&mission.network, &mission.safe)
+            let mut names = mission.elaborators.names(&mission.network, &mission.safe);
+            // What the tactics of a typed goal a rule submits will name.
+            let submitted = script
+                .rules()
+                .iter()
+                .filter_map(|r| r.effect.submit.as_ref());
+            for goal in submitted.flat_map(|s| &s.goals) {
+                if let Some(t) = goal.goal_type {
+                    mission
+                        .elaborators
+                        .add_elaborated(&goal.name, t, &mut names);
+                }
+            }
+            names
         }),
         end,
     };
-    files
+    let mut expectations: Vec<Expectation> = files
         .iter()
         .enumerate()
         .filter_map(|(i, file)| {
             let at = [Step::Field("expect"), Step::Index(i)];
             loader.expectation(ctx, &at, file)
         })
+        .collect();
+    expectations.extend(invariants(&expectations));
+    expectations
+}
+
+/// The events every scenario fails on unless one of its expectations names them (DESIGN.md
+/// §9): a command against an active goal, and chatter.
+pub(super) const INVARIANT_EVENTS: [EventName; 2] =
+    [EventName::GoalContradicted, EventName::Chatter];
+
+/// `NeverReported` for each of [`INVARIANT_EVENTS`] that no expectation of the scenario names
+/// (a scenario that expects one says so, `Reported(event: Chatter, ...)`, and is judged by that).
+fn invariants(expectations: &[Expectation]) -> Vec<Expectation> {
+    INVARIANT_EVENTS
+        .iter()
+        .filter(|&&event| !expectations.iter().any(|e| names_event(&e.kind, event)))
+        .map(|&event| Expectation {
+            label: format!("never reported {event:?} (checked in every scenario)"),
+            kind: ExpectationKind::NeverReported {
+                event,
+                saying: None,
+                window: Window::ALWAYS,
+            },
+        })
         .collect()
+}
+
+/// True when the expectation is about events of this kind.
+fn names_event(kind: &ExpectationKind, name: EventName) -> bool {
+    match kind {
+        ExpectationKind::Reported { event, .. } | ExpectationKind::NeverReported { event, .. } => {
+            *event == name
+        }
+        ExpectationKind::AnyOf { members } => members.iter().any(|m| names_event(m, name)),
+        _ => false,
+    }
 }
 
 /// The goals the program's locations assert, displayed as the executive reports them.
@@ -215,12 +264,22 @@ impl ExpectLoader<'_> {
                 },
                 format!("program completed{}", eventual(*after, *by)),
             ),
-            F::Reported { event, after, by } => (
+            F::Reported {
+                event,
+                saying,
+                after,
+                by,
+            } => (
                 K::Reported {
                     event: *event,
+                    saying: self.saying(ctx, at, saying.as_deref())?,
                     window: self.window(ctx, at, ("after", *after), ("by", *by))?,
                 },
-                format!("reported {event:?}{}", eventual(*after, *by)),
+                format!(
+                    "reported {event:?}{}{}",
+                    quoted(saying.as_deref()),
+                    eventual(*after, *by)
+                ),
             ),
             F::AnyOf(members) => {
                 let (members, labels) = self.members(ctx, at, members)?;
@@ -229,13 +288,60 @@ impl ExpectLoader<'_> {
                     format!("any of: {}", labels.join("; ")),
                 )
             }
-            F::NeverReported { event, from, to } => (
+            F::NeverReported {
+                event,
+                saying,
+                from,
+                to,
+            } => (
                 K::NeverReported {
                     event: *event,
+                    saying: self.saying(ctx, at, saying.as_deref())?,
                     window: self.window(ctx, at, ("from", *from), ("to", *to))?,
                 },
-                format!("never reported {event:?}{}", during(*from, *to)),
+                format!(
+                    "never reported {event:?}{}{}",
+                    quoted(saying.as_deref()),
+                    during(*from, *to)
+                ),
             ),
+            F::Recovered { goal, after, by } => (
+                K::Recovered {
+                    goal: self.network_goal(ctx, at, goal)?,
+                    window: self.window(ctx, at, ("after", *after), ("by", *by))?,
+                },
+                format!("mission goal {goal} recovered{}", eventual(*after, *by)),
+            ),
+            F::NeverXGoalActive { sv, goal, from, to } => {
+                self.names(ctx, at)?;
+                let component = self.component(ctx, at, sv)?;
+                let checked = match goal {
+                    Some(goal) => Some(self.network_goal(ctx, at, goal)?),
+                    None => None,
+                };
+                let with = goal
+                    .as_deref()
+                    .map_or_else(String::new, |g| format!(" with {g}"));
+                (
+                    K::NeverXGoalActive {
+                        sv: component,
+                        goal: checked,
+                        window: self.window(ctx, at, ("from", *from), ("to", *to))?,
+                    },
+                    format!("no XGoal{with} active on {sv}{}", during(*from, *to)),
+                )
+            }
+            F::Always { that, from, to } => {
+                let mut slots = 0;
+                let condition = self.condition(ctx, &field(at, "that"), that, &mut slots)?;
+                (
+                    K::Always {
+                        condition,
+                        window: self.window(ctx, at, ("from", *from), ("to", *to))?,
+                    },
+                    format!("always {}{}", describe(that), during(*from, *to)),
+                )
+            }
             F::Fired { point, after, by } => (
                 K::Fired {
                     point: self.point(ctx, at, point)?,
@@ -512,6 +618,93 @@ impl ExpectLoader<'_> {
         }
     }
 
+    /// `saying`: a non-empty part of an event's text.
+    fn saying(
+        &self,
+        ctx: &mut FileCtx,
+        at: &[Step<'_>],
+        saying: Option<&str>,
+    ) -> Option<Option<String>> {
+        match saying {
+            Some("") => {
+                ctx.error(
+                    &field(at, "saying"),
+                    "an empty `saying` says nothing",
+                    "a part of the event's text as the log prints it",
+                );
+                None
+            }
+            other => Some(other.map(str::to_string)),
+        }
+    }
+
+    /// A condition of `Always` at `path`; each `Once` takes the next of `slots`.
+    fn condition(
+        &self,
+        ctx: &mut FileCtx,
+        path: &[Step<'_>],
+        file: &ConditionFile,
+        slots: &mut usize,
+    ) -> Option<Condition> {
+        use ConditionFile as C;
+        let inner = |k: usize| [path, &[Step::Index(k)]].concat();
+        let formula = |ctx: &mut FileCtx, text: &str, vars| {
+            formula(
+                ctx,
+                &inner(0),
+                text,
+                &self.script.world,
+                vars,
+                &self.classes,
+            )
+        };
+        let condition = match file {
+            C::Plant(text) => Condition::Plant(formula(ctx, text, Vars::Held)?),
+            C::Estimated(text) => Condition::Estimated(formula(ctx, text, Vars::Modes)?),
+            C::Reported(event) => Condition::Reported(*event),
+            C::Active(goal) => {
+                let names = self.names(ctx, path)?;
+                let submitted = (self.submissions()).flat_map(|s| s.goals.iter().map(|g| &g.name));
+                if !(names.has_goal(goal) || submitted.clone().any(|g| g == goal)) {
+                    let all = names.goals.iter().chain(submitted).map(String::as_str);
+                    self.known(ctx, &inner(0), goal, all, "goal")?;
+                }
+                Condition::Active(goal.clone())
+            }
+            C::Not(c) => Condition::Not(Box::new(self.condition(ctx, &inner(0), c, slots)?)),
+            C::All(cs) | C::Any(cs) => {
+                let before = ctx.errors.len();
+                let members: Vec<Condition> = (cs.iter().enumerate())
+                    .filter_map(|(k, c)| {
+                        let at = [path, &[Step::Index(0), Step::Index(k)]].concat();
+                        self.condition(ctx, &at, c, slots)
+                    })
+                    .collect();
+                if ctx.errors.len() != before {
+                    return None;
+                }
+                match file {
+                    C::All(_) => Condition::All(members),
+                    _ => Condition::Any(members),
+                }
+            }
+            C::Implies(a, b) => {
+                let a = self.condition(ctx, &inner(0), a, slots);
+                let b = self.condition(ctx, &inner(1), b, slots);
+                Condition::Implies(Box::new(a?), Box::new(b?))
+            }
+            C::Once(c) => {
+                let condition = Box::new(self.condition(ctx, &inner(0), c, slots)?);
+                *slots += 1;
+                Condition::Once {
+                    condition,
+                    slot: *slots - 1,
+                }
+            }
+        };
+        Some(condition)
+    }
+
     /// A goal the program asserts, displayed as the executive reports it.
     fn goal(&self, ctx: &mut FileCtx, at: &[Step<'_>], text: &str) -> Option<String> {
         let formula = self.formula(ctx, at, "goal", text, Vars::Plant)?;
@@ -626,6 +819,33 @@ fn during(from: Option<f64>, to: Option<f64>) -> String {
         (Some(a), None) => format!(" from {a} s"),
         (None, Some(b)) => format!(" until {b} s"),
         (Some(a), Some(b)) => format!(" from {a} s to {b} s"),
+    }
+}
+
+/// ` saying "…"`, or nothing.
+fn quoted(saying: Option<&str>) -> String {
+    saying.map_or_else(String::new, |s| format!(" saying \"{s}\""))
+}
+
+/// A condition in words, for the label of `Always`: `(if stay-warm active then the plant has
+/// temp != cold)`.
+fn describe(condition: &ConditionFile) -> String {
+    use ConditionFile as C;
+    let list = |cs: &[ConditionFile], joint: &str| {
+        let parts: Vec<String> = cs.iter().map(describe).collect();
+        format!("({})", parts.join(joint))
+    };
+    let squeezed = |text: &str| text.split_whitespace().collect::<Vec<_>>().join(" ");
+    match condition {
+        C::Plant(text) => format!("the plant has {}", squeezed(text)),
+        C::Estimated(text) => format!("ŝ has {}", squeezed(text)),
+        C::Reported(event) => format!("{event:?} reported"),
+        C::Active(goal) => format!("{goal} active"),
+        C::Not(c) => format!("not {}", describe(c)),
+        C::All(cs) => list(cs, " and "),
+        C::Any(cs) => list(cs, " or "),
+        C::Implies(a, b) => format!("(if {} then {})", describe(a), describe(b)),
+        C::Once(c) => format!("once {}", describe(c)),
     }
 }
 

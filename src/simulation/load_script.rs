@@ -7,16 +7,17 @@ use super::script::{Delay, Effect, Rule, Script, TIME_EPSILON, Trigger};
 use crate::diagnostic::locate::{Entries, Step};
 use crate::diagnostic::{Diagnostic, did_you_mean};
 use crate::executive::{NamedValue, Submission};
-use crate::goalnet::GoalNetwork;
+use crate::goalnet::Mission;
 use crate::goalnet::mission::{NetworkFile, resolve_submission};
 use crate::logic::{ValueId, VarId, VarTable};
 use crate::plant::Plant;
 
 /// The script of a scenario: `parts` are the included files' then the scenario's own; `mission`
-/// is the scenario's mission's network, if it runs one (rules may submit goals to it).
+/// is the scenario's mission, if it runs one (rules may submit goals to its network, of its
+/// goal types).
 pub(super) fn script(
     plant: &Plant,
-    mission: Option<&GoalNetwork>,
+    mission: Option<&Mission>,
     parts: &mut [(&mut FileCtx, ScriptParts<'_>)],
     end: f64,
 ) -> Script {
@@ -30,7 +31,6 @@ pub(super) fn script(
         initial_values(ctx, part, &classes, &mut script);
     }
     let mut loader = RuleLoader {
-        plant,
         mission,
         world: &script.world,
         classes: &classes,
@@ -153,9 +153,8 @@ fn held_value(
 }
 
 struct RuleLoader<'a> {
-    plant: &'a Plant,
-    /// The mission's network, as loaded (`None`: the scenario runs RMPL).
-    mission: Option<&'a GoalNetwork>,
+    /// The mission, as loaded (`None`: the scenario runs RMPL).
+    mission: Option<&'a Mission>,
     world: &'a VarTable,
     classes: &'a VarClasses,
     end: f64,
@@ -226,6 +225,9 @@ impl RuleLoader<'_> {
             TriggerFile::Estimate(text) => {
                 formula(ctx, &inner, text, self.world, Vars::Modes, self.classes)
                     .map(Trigger::Estimate)
+            }
+            TriggerFile::While(text) => {
+                formula(ctx, &inner, text, self.world, Vars::Held, self.classes).map(Trigger::While)
             }
             &TriggerFile::Time(at) => {
                 if !(at.is_finite() && at >= 0.0) {
@@ -412,7 +414,7 @@ impl RuleLoader<'_> {
             );
             return None;
         };
-        match resolve_submission(&ctx.source, path, self.plant, mission, network) {
+        match resolve_submission(&ctx.source, path, mission, network) {
             Ok(submission) => Some(submission),
             Err(diagnostics) => {
                 for diagnostic in diagnostics {

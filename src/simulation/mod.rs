@@ -26,6 +26,8 @@
 //!     end: 300.0,                           // the last cycle is at or before this time;
 //!                                           // at most 10⁷ cycles (`MAX_CYCLES`), below
 //!     kappa: 5,                             // optional (default 10): states tracked by estimation
+//!     chatter_cycles: 20,                   // optional (default 10): a command back into a mode
+//!                                           // left within this many cycles is `Chatter`
 //!     deadline: 0.05,                       // optional: wall-time budget per cycle, seconds
 //!     believed: { "switch1": "stuck-open" },   // optional: the executive starts certain of
 //!                                           // these modes (a fault known before the run,
@@ -82,6 +84,12 @@
 //! - `Estimate("engine = heating")` — a formula over component modes, tested against ŝ, the
 //!   executive's most likely mode of each component: fires when it (and the condition) comes to
 //!   hold.
+//! - `While("temp = cold and sw1 = closed")` — a formula over the plant's own values
+//!   (observables and hidden variables), tested with time rules: fires each time it (and the
+//!   condition) comes to hold, and an effect of it still pending when it stops holding is
+//!   dropped. A process that needs a condition to last — the device reaches 20 °C after 65 s
+//!   of one heater on — is then faithful to a fault at any cycle, where a command rule's delay
+//!   lands whatever happened since (`scenarios/thermostat/physics.ron`).
 //! - `Time(16800.0)` — fires at the first cycle at or after that time at which the condition
 //!   holds; once. In the scenario itself a time after `end` is an error; an included script's
 //!   may lie beyond a short scenario's end, and never fire.
@@ -156,16 +164,19 @@
 //!     ),
 //! ),
 //! ```
-//! The network is read by the mission loader (`goalnet::mission`): points, constraints and
-//! goals mean and are checked exactly as in a mission file, the goals' constraints resolved
+//! The network is read by the mission loader (`goalnet::mission`): points, constraints, macros
+//! and goals mean and are checked exactly as in a mission file, the goals' constraints resolved
 //! against the plant. A submission names the mission's points and its own (not another
-//! submission's); it adds goals only, so `macros` and a goal's `type` are errors, and so is
-//! `submit` in a scenario that runs an RMPL program. A rule may `submit` beside `set`, `drop` or
-//! `garble`, or alone. The submission is made when the rule's effect shows, before the
-//! executive's cycle, so that cycle schedules and dispatches it. A submission that cannot be
-//! scheduled with the running network (inconsistent, unmergeable, unachievable) is refused —
-//! the network runs on unchanged — and the cycle reports a `SubmissionRefused` event with the
-//! reason (the log's `REFUSED` line). Expectations may name submitted points and goals
+//! submission's); a goal or macro may name one of the mission's goal types (`type:
+//! "StayWarm"`), and is then elaborated by its tactics when the submission is promoted (the
+//! seeds' "submit StayWarm at 10 s"). `submit` in a scenario that runs an RMPL program is an
+//! error. A rule may `submit` beside `set`, `drop` or `garble`, or alone. The submission is made
+//! at the time of the cycle the rule's effect shows in, before the executive's cycle, so that
+//! cycle schedules and dispatches it. A submission that cannot be scheduled with the running
+//! network (inconsistent, unmergeable, unachievable, or a point whose window lies before that
+//! time) is refused — the network runs on unchanged — and the cycle reports a
+//! `SubmissionRefused` event with the reason (the log's `REFUSED` line), naming every running
+//! goal it conflicts with. Expectations may name submitted points and goals
 //! (`Fired(point: "TP_S2")`, `XGoalActive(goal: "stay-warm-2", ...)`).
 //!
 //! ## A model-driven plant
@@ -219,7 +230,10 @@
 //!                                   // (Estimated, Commanded, Diagnosed, Achieved,
 //!                                   // GoalFailed, Completed, Reported)
 //! Reported(event: ObservationRejected),                // any executive event, by kind
-//! NeverReported(event: EstimatorInconsistency),
+//! Reported(event: ResponseTaken, saying: "→ safing"),  // ... whose text (as the log prints
+//!                                   // it) contains this: the goals a refusal names, a forced
+//!                                   // point's lateness, the response taken, the tactic chosen
+//! NeverReported(event: EstimatorInconsistency),        // (`saying` allowed too)
 //! ```
 //! Event kinds: `GoalAsserted`, `GoalAchieved`, `GoalFailed`, `Retrying`, `GoalConflict`, `Preempted`,
 //! `ClockStarted`, `ModeChanged`, `Diagnosis`, `CommandIssued`, `Repair` (a command that repairs
@@ -227,8 +241,9 @@
 //! `ObservationRejected`, `ObservationsMissing`, `DeadlineOverrun`, `ProgramCompleted`, and for
 //! missions `TimePointFired`, `TimePointForced`, `XGoalDispatched`, `MissionGoalFailed`,
 //! `TemporalInconsistency`, `SubmissionRefused`, `TacticChosen`, `TacticRejected`,
-//! `ResponseTaken`, `Promoted`, `PromotionFailed`, `Safing`, and for a goal delegated to a
-//! controller `ConstraintSent`, `ControllerCommand`, `ConstraintEnded`, `ConstraintWithdrawn`.
+//! `ResponseTaken`, `Promoted`, `PromotionFailed`, `Safing`, `GoalRecovered`, `NetworkStalled`,
+//! `SafeGoalDropped`, `XGoalWithdrawn`, and for a goal delegated to a controller
+//! `ConstraintSent`, `ControllerCommand`, `ConstraintEnded`, `ConstraintWithdrawn`.
 //!
 //! ## Missions
 //!
@@ -245,7 +260,29 @@
 //! NeverFailed(goal: "stay-warm", to: 204.0),           // `goal` optional: no goal failed
 //! XGoalActive(sv: "switch1", goal: "heater1", time: 200.0),  // at the first cycle at or after
 //!                                   // `time`, an XGoal is active on the SV (merging `goal`)
+//! NeverXGoalActive(sv: "switch1", goal: "heater1", from: 77.0), // no cycle of the window has
+//!                                   // one (`goal` optional): a retired goal stays retired
+//! Recovered(goal: "know-temperature", by: 110.0),      // having failed, it holds again
 //! ```
+//!
+//! ## Invariants
+//!
+//! `Always(that: CONDITION, from: …, to: …)` holds when the condition holds at every cycle of
+//! the window (both optional); `kairos explore` checks it on every path. Conditions
+//! ([`Condition`]) speak of one cycle and combine:
+//! ```ron
+//! Plant("temp != cold")              // the scripted plant's TRUE values (observables, hidden)
+//! Estimated("temperature = cold")    // ŝ
+//! Reported(Safing)                   // an event of this kind in the cycle
+//! Active("stay-warm")                // an XGoal merging this mission goal is active
+//! Not(…), All([…]), Any([…]), Implies(…, …)
+//! Once(…)                            // held at this cycle or an earlier one
+//! ```
+//! "No path safes while a working heater could keep the device warm":
+//! `Always(that: Implies(Reported(Safing), Not(Plant("…a heater works…"))))`; "none loses warmth
+//! while a heater works": `Always(that: Implies(All([Once(Plant("temp = warm")),
+//! Active("stay-warm")]), Plant("temp != cold")))`
+//! (`scenarios/thermostat/explore_a_stuck_switch.ron`).
 //!
 //! ## The run
 //!
@@ -264,6 +301,7 @@
 //! Every problem in a scenario, script, model or program is reported with its file, line and
 //! column, the text and what was expected there.
 
+mod condition;
 mod expect;
 mod format;
 mod latent;
@@ -279,6 +317,7 @@ mod script;
 
 use std::time::Duration;
 
+pub use condition::Condition;
 pub(crate) use expect::{Checker, Names};
 pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
 pub use format::EventName;
@@ -358,6 +397,8 @@ pub struct Scenario {
     pub end: f64,
     /// κ for mode estimation.
     pub kappa: usize,
+    /// The executive's chatter window, in cycles (DESIGN.md §9; `chatter_cycles`).
+    pub chatter_cycles: u64,
     /// The wall-time deadline of a cycle.
     pub deadline: Option<Duration>,
     /// The scripted plant.

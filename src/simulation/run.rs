@@ -139,6 +139,7 @@ pub fn run(
             plant: &scenario.plant,
             world: &scenario.script.world,
             controls: &scenario.script.controls,
+            program: &scenario.program_source,
         },
     );
     let mut clock = SimulatedClock::new(0.0, scenario.cycle);
@@ -151,7 +152,7 @@ pub fn run(
     let mut last_time;
     let stop = loop {
         let observation = plant.observe(time);
-        let refused = submit_due(plant.rules_mut(), &mut executive);
+        let refused = submit_due(plant.rules_mut(), &mut executive, time);
         let mut step = executive.step(time, &observation)?;
         report_refusals(&mut step, refused);
         let command: Vec<NamedValue> = step
@@ -314,7 +315,9 @@ pub(crate) fn build(scenario: &Scenario, options: RunOptions) -> Result<Executiv
     for &(component, mode) in &scenario.believed {
         plant = plant.believing(component, mode);
     }
-    let mut builder = Executive::builder(plant, scenario.program.clone()).kappa(scenario.kappa);
+    let mut builder = Executive::builder(plant, scenario.program.clone())
+        .kappa(scenario.kappa)
+        .chatter_cycles(scenario.chatter_cycles);
     if let Some(deadline) = scenario.deadline {
         builder = builder.cycle_deadline(deadline);
     }
@@ -324,23 +327,26 @@ pub(crate) fn build(scenario: &Scenario, options: RunOptions) -> Result<Executiv
     builder.build()
 }
 
-/// Submits to the executive the goals of the rules whose effect showed in this cycle's
-/// observation (`submit:`), before its cycle runs — so that the cycle schedules and dispatches
-/// them; the refusals, as events (what the rule submitted and why it was refused).
+/// Submits to the executive, at `time` (the cycle's), the goals of the rules whose effect
+/// showed in this cycle's observation (`submit:`), before its cycle runs — so that the cycle
+/// schedules and dispatches them; the refusals, as events (what the rule submitted, why it was
+/// refused, the running goals it conflicts with).
 pub(crate) fn submit_due(
     plant: &mut ScriptedPlant<'_>,
     executive: &mut Executive,
+    time: f64,
 ) -> Vec<EventKind> {
     let script = plant.script();
     plant
         .take_submissions()
         .into_iter()
         .filter_map(|(rule, submission)| {
-            let reason = executive.submit(submission).err()?;
+            let error = executive.submit(submission, time).err()?;
             Some(EventKind::SubmissionRefused {
                 by: script.rules()[rule].name.clone(),
                 goals: submission.goals.iter().map(|g| g.name.clone()).collect(),
-                reason: reason.to_string(),
+                reason: error.to_string(),
+                conflicts: error.conflicts().to_vec(),
             })
         })
         .collect()
@@ -418,7 +424,9 @@ mod tests {
             ]"#,
         );
         assert!(!outcome.passed());
-        let reasons: Vec<&str> = outcome.verdicts.iter().map(reason).collect();
+        // The four written ones; the invariants every scenario checks (DESIGN.md §9) follow
+        // and hold.
+        let reasons: Vec<&str> = outcome.verdicts[..4].iter().map(reason).collect();
         assert_eq!(reasons[0], "at 10.000 s ŝ had engine = heating");
         assert_eq!(
             reasons[1],

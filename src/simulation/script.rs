@@ -12,8 +12,10 @@
 //! Order within cycle i at time t(i) (DESIGN.md §3: an observation at t(i+1) reflects the
 //! commands of t(i)):
 //! 1. [`observe`](MonitorAdapter::observe): effects due at cycle i are applied (in the order
-//!    their rules fired); then time and cycle rules whose moment has come fire, in declaration
-//!    order (an effect without delay applies at once); the observation is reported.
+//!    their rules fired); then time and cycle rules whose moment has come, and `While` rules
+//!    whose condition has come to hold, fire, in declaration order (an effect without delay
+//!    applies at once), and a `While` rule whose condition no longer holds loses the effects it
+//!    has pending; the observation is reported.
 //! 2. The executive runs its cycle.
 //! 3. [`send`](ControlAdapter::send): command rules fire on μ(i); their effects are due at cycle
 //!    i + 1 at the earliest.
@@ -149,6 +151,12 @@ pub enum Trigger {
     /// When ŝ, the most likely mode of each component, comes to satisfy the formula over mode
     /// variables (with the condition: when both come to hold).
     Estimate(Formula),
+    /// When the plant's own values (observables and hidden variables) come to satisfy the
+    /// formula — each time they do — and only for as long as they go on satisfying it: an effect
+    /// still pending when the formula stops holding is dropped. A physical process that needs a
+    /// condition to last ("the device reaches 20 °C after 65 s of one heater on") is faithful to
+    /// a fault at any cycle, as a command-triggered delay is not.
+    While(Formula),
     /// The first cycle at or after this time (in seconds) at which the condition holds.
     Time(f64),
     /// The first cycle at or after this one (numbered from 0) at which the condition holds.
@@ -415,7 +423,8 @@ impl<'s> ScriptedPlant<'s> {
                 match rule.trigger {
                     Trigger::Time(at) => spent || at > end + TIME_EPSILON,
                     Trigger::Cycle(_) => spent,
-                    Trigger::Command(_) | Trigger::Estimate(_) => true,
+                    // Values change only by effects: with none pending they keep their edge.
+                    Trigger::Command(_) | Trigger::Estimate(_) | Trigger::While(_) => true,
                     Trigger::Optional { .. } => spent || self.pin(i).is_none_or(|at| at > end),
                 }
             })
@@ -531,10 +540,14 @@ impl<'s> ScriptedPlant<'s> {
         let cycle = self.current_cycle();
         let script = self.script;
         for (i, rule) in script.rules.iter().enumerate() {
-            let reached = match rule.trigger {
+            let reached = match &rule.trigger {
                 Trigger::Time(at) => self.time >= at - TIME_EPSILON,
-                Trigger::Cycle(n) => cycle >= n,
+                Trigger::Cycle(n) => cycle >= *n,
                 Trigger::Command(_) | Trigger::Estimate(_) => continue,
+                Trigger::While(formula) => {
+                    self.sustain(i, formula, rule);
+                    continue;
+                }
                 Trigger::Optional { .. } => {
                     let pinned = self.pin(i).is_some_and(|at| self.time >= at - TIME_EPSILON);
                     let chosen = pinned || self.forced.contains(&i);
@@ -550,6 +563,20 @@ impl<'s> ScriptedPlant<'s> {
             if rising && self.fired[i] == 0 {
                 self.fire(i);
             }
+        }
+    }
+
+    /// A `While` rule at this cycle: it fires when its formula (and condition) comes to hold,
+    /// and its pending effects are dropped when they stop holding.
+    fn sustain(&mut self, i: usize, formula: &Formula, rule: &Rule) {
+        let script = self.script;
+        let now = formula.eval_assignment(&script.world, &|var| self.value(var)) == Some(true)
+            && self.condition_holds(rule);
+        let was = std::mem::replace(&mut self.held[i], now);
+        if now && !was {
+            self.fire(i);
+        } else if was && !now {
+            self.pending.retain(|p| p.rule != i);
         }
     }
 
@@ -839,6 +866,39 @@ mod tests {
         assert_eq!(observed(&reports[5], "engine.temp"), Some("low"));
         assert_eq!(observed(&reports[5], "engine.colour"), None);
         assert!(plant.is_quiet(100.0));
+    }
+
+    /// A `While` rule fires when its condition comes to hold and drops its pending effect when
+    /// it stops: the engine's heat lasting 3 cycles makes it nominal, an interruption at the
+    /// second cycle cancels that, and the condition back fires it again.
+    #[test]
+    fn a_while_rule_lands_only_if_its_condition_lasts() {
+        let scenario = engine_camera(&format!(
+            r#"{INITIAL} hidden: {{ "heat": ["off", "on"] }},
+            rules: [
+                Rule(name: "on", on: Cycle(1), set: {{ "heat": "on" }}),
+                Rule(name: "off", on: Cycle(2), set: {{ "heat": "off" }}),
+                Rule(name: "on again", on: Cycle(3), set: {{ "heat": "on" }}),
+                Rule(name: "warms", on: While("heat = on"), after: Cycles(3),
+                     set: {{ "engine.temp": "nominal" }}),
+            ]"#
+        ));
+        let mut plant = ScriptedPlant::new(&scenario.script);
+        let temps: Vec<Option<String>> = (0..8)
+            .map(|i| {
+                let report = plant.observe(f64::from(i));
+                observed(&report, "engine.temp").map(str::to_string)
+            })
+            .collect();
+        let low = Some("low".to_string());
+        let nominal = Some("nominal".to_string());
+        assert_eq!(
+            temps[..6],
+            vec![low; 6],
+            "the first heating was cut at cycle 2"
+        );
+        assert_eq!(temps[6], nominal, "3 cycles after it came back at cycle 3");
+        assert_eq!(plant.times_fired(3), 2);
     }
 
     #[test]

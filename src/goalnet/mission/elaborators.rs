@@ -9,7 +9,8 @@
 //!     GoalType(name: "StayWarm", response: ReElaborate, budget: 3, tactics: [
 //!         Tactic(
 //!             name: "heater 1",                 // optional; default "tactic N"
-//!             // New points, fresh at every elaboration (`TP_A`, then `TP_A′`).
+//!             // New points, fresh at every elaboration (`stay-warm.TP_A`, then
+//!             // `stay-warm#2.TP_A`).
 //!             points: ["TP_A"],
 //!             // Between `start`/`end` (the parent's points) and the tactic's own points.
 //!             constraints: [Constraint(from: "TP_A", to: "start", min: 60.0, max: 150.0)],
@@ -95,15 +96,19 @@ struct ChildFile {
 }
 
 /// A macro or goal of a network file, with where it is and the type it names.
-struct Listed<'a> {
-    list: &'static str,
-    index: usize,
-    name: &'a str,
-    goal_type: Option<&'a str>,
+pub(super) struct Listed<'a> {
+    /// `macros` or `goals`.
+    pub(super) list: &'static str,
+    /// Its index in that list.
+    pub(super) index: usize,
+    /// Its name.
+    pub(super) name: &'a str,
+    /// The goal type it names.
+    pub(super) goal_type: Option<&'a str>,
 }
 
-/// A network's macros, then its goals.
-fn listed(net: &super::NetworkFile) -> Vec<Listed<'_>> {
+/// A network's macros, then its goals (the order the loader adds them to the network).
+pub(super) fn listed(net: &super::NetworkFile) -> Vec<Listed<'_>> {
     let macros = net.macros.iter().enumerate().map(|(index, m)| Listed {
         list: "macros",
         index,
@@ -330,7 +335,8 @@ impl Loader<'_> {
         }
     }
 
-    fn goal_type(
+    /// The goal type `name` names, or a located error.
+    pub(super) fn goal_type(
         &mut self,
         elaborators: &Elaborators,
         path: &[Step],

@@ -273,6 +273,18 @@ impl Builder<'_, '_> {
             EventKind::PlanFailed { reason } => {
                 self.trouble(time, "plan-failed", "plan failed", reason)
             }
+            EventKind::GoalContradicted { goal, command, .. } => self.trouble(
+                time,
+                "plan-failed",
+                "command withheld",
+                &format!("{} would break {goal}", command.join(", ")),
+            ),
+            EventKind::Chatter { mode, cycles, .. } => self.trouble(
+                time,
+                "plan-failed",
+                "chatter",
+                &format!("commanded back into {mode} after {cycles} cycles"),
+            ),
             EventKind::ObservationRejected { .. } => self.omit("rejected observations"),
             EventKind::ObservationsMissing { .. } => {
                 self.omit("changes in the missing observations")
@@ -289,7 +301,7 @@ impl Builder<'_, '_> {
                 late_by,
             } => self.time_point(time, point, *window, Some(*late_by)),
             // A bar on its state variable's lane (`xgoals`).
-            EventKind::XGoalDispatched { .. } => {}
+            EventKind::XGoalDispatched { .. } | EventKind::XGoalWithdrawn { .. } => {}
             EventKind::MissionGoalFailed {
                 goal,
                 reason,
@@ -301,7 +313,9 @@ impl Builder<'_, '_> {
                 &shorten(&format!("goal failed: {goal}"), MAX_LABEL),
                 &format!("{goal} — {reason}; ŝ has {mode} (p {probability:.2})"),
             ),
-            EventKind::SubmissionRefused { by, goals, reason } => self.trouble(
+            EventKind::SubmissionRefused {
+                by, goals, reason, ..
+            } => self.trouble(
                 time,
                 "submission-refused",
                 "submission refused",
@@ -315,10 +329,23 @@ impl Builder<'_, '_> {
             ),
             // Safing ends the mission's plan: drawn, with its cause in the tooltip.
             EventKind::Safing { cause } => self.trouble(time, "safing", "safing", cause),
+            EventKind::NetworkStalled { points } => self.trouble(
+                time,
+                "network-stalled",
+                "network stalled",
+                &points.join("; "),
+            ),
+            EventKind::SafeGoalDropped { goal, reason } => self.trouble(
+                time,
+                "safe-goal-dropped",
+                &shorten(&format!("safe goal dropped: {goal}"), MAX_LABEL),
+                reason,
+            ),
             // The responses' chains are in the mission log; the timeline counts them.
             EventKind::TacticChosen { .. }
             | EventKind::TacticRejected { .. }
             | EventKind::ResponseTaken { .. }
+            | EventKind::GoalRecovered { .. }
             | EventKind::Promoted { .. }
             | EventKind::PromotionFailed { .. } => self.omit("goal-network responses"),
             // The protocol's messages of a delegated goal are in the mission log; its failure

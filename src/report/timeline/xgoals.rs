@@ -122,6 +122,12 @@ pub(super) fn collect(
                     close(open.remove(k), time, &mut bars);
                 }
             }
+            // A promotion took it off its lane.
+            EventKind::XGoalWithdrawn { sv, .. } => {
+                if let Some(k) = open.iter().position(|o| o.lane == sv.index()) {
+                    close(open.remove(k), time, &mut bars);
+                }
+            }
             EventKind::MissionGoalFailed { goal, .. } => {
                 for bar in open.iter_mut().filter(|o| o.goals.contains(goal)) {
                     bar.failed.get_or_insert(time);
