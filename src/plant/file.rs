@@ -302,14 +302,42 @@ pub fn load(source: &Source) -> Result<Plant, SourceErrors> {
     };
     let plant = loader.plant(&file);
     if !loader.errors.is_empty() {
-        return Err(fail(loader.errors));
+        return Err(fail(once_per_type(loader.errors)));
     }
     let errors = validate::check(&plant, &loader.places);
     if errors.is_empty() {
         Ok(plant)
     } else {
-        Err(fail(errors))
+        Err(fail(once_per_type(errors)))
     }
+}
+
+/// An error in a type's body is found once per instance, at the same place: it is reported
+/// for the first instance, with a note counting the others (fifteen breakers, one mistake).
+fn once_per_type(errors: Vec<Diagnostic>) -> Vec<Diagnostic> {
+    let mut kept: Vec<Diagnostic> = Vec::with_capacity(errors.len());
+    let mut repeats: Vec<usize> = Vec::new();
+    let mut first_at: HashMap<(usize, usize), usize> = HashMap::new();
+    for diagnostic in errors {
+        if !diagnostic.related.is_empty() {
+            let key = (diagnostic.span.start, diagnostic.span.end);
+            if let Some(&k) = first_at.get(&key) {
+                repeats[k] += 1;
+                continue;
+            }
+            first_at.insert(key, kept.len());
+        }
+        kept.push(diagnostic);
+        repeats.push(0);
+    }
+    kept.into_iter()
+        .zip(repeats)
+        .map(|(d, n)| match n {
+            0 => d,
+            1 => d.note("the same in 1 other instance"),
+            n => d.note(format!("the same in {n} other instances")),
+        })
+        .collect()
 }
 
 struct Loader {
