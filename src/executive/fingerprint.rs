@@ -6,7 +6,7 @@
 //! clock starts, and its probability rounded to [`PROBABILITY_RESOLUTION`]), ŝ, the control program's
 //! state (the sequencer's marking, clock references and open half-cycle, or the mission's
 //! firing times, active XGoals and failed goals), the intended configuration, the last command
-//! μ (estimation's next step reads it), and what has been reported already (which decides the
+//! μ (estimation's next step reads it), the monitors' state, and what has been reported already (which decides the
 //! events of later cycles). What is not: caches that are pure functions of what is hashed
 //! (goal interpretation's last answer, the sequencer's entailment answers, the estimator's
 //! memo, the last observation's typed form) and history (the timelines), which no decision
@@ -47,6 +47,7 @@ impl Executive {
                 .for_each(|named| named.hash(state));
         }
         self.last_command.hash(state);
+        self.monitoring.fingerprint(state);
         let reported = &self.reported;
         reported.goal_locations.hash(state);
         reported.asserted.hash(state);

@@ -38,7 +38,7 @@
 //! )
 //! ```
 //! A component that repeats is written once as a **type** and instantiated by name
-//! ([`types`] has the rules): in a type, `self` is the instance and a number may be the name of
+//! (`src/plant/file/types.rs` has the rules): in a type, `self` is the instance and a number may be the name of
 //! one of the type's parameters; an instance gives parameter values or takes the defaults; an
 //! indexed name (`b[0..14]`) writes several instances, controls, observables or connections at
 //! once. Loading expands them: the plant is the one the components written out would give.
@@ -73,6 +73,10 @@
 //! ```
 //! An error in a type's body points at the type's text and at the instance it was expanded for.
 //!
+//! An observable may be **numeric**: `monitors: { "bus.voltage": Monitor(...) }` says how its
+//! readings become qualitative values (`src/plant/file/monitors.rs` has the
+//! format, [`monitor`](super::monitor) the semantics).
+//!
 //! Semantics (thesis §6.1, DESIGN.md §6.2): a transition is enabled when the constraint store
 //! (the current modes' constraints, the interconnections and the commands) entails its guard;
 //! a mode stays with the probability its enabled transitions leave (no explicit self-loops); a
@@ -83,6 +87,7 @@
 //! component and mode it concerns. Formulas are the constraint language of DESIGN.md §4.
 
 mod component;
+mod monitors;
 pub(crate) mod types;
 
 use std::collections::{HashMap, HashSet};
@@ -111,6 +116,8 @@ struct PlantFile {
     observables: Vec<String>,
     #[serde(default)]
     connections: Vec<String>,
+    #[serde(default)]
+    monitors: Entries<monitors::MonitorFile>,
 }
 
 /// `Type(...)`: a component written once, instantiated by `Component(name, type)`.
@@ -375,6 +382,7 @@ impl Loader {
         let controls = self.controls(file);
         let observables = self.observables(file, &controls);
         let connections = self.connections(file);
+        let monitors = self.monitors(&file.monitors, &observables);
         let mut component_of = vec![None; self.table.len()];
         for (i, component) in components.iter().enumerate() {
             component_of[component.mode_var.index()] = Some(ComponentId(i as u32));
@@ -386,6 +394,7 @@ impl Loader {
             controls,
             observables,
             connections,
+            monitors,
             component_of,
         }
     }

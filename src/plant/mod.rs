@@ -19,6 +19,7 @@
 //!   shared with mode estimation.
 
 pub mod file;
+pub mod monitor;
 mod step;
 mod timing;
 mod validate;
@@ -34,6 +35,7 @@ pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{BOUND_TOLERANCE, Timing, TransitionLaw, mode_distribution};
 
 use crate::diagnostic::{Source, SourceErrors};
+use monitor::Monitor;
 use crate::logic::{Formula, ValueId, VarId, VarTable};
 use crate::opsat::{Theory, TheoryError, TheoryOptions};
 
@@ -192,6 +194,8 @@ pub struct Plant {
     controls: Vec<Control>,
     observables: Vec<VarId>,
     connections: Vec<Formula>,
+    /// The monitors of numeric observables.
+    monitors: Vec<Monitor>,
     /// For each variable of the table, the component whose mode variable it is.
     component_of: Vec<Option<ComponentId>>,
 }
@@ -285,6 +289,17 @@ impl Plant {
     /// The observable variables (`Π^o`).
     pub fn observables(&self) -> &[VarId] {
         &self.observables
+    }
+
+    /// The monitors of the numeric observables, in declaration order
+    /// ([`monitor`](self::monitor)).
+    pub fn monitors(&self) -> &[Monitor] {
+        &self.monitors
+    }
+
+    /// The position in [`Plant::monitors`] of the monitor of `var`, if it is numeric.
+    pub fn monitor_of(&self, var: VarId) -> Option<usize> {
+        self.monitors.iter().position(|m| m.observable == var)
     }
 
     /// The interconnection constraints (`Q`).

@@ -296,6 +296,10 @@ pub enum EventName {
     SearchCut,
     /// An observation was ignored (unknown name or value).
     ObservationRejected,
+    /// A numeric observable's monitor changed its value.
+    Monitored,
+    /// A numeric observable's readings went stale.
+    Stale,
     /// The set of unreported observables changed.
     ObservationsMissing,
     /// A cycle overran its deadline.
@@ -357,6 +361,8 @@ impl EventName {
             E::EstimatorInconsistency { .. } => EventName::EstimatorInconsistency,
             E::SearchCut(_) => EventName::SearchCut,
             E::ObservationRejected { .. } => EventName::ObservationRejected,
+            E::Monitored { .. } => EventName::Monitored,
+            E::Stale { .. } => EventName::Stale,
             E::ObservationsMissing { .. } => EventName::ObservationsMissing,
             E::DeadlineOverrun { .. } => EventName::DeadlineOverrun,
             E::ProgramCompleted => EventName::ProgramCompleted,

@@ -502,9 +502,8 @@ impl ControlAdapter for ModelPlant<'_> {
                 let var = table
                     .variable_id(&c.variable)
                     .ok_or_else(|| format!("`{}` is not a variable of the plant", c.variable))?;
-                let value = table
-                    .variable(var)
-                    .value(&c.value)
+                let value = (c.value.symbol())
+                    .and_then(|name| table.variable(var).value(name))
                     .ok_or_else(|| format!("`{c}`: no such value"))?;
                 Ok((var, value))
             })

@@ -610,9 +610,8 @@ impl<'s> ScriptedPlant<'s> {
                 .variable_id(&assignment.variable)
                 .filter(|v| self.script.controls.iter().any(|(c, _)| c == v))
                 .ok_or_else(|| format!("no actuator for {assignment}: not a control"))?;
-            let value = world
-                .variable(var)
-                .value(&assignment.value)
+            let value = (assignment.value.symbol())
+                .and_then(|name| world.variable(var).value(name))
                 .ok_or_else(|| format!("no actuator for {assignment}: not a value"))?;
             values[var.index()] = Some(value);
         }

@@ -274,6 +274,8 @@ impl Builder<'_, '_> {
                 self.trouble(time, "plan-failed", "plan failed", reason)
             }
             EventKind::ObservationRejected { .. } => self.omit("rejected observations"),
+            EventKind::Monitored { .. } => self.omit("monitor changes"),
+            EventKind::Stale { .. } => self.omit("stale readings"),
             EventKind::ObservationsMissing { .. } => {
                 self.omit("changes in the missing observations")
             }

@@ -21,6 +21,7 @@
 
 use super::{Delay, Due, Effect, Script, ScriptedPlant, TIME_EPSILON, due_at};
 use crate::logic::ValueId;
+use crate::executive::Value;
 
 /// At most this many contending effects of one cycle are permuted (6! = 720 orders); beyond
 /// it the later ones keep their fired order.
@@ -144,7 +145,7 @@ fn is_permutation(a: &[usize], b: &[usize]) -> bool {
 enum Write {
     Set(ValueId),
     Dropped,
-    Garbled(String),
+    Garbled(Value),
     Ungarbled,
 }
 
