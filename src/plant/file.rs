@@ -98,7 +98,8 @@ use super::{ComponentId, Control, Plant, validate};
 use crate::diagnostic::locate::{Entries, Locator, Step};
 use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean, ron_error};
 use crate::logic::{self, DeclarationError, Formula, VarId, VarTable, is_value_name};
-use types::{Number, expand_indexed, rename_self};
+use crate::diagnostic::locate::NumberOrName as Number;
+use types::{expand_indexed, rename_self};
 
 /// Initial probabilities and outgoing sums are compared with this tolerance.
 pub(crate) const TOLERANCE: f64 = 1e-9;
@@ -158,7 +159,7 @@ fn always() -> String {
 }
 
 fn zero() -> Number {
-    Number::Value(0.0)
+    Number::Number(0.0)
 }
 
 #[derive(Deserialize)]

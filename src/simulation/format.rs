@@ -4,7 +4,7 @@
 
 use serde::Deserialize;
 
-use crate::diagnostic::locate::Entries;
+use crate::diagnostic::locate::{Entries, NumberOrName};
 use crate::executive::EventKind;
 
 /// `Scenario(...)`: a whole run.
@@ -35,7 +35,7 @@ pub(super) struct ScenarioFile {
     #[serde(default)]
     pub(super) hidden: Entries<Vec<String>>,
     #[serde(default)]
-    pub(super) initial: Entries<String>,
+    pub(super) initial: Entries<NumberOrName>,
     #[serde(default)]
     pub(super) rules: Vec<RuleFile>,
     #[serde(default)]
@@ -80,7 +80,7 @@ pub(super) struct ScriptFile {
     #[serde(default)]
     pub(super) hidden: Entries<Vec<String>>,
     #[serde(default)]
-    pub(super) initial: Entries<String>,
+    pub(super) initial: Entries<NumberOrName>,
     #[serde(default)]
     pub(super) rules: Vec<RuleFile>,
 }
@@ -96,7 +96,7 @@ pub(super) struct RuleFile {
     #[serde(default)]
     pub(super) after: Option<DelayFile>,
     #[serde(default)]
-    pub(super) set: Entries<String>,
+    pub(super) set: Entries<NumberOrName>,
     #[serde(default)]
     pub(super) drop: Vec<String>,
     #[serde(default)]
@@ -389,7 +389,7 @@ impl EventName {
 /// The script parts of a scenario or script file.
 pub(super) struct ScriptParts<'a> {
     pub(super) hidden: &'a Entries<Vec<String>>,
-    pub(super) initial: &'a Entries<String>,
+    pub(super) initial: &'a Entries<NumberOrName>,
     pub(super) rules: &'a [RuleFile],
 }
 

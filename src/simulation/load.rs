@@ -580,6 +580,8 @@ pub(super) struct VarClasses {
     controls: Vec<VarId>,
     modes: Vec<VarId>,
     observables: Vec<VarId>,
+    /// The observables the plant model monitors (they may hold readings).
+    numeric: Vec<VarId>,
     hidden: Vec<VarId>,
     plant_vars: usize,
 }
@@ -590,6 +592,7 @@ impl VarClasses {
             controls: plant.controls().iter().map(|c| c.var).collect(),
             modes: plant.components().iter().map(|c| c.mode_var()).collect(),
             observables: plant.observables().to_vec(),
+            numeric: plant.monitors().iter().map(|m| m.observable).collect(),
             hidden,
             plant_vars: plant.table().len(),
         }
@@ -631,6 +634,11 @@ impl VarClasses {
         self.observables.contains(&var)
     }
 
+    /// True for the observables the plant model monitors.
+    pub(super) fn is_numeric(&self, var: VarId) -> bool {
+        self.numeric.contains(&var)
+    }
+
     /// True for hidden variables.
     pub(super) fn is_hidden(&self, var: VarId) -> bool {
         self.hidden.contains(&var)
@@ -656,6 +664,7 @@ pub(super) fn empty_script(plant: &Plant) -> Script {
 mod tests {
     use super::*;
     use crate::logic::ValueId;
+    use crate::simulation::Held;
     use crate::simulation::testing::engine_camera;
 
     #[test]
@@ -684,7 +693,7 @@ mod tests {
         assert_eq!(scenario.kappa, DEFAULT_KAPPA);
         assert_eq!(scenario.deadline, None);
         let weather = scenario.script.hidden()[0];
-        assert_eq!(scenario.script.initial(), [(weather, ValueId(0))]);
+        assert_eq!(scenario.script.initial(), [(weather, Held::Value(ValueId(0)))]);
     }
 
     /// Numbers out of range are located errors, all of them reported together.

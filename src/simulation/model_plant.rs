@@ -11,7 +11,11 @@
 //! 3. the observation is drawn among the assignments of the observables that the modes, the
 //!    interconnections and the command allow: observables in random order, each given a value
 //!    drawn among those keeping the partial assignment consistent with the plant's [`Theory`];
-//! 4. with probability `noise`, an observation is replaced by a value drawn from its domain.
+//! 4. with probability `noise`, an observation is replaced by a value drawn from its domain;
+//! 5. a numeric observable (the model monitors it) whose value has a law of readings is reported
+//!    as a reading drawn from that law — a Gaussian around the value's nominal reading, say —
+//!    so that the monitor, not the model, turns it back into a value (a glitch of step 4 is a
+//!    reading of the wrong value: an outlier the monitor's persistence is there to ignore).
 //!
 //! The theory's answers in steps 1 and 3 depend only on the modes and the command; they are
 //! asked once per pair and kept ([`super::model_cache`]), which changes no draw.
@@ -22,6 +26,7 @@
 use chacha20::ChaCha8Rng;
 use rand::seq::SliceRandom;
 use rand::{RngExt, SeedableRng};
+use rand_distr::{Distribution, Normal};
 
 use super::latent::{self, Latent};
 use super::model_cache::ModelCache;
@@ -29,6 +34,7 @@ use crate::executive::NamedValue;
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
 use crate::logic::{ValueId, VarId};
 use crate::opsat::{Consistency, Literal, Theory, TheoryError};
+use crate::plant::monitor::Reading;
 use crate::plant::{
     Commands, ComponentId, ModeKind, Plant, SystemState, chosen_successor, component_distributions,
 };
@@ -485,8 +491,29 @@ impl MonitorAdapter for ModelPlant<'_> {
         observation.sort_unstable();
         observation
             .into_iter()
-            .map(|(x, v)| NamedValue::of(self.plant, x, v))
+            .map(|(x, v)| self.report(x, v))
             .collect()
+    }
+}
+
+impl ModelPlant<'_> {
+    /// Step 5: `x = v` as reported, a reading drawn for `v` when `x` is numeric and the model
+    /// gives `v` a law of readings.
+    fn report(&mut self, x: VarId, v: ValueId) -> NamedValue {
+        let reading = (self.plant.monitor_of(x))
+            .and_then(|m| self.plant.monitors()[m].reading_of(v));
+        let Some(reading) = reading else {
+            return NamedValue::of(self.plant, x, v);
+        };
+        let number = match reading {
+            Reading::Gaussian { mean, sd } => match Normal::new(mean, sd) {
+                Ok(normal) => normal.sample(&mut self.rng),
+                // The loader refuses a spread that is not finite and positive.
+                Err(_) => mean,
+            },
+            Reading::Uniform { lower, upper } => self.rng.random_range(lower..upper),
+        };
+        NamedValue::new(self.plant.table().variable(x).name(), number)
     }
 }
 

@@ -2,7 +2,7 @@
 //! transitions with their laws, every number read through the instance's parameters when the
 //! component is an instance of a type.
 
-use super::types::Number;
+use crate::diagnostic::locate::NumberOrName as Number;
 use super::{KindFile, Loader, Spec, TOLERANCE, TimingFile, TransitionFile};
 use crate::diagnostic::locate::Step;
 use crate::logic::{Formula, ValueId, VarId};
@@ -102,8 +102,8 @@ impl Loader {
     /// it names (an instance's); `None` with an error for a name that is no parameter.
     fn number(&mut self, c: usize, spec: &Spec, rest: &[Step], number: &Number) -> Option<f64> {
         let name = match number {
-            Number::Value(value) => return Some(*value),
-            Number::Parameter(name) => name,
+            Number::Number(value) => return Some(*value),
+            Number::Name(name) => name,
         };
         let Some(parameters) = &spec.parameters else {
             let message = format!(

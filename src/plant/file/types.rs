@@ -2,7 +2,8 @@
 //!
 //! A `Type(...)` is a component written once — attributes, modes, initial distribution,
 //! transitions — with named numeric **parameters** (fault rates, probabilities, rewards) and
-//! `self` standing for the component in its formulas. `Component(name: "switch1", type:
+//! `self` standing for the component in its formulas (a number written as a parameter's name
+//! is a [`NumberOrName`](crate::diagnostic::locate::NumberOrName)). `Component(name: "switch1", type:
 //! "switch", parameters: { ... })` is an **instance**: loading expands it into the component the
 //! type describes, named `switch1`, `self.heat` read as `switch1.heat`, each parameter name
 //! read as the instance's value (or the type's default). The expansion is the plant a
@@ -14,56 +15,11 @@
 //! them; every range in one text has the same length and the `i`-th expansion takes the `i`-th
 //! index of each (`"b[7..14].out = led[7..14].power"` is eight connections).
 
-use std::fmt;
-
-use serde::de::{Deserializer, Visitor};
-use serde::{Deserialize, de};
-
 use crate::logic::syntax::{Expr, ExprKind, Name, Operand};
 
 /// The most names one indexed text expands to: far above any model written by hand, far
 /// below what would exhaust memory on a typo (`b[0..9999999999]`).
 pub(crate) const MAX_INDEXED: usize = 100_000;
-
-/// A number, or — in a component type — the name of one of the type's parameters.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) enum Number {
-    /// Written as a number.
-    Value(f64),
-    /// Written as a parameter's name.
-    Parameter(String),
-}
-
-impl<'de> Deserialize<'de> for Number {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct NumberVisitor;
-        impl Visitor<'_> for NumberVisitor {
-            type Value = Number;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number (or, in a type, the name of a parameter)")
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Number, E> {
-                Ok(Number::Value(v))
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Number, E> {
-                Ok(Number::Value(v as f64))
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Number, E> {
-                Ok(Number::Value(v as f64))
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<Number, E> {
-                Ok(Number::Parameter(v.to_string()))
-            }
-        }
-        // RON says what it holds; a format that does not (the reference pages' tracer) is
-        // asked for the number, the form every file may use.
-        if deserializer.is_human_readable() {
-            deserializer.deserialize_any(NumberVisitor)
-        } else {
-            deserializer.deserialize_f64(NumberVisitor)
-        }
-    }
-}
 
 /// Why an indexed text does not expand.
 #[derive(Debug, Clone, PartialEq)]
