@@ -449,11 +449,11 @@ fn window_text((lb, ub): (f64, f64)) -> String {
     )
 }
 
-/// A unit after a number: ` V`, `°C` without a space (as it is written), nothing for none.
+/// A unit after a number (` V`, ` °C`), nothing for none.
 fn unit_suffix(unit: &str) -> String {
-    match unit {
-        "" => String::new(),
-        unit if unit.starts_with('°') => unit.to_string(),
-        unit => format!(" {unit}"),
+    if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
     }
 }
