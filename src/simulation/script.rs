@@ -738,7 +738,7 @@ mod tests {
         report
             .iter()
             .find(|o| o.variable == name)
-            .map(|o| o.value.as_str())
+            .map(|o| o.value.symbol().unwrap_or_default())
     }
 
     fn fire(plant: &mut ScriptedPlant<'_>) {
