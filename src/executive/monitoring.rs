@@ -53,10 +53,11 @@ impl Monitoring {
         &self.outputs
     }
 
-    /// Feeds the readings of `observed` (at time `now`) to their monitors and returns the
-    /// report estimation reads, pushing what the monitors did as events: a value changed, a
-    /// reading refused (out of range: an odd observation), a second reading in one cycle
-    /// refused, an observable gone stale.
+    /// Feeds the readings of `observed` (at time `now`) to their monitors, in order — a sensor
+    /// read faster than the executive cycles reports several readings of one observable in a
+    /// cycle — and returns the report estimation reads, pushing what the monitors did as
+    /// events: a value changed, a reading refused (out of range: an odd observation), an
+    /// observable gone stale.
     pub(crate) fn apply(
         &mut self,
         plant: &Plant,
@@ -86,14 +87,7 @@ impl Monitoring {
                     }
                 },
             };
-            if std::mem::replace(&mut sampled[m], true) {
-                events.push(EventKind::ObservationRejected {
-                    variable: item.variable.clone(),
-                    value: item.value.to_string(),
-                    reason: format!("{} was already read this cycle", item.variable),
-                });
-                continue;
-            }
+            sampled[m] = true;
             match self.states[m].sample(monitor, now, sample) {
                 Some(MonitorEvent::Changed { reading, from, to }) => {
                     events.push(EventKind::Monitored {

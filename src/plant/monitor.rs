@@ -11,22 +11,32 @@
 //!    the value.
 //! 2. **Classification with hysteresis.** Threshold `k` (between values `k` and `k + 1`) at `at`
 //!    with hysteresis `h` is crossed upward by a reading of `at + h` or more and downward by a
-//!    reading below `at − h`; inside the band `[at − h, at + h)` the classification stays on
-//!    the side it was. With `h = 0` this is plain thresholding (value `k` for readings in
-//!    `[at_{k−1}, at_k)`), which is also how the very first reading is classified. The bands of
-//!    neighbouring thresholds may not overlap, so a reading's class is well defined however far
-//!    it jumps.
-//! 3. **Persistence.** The monitor's output changes to a class only when the last `n` samples
-//!    were all classified so: every change of the classification that lasts reaches the output
-//!    exactly `n − 1` samples later, and one that lasts fewer than `n` samples never does (a
-//!    glitch). The first value is adopted the same way, so the output is absent for the first
-//!    `n − 1` samples.
+//!    reading below `at − h`, counted from the monitor's current *output*: inside the band
+//!    `[at − h, at + h)` a reading is classified on the side of the output. With `h = 0` this
+//!    is plain thresholding (value `k` for readings in `[at_{k−1}, at_k)`), which is also how
+//!    readings are classified while there is no output. The bands of neighbouring thresholds
+//!    may not overlap, so a reading's class is well defined however far it jumps. Counting from
+//!    the output rather than from the last reading's class keeps an outlier from moving the
+//!    reference: the readings after it, inside the band, still read as the output.
+//! 3. **Persistence.** The output changes to a class only when the last `n` readings were all
+//!    classified so: a change of the classification that lasts reaches the output exactly
+//!    `n − 1` readings later, and one that lasts fewer than `n` readings never does (a
+//!    glitch). (Exactly, for readings outside the hysteresis bands: inside one, the output's
+//!    side decides, so a reading there during the wait reads as the output and restarts it.)
+//!    The first value is adopted the same way, so the output is absent for the first `n − 1`
+//!    readings.
 //!
 //! **Staleness.** With `stale: T`, the output is held from sample to sample while the last
 //! sample is at most `T` seconds old; past that it becomes absent (the observation is unknown,
 //! as an unreported one) and the monitor reports it stale once; the persistence count starts
 //! again. Without `stale`, a cycle without a sample has no observation of it, as for any
 //! observable (DESIGN.md §3), and the monitor keeps its state for the next sample.
+//!
+//! A cycle may bring several readings of one observable (a sensor sampled faster than the
+//! executive cycles): they are samples in the order given, and the cycle's observation is the
+//! output after the last. With `persistence` readings a cycle, a value that holds through a
+//! cycle is confirmed in that cycle — no delay for the model's timing to allow for — while a
+//! stray reading is still a glitch (the model-driven plant reports so, for campaigns).
 //!
 //! A **symbolic** report of a monitored observable (a sensor's `invalid` flag, a scripted
 //! qualitative value) bypasses the monitor: it is the observation as it is, and becomes the
@@ -94,9 +104,9 @@ pub struct Monitor {
 }
 
 impl Monitor {
-    /// The class (index into [`Monitor::values`]) of a reading `x` given the previous class:
-    /// hysteresis keeps a reading inside a threshold's band on the side the class was; with no
-    /// previous class, plain thresholds.
+    /// The class (index into [`Monitor::values`]) of a reading `x` given the output's class:
+    /// hysteresis keeps a reading inside a threshold's band on the output's side; with no
+    /// output, plain thresholds.
     pub fn classify(&self, previous: Option<usize>, x: f64) -> usize {
         let Some(mut class) = previous.filter(|&c| c < self.values.len()) else {
             return self.thresholds.iter().filter(|t| x >= t.at).count();
@@ -164,11 +174,11 @@ pub enum Sample {
     Value(ValueId),
 }
 
-/// One monitor's state: the classification (for hysteresis), the run of equal classes (for
-/// persistence), the output and the last sample's time (for staleness).
+/// One monitor's state: the run of equal classes that differ from the output (for
+/// persistence), the output (the reference of hysteresis) and the last sample's time (for
+/// staleness).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MonitorState {
-    class: Option<usize>,
     run: Option<(usize, u32)>,
     output: Option<ValueId>,
     last: Option<f64>,
@@ -190,7 +200,6 @@ impl MonitorState {
     pub fn sample(&mut self, monitor: &Monitor, time: f64, sample: Sample) -> Option<MonitorEvent> {
         let x = match sample {
             Sample::Value(value) => {
-                self.class = monitor.values.iter().position(|&v| v == value);
                 self.run = None;
                 self.output = Some(value);
                 self.fresh(time);
@@ -202,23 +211,30 @@ impl MonitorState {
             Sample::Reading(x) => x,
         };
         self.fresh(time);
-        let class = monitor.classify(self.class, x);
-        self.class = Some(class);
+        let current = self
+            .output
+            .and_then(|o| monitor.values.iter().position(|&v| v == o));
+        let class = monitor.classify(current, x);
+        if current == Some(class) {
+            self.run = None;
+            return None;
+        }
         let count = match self.run {
             Some((c, n)) if c == class => n.saturating_add(1),
             _ => 1,
         };
         self.run = Some((class, count));
-        let value = monitor.values[class];
-        if count >= monitor.persistence.max(1) && self.output != Some(value) {
-            let from = self.output.replace(value);
-            return Some(MonitorEvent::Changed {
-                reading: x,
-                from,
-                to: value,
-            });
+        if count < monitor.persistence.max(1) {
+            return None;
         }
-        None
+        self.run = None;
+        let to = monitor.values[class];
+        let from = self.output.replace(to);
+        Some(MonitorEvent::Changed {
+            reading: x,
+            from,
+            to,
+        })
     }
 
     /// Ends a cycle at `time`: the output to report (absent once stale, or — without a
@@ -248,7 +264,6 @@ impl MonitorState {
     /// Feeds the state to `state` (explicit-state exploration's fingerprint).
     pub fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
         use std::hash::Hash;
-        self.class.hash(state);
         self.run.hash(state);
         self.output.hash(state);
         self.last.map(f64::to_bits).hash(state);

@@ -13,9 +13,13 @@
 //!    drawn among those keeping the partial assignment consistent with the plant's [`Theory`];
 //! 4. with probability `noise`, an observation is replaced by a value drawn from its domain;
 //! 5. a numeric observable (the model monitors it) whose value has a law of readings is reported
-//!    as a reading drawn from that law — a Gaussian around the value's nominal reading, say —
-//!    so that the monitor, not the model, turns it back into a value (a glitch of step 4 is a
-//!    reading of the wrong value: an outlier the monitor's persistence is there to ignore).
+//!    as readings drawn from that law — a Gaussian around the value's nominal reading, say —
+//!    so that the monitor, not the model, turns them back into a value. It is reported as many
+//!    readings a cycle as its monitor's persistence (a sensor sampled faster than the executive
+//!    cycles): a value that holds through a cycle is confirmed in that cycle, so the monitor
+//!    adds no delay the model's timing would have to allow for, while a lone stray reading is
+//!    still a glitch. Step 4's noise applies to each reading on its own (with probability
+//!    `noise` a reading is of a value drawn among those with a law: an outlier).
 //!
 //! The theory's answers in steps 1 and 3 depend only on the modes and the command; they are
 //! asked once per pair and kept ([`super::model_cache`]), which changes no draw.
@@ -418,6 +422,9 @@ impl<'p> ModelPlant<'p> {
             return;
         }
         for (var, value) in observation {
+            if self.is_read(*var) {
+                continue; // noise per reading (step 5)
+            }
             if self.rng.random_bool(self.noise.min(1.0)) {
                 let size = self.plant.table().variable(*var).domain_size() as u32;
                 *value = ValueId(self.rng.random_range(0..size));
@@ -489,31 +496,53 @@ impl MonitorAdapter for ModelPlant<'_> {
         self.state = Some(state);
         self.last_time = time;
         observation.sort_unstable();
-        observation
-            .into_iter()
-            .map(|(x, v)| self.report(x, v))
-            .collect()
+        let mut report = Vec::with_capacity(observation.len());
+        for (x, v) in observation {
+            self.report(x, v, &mut report);
+        }
+        report
     }
 }
 
 impl ModelPlant<'_> {
-    /// Step 5: `x = v` as reported, a reading drawn for `v` when `x` is numeric and the model
-    /// gives `v` a law of readings.
-    fn report(&mut self, x: VarId, v: ValueId) -> NamedValue {
-        let reading = (self.plant.monitor_of(x))
-            .and_then(|m| self.plant.monitors()[m].reading_of(v));
-        let Some(reading) = reading else {
-            return NamedValue::of(self.plant, x, v);
+    /// True when `x` is reported as readings (its monitor gives laws of readings).
+    fn is_read(&self, x: VarId) -> bool {
+        (self.plant.monitor_of(x)).is_some_and(|m| !self.plant.monitors()[m].readings.is_empty())
+    }
+
+    /// Step 5: `x = v` as reported — as readings when `x` is read: as many as its monitor's
+    /// persistence, each of `v` or, with probability `noise`, of a value drawn among those
+    /// with a law of readings (a noisy sensor reads wrong numbers, not a validity flag), and
+    /// drawn from that value's law (`v` without one is reported as itself).
+    fn report(&mut self, x: VarId, v: ValueId, report: &mut Vec<NamedValue>) {
+        let monitor = match self.plant.monitor_of(x) {
+            Some(m) if self.is_read(x) => &self.plant.monitors()[m],
+            _ => {
+                report.push(NamedValue::of(self.plant, x, v));
+                return;
+            }
         };
-        let number = match reading {
-            Reading::Gaussian { mean, sd } => match Normal::new(mean, sd) {
-                Ok(normal) => normal.sample(&mut self.rng),
-                // The loader refuses a spread that is not finite and positive.
-                Err(_) => mean,
-            },
-            Reading::Uniform { lower, upper } => self.rng.random_range(lower..upper),
-        };
-        NamedValue::new(self.plant.table().variable(x).name(), number)
+        let read = monitor.readings.len();
+        for _ in 0..monitor.persistence {
+            let value = if self.noise > 0.0 && self.rng.random_bool(self.noise.min(1.0)) {
+                monitor.readings[self.rng.random_range(0..read)].0
+            } else {
+                v
+            };
+            let number = match monitor.reading_of(value) {
+                Some(Reading::Gaussian { mean, sd }) => match Normal::new(mean, sd) {
+                    Ok(normal) => normal.sample(&mut self.rng),
+                    // The loader refuses a spread that is not finite and positive.
+                    Err(_) => mean,
+                },
+                Some(Reading::Uniform { lower, upper }) => self.rng.random_range(lower..upper),
+                None => {
+                    report.push(NamedValue::of(self.plant, x, value));
+                    continue;
+                }
+            };
+            report.push(NamedValue::new(self.plant.table().variable(x).name(), number));
+        }
     }
 }
 
