@@ -34,9 +34,10 @@
 //!
 //! A cycle may bring several readings of one observable (a sensor sampled faster than the
 //! executive cycles): they are samples in the order given, and the cycle's observation is the
-//! output after the last. With `persistence` readings a cycle, a value that holds through a
-//! cycle is confirmed in that cycle — no delay for the model's timing to allow for — while a
-//! stray reading is still a glitch (the model-driven plant reports so, for campaigns).
+//! output after the last. With several times `persistence` readings a cycle, a value that
+//! holds through a cycle is confirmed in that cycle — no delay for the model's timing to allow
+//! for — while a stray reading is still a glitch (the model-driven plant reports twice the
+//! persistence, for campaigns).
 //!
 //! A **symbolic** report of a monitored observable (a sensor's `invalid` flag, a scripted
 //! qualitative value) bypasses the monitor: it is the observation as it is, and becomes the

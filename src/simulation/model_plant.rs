@@ -14,11 +14,13 @@
 //! 4. with probability `noise`, an observation is replaced by a value drawn from its domain;
 //! 5. a numeric observable (the model monitors it) whose value has a law of readings is reported
 //!    as readings drawn from that law — a Gaussian around the value's nominal reading, say —
-//!    so that the monitor, not the model, turns them back into a value. It is reported as many
-//!    readings a cycle as its monitor's persistence (a sensor sampled faster than the executive
-//!    cycles): a value that holds through a cycle is confirmed in that cycle, so the monitor
-//!    adds no delay the model's timing would have to allow for, while a lone stray reading is
-//!    still a glitch. Step 4's noise applies to each reading on its own (with probability
+//!    so that the monitor, not the model, turns them back into a value. It is reported as twice
+//!    as many readings a cycle as its monitor's persistence (a sensor sampled faster than the
+//!    executive cycles): a value that holds through a cycle is confirmed in that cycle even when
+//!    one of its readings strays or falls inside a hysteresis band (which reads as the old
+//!    value), so the monitor adds no delay the model's timing would have to allow for — a
+//!    change confirmed a cycle late can land past a timed transition's window and be diagnosed
+//!    as the transition that did not happen — while a lone stray reading is still a glitch. Step 4's noise applies to each reading on its own (with probability
 //!    `noise` a reading is of a value drawn among those with a law: an outlier).
 //!
 //! The theory's answers in steps 1 and 3 depend only on the modes and the command; they are
@@ -510,8 +512,8 @@ impl ModelPlant<'_> {
         (self.plant.monitor_of(x)).is_some_and(|m| !self.plant.monitors()[m].readings.is_empty())
     }
 
-    /// Step 5: `x = v` as reported — as readings when `x` is read: as many as its monitor's
-    /// persistence, each of `v` or, with probability `noise`, of a value drawn among those
+    /// Step 5: `x = v` as reported — as readings when `x` is read: twice as many as its
+    /// monitor's persistence, each of `v` or, with probability `noise`, of a value drawn among those
     /// with a law of readings (a noisy sensor reads wrong numbers, not a validity flag), and
     /// drawn from that value's law (`v` without one is reported as itself).
     fn report(&mut self, x: VarId, v: ValueId, report: &mut Vec<NamedValue>) {
@@ -523,7 +525,7 @@ impl ModelPlant<'_> {
             }
         };
         let read = monitor.readings.len();
-        for _ in 0..monitor.persistence {
+        for _ in 0..monitor.persistence.saturating_mul(2) {
             let value = if self.noise > 0.0 && self.rng.random_bool(self.noise.min(1.0)) {
                 monitor.readings[self.rng.random_range(0..read)].0
             } else {
