@@ -48,6 +48,7 @@ fn every_mission_scenario_of_the_directory_is_run() {
             "README.md",
             "plant.ron",
             "stay_warm.ron",
+            "telemetry.ron",
             "switch1_sticks_open.ron",
             "switch2_sticks_closed.ron",
             "sensor_fails.ron",
