@@ -7,6 +7,8 @@
 //! snapshot tests and readable in any terminal or log.
 
 pub(crate) mod locate;
+#[cfg(test)]
+pub(crate) mod reference;
 
 use std::fmt;
 use std::ops::Range;

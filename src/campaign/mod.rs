@@ -7,7 +7,8 @@
 //! asks of a run: its seed (to replay it: `kairos run SCENARIO --seed SEED`), its verdict, the
 //! first expectation that failed, the faults drawn and how long each took to be diagnosed, the
 //! cycles, and — apart, in [`Timing`], because they differ from machine to machine — its wall
-//! time and cycle times.
+//! time and cycle times. Reference for users (the records and the summary):
+//! `docs/reference/campaign.md`.
 
 mod histogram;
 pub mod plot;
@@ -223,5 +224,29 @@ fn fault_record(
         forced: fault.forced,
         diagnosed_after,
         revealed_after: fault.revealed.map(|t| t - fault.time),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::reference;
+
+    /// `docs/reference/campaign.md` lists every field and variant of a run record, and no
+    /// other.
+    #[test]
+    fn the_reference_documents_every_field() {
+        let mut tracer = reference::tracer();
+        reference::add::<RunVerdict>(&mut tracer);
+        reference::add::<RunRecord>(&mut tracer);
+        reference::assert_documented(
+            &reference::registry(tracer),
+            &[
+                ("RunRecord", "campaign.md", "A run: one line"),
+                ("RunVerdict", "campaign.md", "Verdicts"),
+                ("FaultRecord", "campaign.md", "Faults"),
+                ("Timing", "campaign.md", "Timing"),
+            ],
+        );
     }
 }

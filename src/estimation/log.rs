@@ -1,4 +1,5 @@
-//! The command/observation log `kairos estimate` replays (JSON lines).
+//! The command/observation log `kairos estimate` replays (JSON lines). Reference for users:
+//! `docs/reference/estimation-log.md`.
 //!
 //! One JSON object per line, one line per cycle, in time order:
 //! ```text
@@ -340,4 +341,21 @@ pub fn replay_with(
         visit(index + 1, &last, started.elapsed());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::reference;
+
+    /// `docs/reference/estimation-log.md` lists every field a log line accepts, and no other.
+    #[test]
+    fn the_reference_documents_every_field() {
+        let mut tracer = reference::tracer();
+        reference::add::<RecordLine>(&mut tracer);
+        reference::assert_documented(
+            &reference::registry(tracer),
+            &[("RecordLine", "estimation-log.md", "The format")],
+        );
+    }
 }

@@ -1,4 +1,5 @@
-//! The mission file (DESIGN.md §15.4): a goal network in RON, bound to a plant model.
+//! The mission file (DESIGN.md §15.4): a goal network in RON, bound to a plant model. Reference
+//! for users: `docs/reference/mission.md`.
 //!
 //! ```ron
 //! Mission(
@@ -690,4 +691,51 @@ pub fn seconds(bound: f64) -> String {
         // `+ 0.0` turns −0 (the origin's lower bound, −d(Z, Z)) into 0.
         b => (b + 0.0).to_string(),
     }
+}
+
+/// Traces the enums a `Network(...)` holds, for the reference checks of the formats that embed
+/// one (a scenario rule's `submit:`).
+#[cfg(test)]
+pub(crate) fn trace_network(tracer: &mut serde_reflection::Tracer) {
+    crate::diagnostic::reference::add::<KindFile>(tracer);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::reference;
+
+    /// `docs/reference/mission.md` lists every field and variant this loader accepts, and no
+    /// other (poses, headings and estimates are the rover scenario's, documented on its page).
+    #[test]
+    fn the_reference_documents_every_field() {
+        let mut tracer = reference::tracer();
+        trace_network(&mut tracer);
+        reference::add::<elaborators::ResponseFile>(&mut tracer);
+        reference::add::<delegated::ControllerFile>(&mut tracer);
+        reference::add::<delegated::DeviceFile>(&mut tracer);
+        reference::add::<crate::protocol::scenario::Estimate>(&mut tracer);
+        reference::add::<crate::protocol::posandhead::Heading>(&mut tracer);
+        reference::add::<MissionFile>(&mut tracer);
+        reference::assert_documented(&reference::registry(tracer), ASSIGNMENTS);
+    }
+
+    /// Where each container of a mission file is documented.
+    const ASSIGNMENTS: &[reference::Assignment] = &[
+        ("Mission", "mission.md", "`Mission(...)`"),
+        ("Network", "mission.md", "`Network(...)`"),
+        ("Constraint", "mission.md", "`Constraint(...)`"),
+        ("Macro", "mission.md", "`Macro(...)`"),
+        ("Goal", "mission.md", "`Goal(...)`"),
+        ("KindFile", "mission.md", "Goal kinds"),
+        ("GoalType", "mission.md", "`GoalType(...)`"),
+        ("Response", "mission.md", "Responses"),
+        ("Tactic", "mission.md", "`Tactic(...)`"),
+        ("Child", "mission.md", "`Child(...)`"),
+        ("ControllerFile", "mission.md", "Controllers"),
+        ("DeviceFile", "mission.md", "Devices"),
+        ("PoseFile", "rover-scenario.md", "Poses"),
+        ("Heading", "rover-scenario.md", "Headings"),
+        ("Estimate", "rover-scenario.md", "Estimate"),
+    ];
 }

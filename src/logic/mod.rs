@@ -1,5 +1,5 @@
 //! The constraint language (DESIGN.md §4; thesis §5.1.1): finite-domain variables, clocks,
-//! formulas, and their parser.
+//! formulas, and their parser. Reference for users: `docs/reference/constraint-language.md`.
 //!
 //! Text goes through two stages: [`syntax`] parses it into an [`Expr`] that still holds names and
 //! spans; [`resolve`] checks every name against a [`VarTable`] and yields a [`Formula`] that refers

@@ -1,4 +1,5 @@
-//! The RON file format for a stand-alone OCSP (`kairos solve FILE.ron`).
+//! The RON file format for a stand-alone OCSP (`kairos solve FILE.ron`). Reference for users:
+//! `docs/reference/ocsp.md`.
 //!
 //! ```ron
 //! Ocsp(
@@ -216,6 +217,24 @@ fn declaration_error(error: &DeclarationError, source: &Source, name: &str) -> D
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::diagnostic::reference;
+
+    /// `docs/reference/ocsp.md` lists every field and variant this loader accepts, and no other.
+    #[test]
+    fn the_reference_documents_every_field() {
+        let mut tracer = reference::tracer();
+        reference::add::<Objective>(&mut tracer);
+        reference::add::<OcspFile>(&mut tracer);
+        reference::assert_documented(
+            &reference::registry(tracer),
+            &[
+                ("Ocsp", "ocsp.md", "`Ocsp(...)`"),
+                ("Objective", "ocsp.md", "Objectives"),
+                ("Decision", "ocsp.md", "`Decision(...)`"),
+                ("Variable", "ocsp.md", "`Variable(...)`"),
+            ],
+        );
+    }
 
     fn errors(text: &str) -> String {
         match load(&Source::new("p.ron", text)) {

@@ -1,4 +1,5 @@
-//! The RON format of plant models (DESIGN.md §6.1) and its loader.
+//! The RON format of plant models (DESIGN.md §6.1) and its loader. Reference for users:
+//! `docs/reference/plant.md`.
 //!
 //! ```ron
 //! Plant(
@@ -952,5 +953,32 @@ impl Loader {
             }
         }
         observables
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::reference;
+
+    /// `docs/reference/plant.md` lists every field and variant this loader accepts, and no
+    /// other (the convention is in `diagnostic::reference`).
+    #[test]
+    fn the_reference_documents_every_field() {
+        let mut tracer = reference::tracer();
+        reference::add::<KindFile>(&mut tracer);
+        reference::add::<TimingFile>(&mut tracer);
+        reference::add::<PlantFile>(&mut tracer);
+        reference::assert_documented(
+            &reference::registry(tracer),
+            &[
+                ("Plant", "plant.md", "`Plant(...)`"),
+                ("Component", "plant.md", "`Component(...)`"),
+                ("Mode", "plant.md", "`Mode(...)`"),
+                ("KindFile", "plant.md", "Mode kinds"),
+                ("Transition", "plant.md", "Transitions:"),
+                ("TimingFile", "plant.md", "Timing laws"),
+            ],
+        );
     }
 }

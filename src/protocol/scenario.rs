@@ -1,6 +1,7 @@
 //! The rover scenario file: a grid, the rover, the constraints the environment sends and what
 //! each must end with — the scenarios R1–R7 of mds-goal-networks.md §4.2 (`scenarios/rover/`),
-//! checked on every interleaving by `kairos explore`.
+//! checked on every interleaving by `kairos explore`. Reference for users:
+//! `docs/reference/rover-scenario.md`.
 //!
 //! ```ron
 //! RoverScenario(
@@ -390,5 +391,37 @@ impl Checker {
         };
         self.errors.push(diagnostic);
         Arrival::Anytime
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::reference;
+
+    /// `docs/reference/rover-scenario.md` lists every field and variant this loader accepts,
+    /// and no other.
+    #[test]
+    fn the_reference_documents_every_field() {
+        let mut tracer = reference::tracer();
+        reference::add::<Heading>(&mut tracer);
+        reference::add::<Estimate>(&mut tracer);
+        reference::add::<Goal>(&mut tracer);
+        reference::add::<ArrivalFile>(&mut tracer);
+        reference::add::<Expect>(&mut tracer);
+        reference::add::<File>(&mut tracer);
+        reference::assert_documented(
+            &reference::registry(tracer),
+            &[
+                ("RoverScenario", "rover-scenario.md", "`RoverScenario(...)`"),
+                ("PoseFile", "rover-scenario.md", "Poses"),
+                ("Heading", "rover-scenario.md", "Headings"),
+                ("Estimate", "rover-scenario.md", "Estimate"),
+                ("Constraint", "rover-scenario.md", "`Constraint(...)`"),
+                ("Goal", "rover-scenario.md", "Goals"),
+                ("ArrivalFile", "rover-scenario.md", "Arrivals"),
+                ("Expect", "rover-scenario.md", "Outcomes"),
+            ],
+        );
     }
 }

@@ -1,5 +1,5 @@
 //! The JSON-lines trace of `kairos run --trace FILE` (DESIGN.md §12): one object per cycle, every
-//! cycle, for tools.
+//! cycle, for tools. Reference for users: `docs/reference/trace.md`.
 //!
 //! By default a line holds only what changed (a long run's trace stays small — a quiet
 //! cycle is its number, time and phase times, about 100 bytes): `observation`, `estimate` and

@@ -1,6 +1,6 @@
 //! RMPL, the Reactive Model-based Programming Language (thesis §5.1; DESIGN.md §5.1–§5.2): its
 //! syntax tree and parser, linking against a plant's variables, and compilation to a THCA for
-//! the [`sequencer`](crate::sequencer).
+//! the [`sequencer`](crate::sequencer). Reference for users: `docs/reference/rmpl.md`.
 //!
 //! ```text
 //! text ──syntax::parse──► ProgramFile ──link──► LinkedProgram ──compile──► Thca

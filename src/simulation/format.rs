@@ -1,6 +1,7 @@
 //! The RON shapes of scenario and script files, as serde reads them (the format is documented in
 //! the module documentation of [`crate::simulation`]). Nothing here is validated; the loader
 //! turns these into a [`Scenario`](super::Scenario) and reports every problem with its location.
+//! Reference for users: `docs/reference/scenario.md`.
 
 use serde::Deserialize;
 
@@ -410,5 +411,46 @@ impl ScriptFile {
             initial: &self.initial,
             rules: &self.rules,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::reference;
+
+    /// `docs/reference/scenario.md` lists every field and variant a scenario or script file
+    /// accepts, and no other; a rule's `submit:` network is the mission's, documented on
+    /// `docs/reference/mission.md`.
+    #[test]
+    fn the_reference_documents_every_field() {
+        let mut tracer = reference::tracer();
+        crate::goalnet::mission::trace_network(&mut tracer);
+        reference::add::<EventName>(&mut tracer);
+        reference::add::<DelayFile>(&mut tracer);
+        reference::add::<TriggerFile>(&mut tracer);
+        reference::add::<SimulatorFile>(&mut tracer);
+        reference::add::<ExpectFile>(&mut tracer);
+        reference::add::<ScriptFile>(&mut tracer);
+        reference::add::<ScenarioFile>(&mut tracer);
+        reference::assert_documented(
+            &reference::registry(tracer),
+            &[
+                ("Scenario", "scenario.md", "`Scenario(...)`"),
+                ("Script", "scenario.md", "`Script(...)`"),
+                ("Rule", "scenario.md", "`Rule(...)`"),
+                ("TriggerFile", "scenario.md", "Triggers"),
+                ("DelayFile", "scenario.md", "Delays"),
+                ("DeliverFile", "scenario.md", "Deliveries"),
+                ("SimulatorFile", "scenario.md", "A model-driven plant"),
+                ("ExpectFile", "scenario.md", "Expectations"),
+                ("EventName", "scenario.md", "Event kinds"),
+                ("Network", "mission.md", "`Network(...)`"),
+                ("Constraint", "mission.md", "`Constraint(...)`"),
+                ("Macro", "mission.md", "`Macro(...)`"),
+                ("Goal", "mission.md", "`Goal(...)`"),
+                ("KindFile", "mission.md", "Goal kinds"),
+            ],
+        );
     }
 }

@@ -8,6 +8,9 @@
 //! and exits 0 when every expectation holds, 1 when one does not. Faults are injected by rules
 //! (the plant misbehaves); the estimator is never told.
 //!
+//! Reference for users: `docs/reference/scenario.md`; how to model noise and faults:
+//! `docs/modelling.md`.
+//!
 //! # The scenario format (RON)
 //!
 //! ```ron

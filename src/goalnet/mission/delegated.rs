@@ -1,6 +1,6 @@
 //! Controllers of state variables that are not plant components, and the goals delegated to
 //! them (mds-goal-networks.md §1.7: each SV has at most one controller, which
-//! achieves its control goals).
+//! achieves its control goals). Reference for users: `docs/reference/mission.md`.
 //!
 //! ```ron
 //! controllers: [

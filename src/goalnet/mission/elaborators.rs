@@ -1,5 +1,6 @@
 //! The mission file's goal types (mds-goal-networks.md §2.1, §2.6): each with
-//! its failure response and its elaborator's tactics.
+//! its failure response and its elaborator's tactics. Reference for users:
+//! `docs/reference/mission.md`.
 //!
 //! ```ron
 //! types: [
@@ -53,7 +54,7 @@ pub(super) struct TypeFile {
 
 #[derive(Deserialize, Default, Clone, Copy)]
 #[serde(rename = "Response")]
-enum ResponseFile {
+pub(super) enum ResponseFile {
     Safing,
     ReElaborate,
     #[default]

@@ -1,7 +1,8 @@
 //! A submission written as a `Network(...)` outside a mission file — a scenario rule's
 //! `submit:` (`simulation` module documentation) — resolved against the plant by the mission
 //! loader itself: its points, constraints and goals are read by the same code as a mission's, so
-//! a goal's constraint means and is checked exactly as in a mission (DESIGN.md §15.4).
+//! a goal's constraint means and is checked exactly as in a mission (DESIGN.md §15.4). Reference
+//! for users: `docs/reference/scenario.md` (`submit:`) and `docs/reference/mission.md`.
 
 use super::{GoalNetwork, Item, Loader, NetworkFile};
 use crate::diagnostic::locate::{Locator, Step};
