@@ -27,6 +27,7 @@ use std::time::{Duration, Instant};
 use serde::Deserialize;
 
 use super::{EstimationError, ModeEstimator, Update};
+use crate::diagnostic::locate::NumberOrName;
 use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean};
 use crate::logic::{ValueId, VarId};
 use crate::opsat::Theory;
@@ -54,17 +55,9 @@ pub struct LogRecord {
 struct RecordLine {
     time: f64,
     #[serde(default)]
-    observations: BTreeMap<String, LogValue>,
+    observations: BTreeMap<String, NumberOrName>,
     #[serde(default)]
     commands: BTreeMap<String, String>,
-}
-
-/// An observation's value: a value's name, or a reading of a numeric observable.
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum LogValue {
-    Name(String),
-    Number(f64),
 }
 
 /// Reads a log against a plant, reporting every problem with its location.
@@ -171,8 +164,8 @@ impl LineReader<'_> {
         let mut readings = Vec::new();
         for (name, value) in &parsed.observations {
             match value {
-                LogValue::Name(value) => _ = named.insert(name.clone(), value.clone()),
-                LogValue::Number(x) => readings.push((name.as_str(), *x)),
+                NumberOrName::Name(value) => _ = named.insert(name.clone(), value.clone()),
+                NumberOrName::Number(x) => readings.push((name.as_str(), *x)),
             }
         }
         let observed = self.assignments(&named, self.plant.observables(), "an observable");

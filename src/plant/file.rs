@@ -968,6 +968,7 @@ mod tests {
         let mut tracer = reference::tracer();
         reference::add::<KindFile>(&mut tracer);
         reference::add::<TimingFile>(&mut tracer);
+        monitors::trace_reading(&mut tracer);
         reference::add::<PlantFile>(&mut tracer);
         reference::assert_documented(
             &reference::registry(tracer),
@@ -978,6 +979,10 @@ mod tests {
                 ("KindFile", "plant.md", "Mode kinds"),
                 ("Transition", "plant.md", "Transitions:"),
                 ("TimingFile", "plant.md", "Timing laws"),
+                ("Type", "plant.md", "`Type(...)`"),
+                ("Monitor", "plant.md", "`Monitor(...)`"),
+                ("Threshold", "plant.md", "Thresholds:"),
+                ("ReadingFile", "plant.md", "Laws of readings"),
             ],
         );
     }

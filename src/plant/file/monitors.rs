@@ -71,6 +71,12 @@ enum ReadingFile {
     Uniform(f64, f64),
 }
 
+/// Traces the laws of readings for the reference page's check (an enum is traced on its own).
+#[cfg(test)]
+pub(super) fn trace_reading(tracer: &mut serde_reflection::Tracer) {
+    crate::diagnostic::reference::add::<ReadingFile>(tracer);
+}
+
 impl Loader {
     /// The monitors, each checked against its observable.
     pub(super) fn monitors(
