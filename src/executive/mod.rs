@@ -397,7 +397,7 @@ struct Reported {
 ///     ];
 ///     let step = executive.step(f64::from(cycle) * 0.1, &observed)?;
 ///     for command in step.commands_named(executive.plant()) {
-///         match command.value.as_str() {
+///         match command.value.symbol().unwrap_or_default() {
 ///             "on" => driver_on = true,
 ///             "off" => driver_on = false,
 ///             "open" if driver_on => valve_open = true,

@@ -50,6 +50,13 @@ impl PartialEq for Value {
 
 impl Eq for Value {}
 
+/// A value equals a name when it is that symbol (`command.value == "on"`).
+impl PartialEq<&str> for Value {
+    fn eq(&self, other: &&str) -> bool {
+        self.symbol() == Some(*other)
+    }
+}
+
 impl Hash for Value {
     fn hash<H: Hasher>(&self, state: &mut H) {
         match self {
