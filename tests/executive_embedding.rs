@@ -778,7 +778,7 @@ fn readings_go_in_as_numbers_and_the_monitor_reads_them() {
         .table()
         .variable_id("sensor.reading")
         .expect("the sensor");
-    let mut value_at = |executive: &mut Executive, time: f64, readings: &[f64]| {
+    let value_at = |executive: &mut Executive, time: f64, readings: &[f64]| {
         let observed: Vec<NamedValue> = (readings.iter())
             .map(|&x| NamedValue::new("sensor.reading", x))
             .collect();
@@ -793,7 +793,11 @@ fn readings_go_in_as_numbers_and_the_monitor_reads_them() {
     // Persistence 3: three readings in one cycle settle the value at once.
     let (value, step) = value_at(&mut executive, 0.0, &[5.1, 5.3, 4.9]);
     assert_eq!(value.as_deref(), Some("cold"));
-    assert!(step.events.iter().any(|e| matches!(e.kind, EventKind::Monitored { .. })));
+    assert!(
+        step.events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Monitored { .. }))
+    );
     // A lone reading across an edge is a glitch.
     let (value, _) = value_at(&mut executive, 1.0, &[22.0, 5.0]);
     assert_eq!(value.as_deref(), Some("cold"));
@@ -807,5 +811,9 @@ fn readings_go_in_as_numbers_and_the_monitor_reads_them() {
     // Silent for more than 5 s: stale, unknown.
     let (value, step) = value_at(&mut executive, 8.5, &[]);
     assert_eq!(value, None);
-    assert!(step.events.iter().any(|e| matches!(e.kind, EventKind::Stale { .. })));
+    assert!(
+        step.events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Stale { .. }))
+    );
 }

@@ -70,17 +70,18 @@ fn type_spec() -> impl Strategy<Value = TypeSpec> {
             let n_modes = modes.len();
             let first = domains[0];
             let n_params = parameters.len();
-            let moves = prop::collection::vec((0..n_modes, 0..n_modes, 0..first, 0.01..0.45f64), 0..3)
-                .prop_map(|moves| {
-                    // No self-loop, at most one move per source mode (probabilities stay <= 1).
-                    let mut kept: Vec<(usize, usize, usize, f64)> = Vec::new();
-                    for m in moves {
-                        if m.0 != m.1 && !kept.iter().any(|k| k.0 == m.0) {
-                            kept.push(m);
+            let moves =
+                prop::collection::vec((0..n_modes, 0..n_modes, 0..first, 0.01..0.45f64), 0..3)
+                    .prop_map(|moves| {
+                        // No self-loop, at most one move per source mode (probabilities stay <= 1).
+                        let mut kept: Vec<(usize, usize, usize, f64)> = Vec::new();
+                        for m in moves {
+                            if m.0 != m.1 && !kept.iter().any(|k| k.0 == m.0) {
+                                kept.push(m);
+                            }
                         }
-                    }
-                    kept
-                });
+                        kept
+                    });
             let rate = if n_params == 0 {
                 (1e-6..1e-2f64).prop_map(Rate::Number).boxed()
             } else {
@@ -172,7 +173,9 @@ fn body(ty: &TypeSpec, me: &str, values: Option<&[f64]>) -> String {
                 None => "true".to_string(),
             };
             let kind = if *fault { "Fault" } else { "Nominal" };
-            format!("Mode(name: \"m{m}\", kind: {kind}, constraint: \"{constraint}\", reward: -{m})")
+            format!(
+                "Mode(name: \"m{m}\", kind: {kind}, constraint: \"{constraint}\", reward: -{m})"
+            )
         })
         .collect();
     let mut transitions: Vec<String> = ty
@@ -180,7 +183,11 @@ fn body(ty: &TypeSpec, me: &str, values: Option<&[f64]>) -> String {
         .iter()
         .map(|&(from, to, v, p)| {
             // With one attribute the guard would fight the mode constraints: none then.
-            let guard = if last > 0 { format!("{me}.a0 = v{v}") } else { "true".into() };
+            let guard = if last > 0 {
+                format!("{me}.a0 = v{v}")
+            } else {
+                "true".into()
+            };
             format!("(from: \"m{from}\", to: \"m{to}\", guard: \"{guard}\", probability: {p:?})")
         })
         .collect();
@@ -246,13 +253,24 @@ fn typed(types: &[TypeSpec], entries: &[Entry]) -> String {
         if !entry.instance {
             let values = parameter_values(ty, entry);
             let name = &names(k, entry)[0];
-            components.push(format!("Component(name: \"{name}\", {})", body(ty, name, Some(&values))));
+            components.push(format!(
+                "Component(name: \"{name}\", {})",
+                body(ty, name, Some(&values))
+            ));
             continue;
         }
-        let overrides: Vec<String> =
-            entry.overrides.iter().map(|(p, v)| format!("\"p{p}\": {v:?}")).collect();
+        let overrides: Vec<String> = entry
+            .overrides
+            .iter()
+            .map(|(p, v)| format!("\"p{p}\": {v:?}"))
+            .collect();
         let parameters = format!("parameters: {{ {} }}", overrides.join(", "));
-        let instance = |name: &str| format!("Component(name: \"{name}\", type: \"t{}\", {parameters})", entry.ty);
+        let instance = |name: &str| {
+            format!(
+                "Component(name: \"{name}\", type: \"t{}\", {parameters})",
+                entry.ty
+            )
+        };
         if entry.indexed {
             components.push(instance(&format!("e{k}_[0..{}]", entry.count - 1)));
         } else {
@@ -275,7 +293,10 @@ fn written_out(types: &[TypeSpec], entries: &[Entry]) -> String {
         let ty = &types[entry.ty];
         let values = parameter_values(ty, entry);
         for name in names(k, entry) {
-            components.push(format!("Component(name: \"{name}\", {})", body(ty, &name, Some(&values))));
+            components.push(format!(
+                "Component(name: \"{name}\", {})",
+                body(ty, &name, Some(&values))
+            ));
         }
     }
     let (controls, observables) = interface(types, entries, false);
@@ -316,7 +337,10 @@ fn an_indexed_connection_is_its_connections_in_order() {
     let plant = |connections: &str| {
         load(
             "c.ron",
-            &format!("Plant(name: \"c\", components: [{}], connections: [{connections}])", components.join(", ")),
+            &format!(
+                "Plant(name: \"c\", components: [{}], connections: [{connections}])",
+                components.join(", ")
+            ),
         )
     };
     assert!(

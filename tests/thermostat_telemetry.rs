@@ -15,7 +15,10 @@ use kairos::simulation::{self, RunOptions, Scenario};
 const RUNS: u64 = 300;
 
 fn campaign() -> Scenario {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenarios/thermostat/campaign.ron");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/thermostat/campaign.ron"
+    );
     simulation::load(std::path::Path::new(path)).expect("the campaign loads")
 }
 
@@ -96,7 +99,8 @@ fn outliers_are_glitches_not_faults() {
 fn a_bare_threshold_diagnoses_faults_from_the_noise() {
     let mut scenario = campaign();
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/models/thermostat.ron");
-    let text = std::fs::read_to_string(path).expect("the model")
+    let text = std::fs::read_to_string(path)
+        .expect("the model")
         .replace("persistence: 3,", "persistence: 1,")
         .replace("hysteresis: 0.5", "hysteresis: 0.0");
     scenario.plant = Plant::load(&Source::new("bare.ron", text)).expect("the variant loads");

@@ -169,14 +169,16 @@ fn event_text(event: &EstimationEvent) -> String {
 /// What a numeric observable's monitor did: `bus.voltage = 26.2 V -> low (was nominal)`.
 fn monitor_text(plant: &Plant, var: VarId, event: &MonitorEvent) -> String {
     let variable = plant.table().variable(var);
-    let unit = (plant.monitor_of(var))
-        .map_or("", |m| plant.monitors()[m].unit.as_str());
+    let unit = (plant.monitor_of(var)).map_or("", |m| plant.monitors()[m].unit.as_str());
     match *event {
         MonitorEvent::Changed { reading, from, to } => format!(
             "{} = {reading} {unit} -> {}{}",
             variable.name(),
             variable.value_name(to),
-            from.map_or(String::new(), |v| format!(" (was {})", variable.value_name(v)))
+            from.map_or(String::new(), |v| format!(
+                " (was {})",
+                variable.value_name(v)
+            ))
         ),
         MonitorEvent::OutOfRange { reading } => format!(
             "{} = {reading} {unit}: outside the valid range, set aside",

@@ -34,6 +34,9 @@ use crate::opsat::Theory;
 use crate::plant::monitor::{MonitorEvent, MonitorState, Sample};
 use crate::plant::{Commands, Observation, Plant};
 
+/// What the monitors did with a line's readings, by observable.
+type MonitorEvents = Vec<(VarId, MonitorEvent)>;
+
 /// One cycle of a log.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LogRecord {
@@ -191,8 +194,8 @@ impl LineReader<'_> {
         let mut out = Vec::with_capacity(pairs.len());
         let mut ok = true;
         for &(name, x) in pairs {
-            let monitor = (self.plant.table().variable_id(name))
-                .and_then(|var| self.plant.monitor_of(var));
+            let monitor =
+                (self.plant.table().variable_id(name)).and_then(|var| self.plant.monitor_of(var));
             match monitor {
                 Some(m) => out.push((m, x)),
                 None => {
@@ -216,7 +219,7 @@ impl LineReader<'_> {
         time: f64,
         mut observed: Vec<(VarId, ValueId)>,
         readings: &[(usize, f64)],
-    ) -> (Vec<(VarId, ValueId)>, Vec<(VarId, MonitorEvent)>) {
+    ) -> (Vec<(VarId, ValueId)>, MonitorEvents) {
         let monitors = self.plant.monitors();
         if monitors.is_empty() {
             return (observed, Vec::new());

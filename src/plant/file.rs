@@ -96,10 +96,10 @@ use std::collections::{HashMap, HashSet};
 use serde::Deserialize;
 
 use super::{ComponentId, Control, Plant, validate};
+use crate::diagnostic::locate::NumberOrName as Number;
 use crate::diagnostic::locate::{Entries, Locator, Step};
 use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean, ron_error};
 use crate::logic::{self, DeclarationError, Formula, VarId, VarTable, is_value_name};
-use crate::diagnostic::locate::NumberOrName as Number;
 use types::{expand_indexed, rename_self};
 
 /// Initial probabilities and outgoing sums are compared with this tolerance.
@@ -277,7 +277,10 @@ impl Places {
 
     /// Path to mode `m` of component `c`, then `field`.
     pub(crate) fn mode<'a>(&self, c: usize, m: usize, field: &'a str) -> Vec<Step<'a>> {
-        self.path(c, &[Step::Field("modes"), Step::Index(m), Step::Field(field)])
+        self.path(
+            c,
+            &[Step::Field("modes"), Step::Index(m), Step::Field(field)],
+        )
     }
 
     /// Path to transition `t` of component `c`, then `rest`.
@@ -455,16 +458,38 @@ impl Loader {
     }
 
     /// A component written out in full.
-    fn written<'f>(&mut self, entry: usize, component: &'f ComponentFile, specs: &mut Vec<Spec<'f>>) {
-        let at = |field| [Step::Field("components"), Step::Index(entry), Step::Field(field)];
+    fn written<'f>(
+        &mut self,
+        entry: usize,
+        component: &'f ComponentFile,
+        specs: &mut Vec<Spec<'f>>,
+    ) {
+        let at = |field| {
+            [
+                Step::Field("components"),
+                Step::Index(entry),
+                Step::Field(field),
+            ]
+        };
         if component.name.contains('[') {
-            let message = format!("`{}`: only instances of a type have indexed names", component.name);
-            self.error(&at("name"), message, "a `type: \"...\"` to instantiate, or one name");
+            let message = format!(
+                "`{}`: only instances of a type have indexed names",
+                component.name
+            );
+            self.error(
+                &at("name"),
+                message,
+                "a `type: \"...\"` to instantiate, or one name",
+            );
             return;
         }
         if !component.parameters.0.is_empty() {
             let message = format!("component `{}` has parameters but no type", component.name);
-            self.error(&at("parameters"), message, "`type: \"...\"`: parameters are a type's");
+            self.error(
+                &at("parameters"),
+                message,
+                "`type: \"...\"`: parameters are a type's",
+            );
         }
         self.places.places.push(Place {
             entry,
@@ -491,7 +516,11 @@ impl Loader {
             let at = |field| [Step::Field("types"), Step::Index(t), Step::Field(field)];
             if !is_value_name(&ty.name) {
                 let message = format!("`{}` is not a valid type name", ty.name);
-                self.error(&at("name"), message, "an identifier (letters, digits, `_`, `-`)");
+                self.error(
+                    &at("name"),
+                    message,
+                    "an identifier (letters, digits, `_`, `-`)",
+                );
             } else if types.insert(ty.name.as_str(), t).is_some() {
                 let message = format!("type `{}` is declared twice", ty.name);
                 self.error(&at("name"), message, "a type name not used before");
@@ -504,10 +533,12 @@ impl Loader {
                     Step::Key(name),
                 ];
                 if !is_value_name(name) {
-                    let message = format!("type `{}`: `{name}` is not a valid parameter name", ty.name);
+                    let message =
+                        format!("type `{}`: `{name}` is not a valid parameter name", ty.name);
                     self.error(&path, message, "an identifier (letters, digits, `_`, `-`)");
                 } else if ty.parameters.0[..i].iter().any(|(other, _)| other == name) {
-                    let message = format!("type `{}`: parameter `{name}` is declared twice", ty.name);
+                    let message =
+                        format!("type `{}`: parameter `{name}` is declared twice", ty.name);
                     self.error(&at("parameters"), message, "each parameter once");
                 } else if !value.is_finite() {
                     let message = format!("type `{}`: parameter `{name}` is {value}", ty.name);
@@ -529,7 +560,11 @@ impl Loader {
         if let Some(&t) = types.get(name) {
             return Some(t);
         }
-        let path = [Step::Field("components"), Step::Index(entry), Step::Field("type")];
+        let path = [
+            Step::Field("components"),
+            Step::Index(entry),
+            Step::Field("type"),
+        ];
         let names: Vec<&str> = file.types.iter().map(|t| t.name.as_str()).collect();
         let mut diagnostic = Diagnostic::new(format!("no type `{name}`"), self.places.at(&path))
             .expected("the name of a `Type(...)` of this file")
@@ -554,8 +589,12 @@ impl Loader {
         t: usize,
     ) -> Vec<(&'f str, f64)> {
         let ty = &file.types[t];
-        let mut values: Vec<(&str, f64)> =
-            ty.parameters.0.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+        let mut values: Vec<(&str, f64)> = ty
+            .parameters
+            .0
+            .iter()
+            .map(|(n, v)| (n.as_str(), *v))
+            .collect();
         for (name, value) in &file.components[entry].parameters.0 {
             let path = [
                 Step::Field("components"),
@@ -570,7 +609,8 @@ impl Loader {
                     self.error(&path, message, "a finite number");
                 }
                 None => {
-                    let declared: Vec<&str> = ty.parameters.0.iter().map(|(n, _)| n.as_str()).collect();
+                    let declared: Vec<&str> =
+                        ty.parameters.0.iter().map(|(n, _)| n.as_str()).collect();
                     let mut diagnostic = Diagnostic::new(
                         format!("type `{}` has no parameter `{name}`", ty.name),
                         self.places.at(&path),
@@ -601,7 +641,11 @@ impl Loader {
         ];
         for (field, written) in own {
             if written {
-                let path = [Step::Field("components"), Step::Index(entry), Step::Field(field)];
+                let path = [
+                    Step::Field("components"),
+                    Step::Index(entry),
+                    Step::Field(field),
+                ];
                 let message = format!(
                     "`{}` is an instance of a type and has `{field}` of its own",
                     component.name
@@ -714,7 +758,12 @@ impl Loader {
             // at the attribute map as a whole.
             let message =
                 format!("component `{component}`: attribute `{attribute}` is declared twice");
-            self.error_in(c, &[Step::Field("attributes")], message, "each attribute once");
+            self.error_in(
+                c,
+                &[Step::Field("attributes")],
+                message,
+                "each attribute once",
+            );
             return;
         }
         let name = format!("{component}.{attribute}");
@@ -773,8 +822,10 @@ impl Loader {
                 Some(formula)
             }
             Err(diagnostics) => {
-                let labelled: Vec<Diagnostic> =
-                    diagnostics.into_iter().map(|d| label(&self.places, d)).collect();
+                let labelled: Vec<Diagnostic> = diagnostics
+                    .into_iter()
+                    .map(|d| label(&self.places, d))
+                    .collect();
                 self.errors.extend(labelled);
                 None
             }
@@ -838,9 +889,12 @@ impl Loader {
                 for d in diagnostics {
                     let problem = text.get(d.span.clone()).unwrap_or(text);
                     self.errors.push(
-                        Diagnostic::new(format!("`{text}` (from `{written}`): {}", d.message), span.clone())
-                            .expected(d.expected)
-                            .note(format!("at `{problem}` in the expansion")),
+                        Diagnostic::new(
+                            format!("`{text}` (from `{written}`): {}", d.message),
+                            span.clone(),
+                        )
+                        .expected(d.expected)
+                        .note(format!("at `{problem}` in the expansion")),
                     );
                 }
                 None

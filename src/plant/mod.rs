@@ -35,9 +35,9 @@ pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{BOUND_TOLERANCE, Timing, TransitionLaw, mode_distribution};
 
 use crate::diagnostic::{Source, SourceErrors};
-use monitor::Monitor;
 use crate::logic::{Formula, ValueId, VarId, VarTable};
 use crate::opsat::{Theory, TheoryError, TheoryOptions};
+use monitor::Monitor;
 
 /// A component, by position in [`Plant::components`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -324,7 +324,11 @@ mod tests {
             outputs(&m, &[19.5, 20.5, 21.0, 20.0, 19.2, 18.9, 45.0, 39.0, 40.0]),
             [0, 0, 1, 1, 1, 0, 2, 1, 2].map(Some)
         );
-        assert_eq!(outputs(&m, &[20.5]), [Some(1)], "the first reading: plain thresholds");
+        assert_eq!(
+            outputs(&m, &[20.5]),
+            [Some(1)],
+            "the first reading: plain thresholds"
+        );
     }
 
     #[test]
@@ -332,7 +336,16 @@ mod tests {
         let m = monitor(3, None);
         assert_eq!(
             outputs(&m, &[10.0, 10.0, 10.0, 30.0, 10.0, 30.0, 30.0, 30.0]),
-            [None, None, Some(0), Some(0), Some(0), Some(0), Some(0), Some(1)]
+            [
+                None,
+                None,
+                Some(0),
+                Some(0),
+                Some(0),
+                Some(0),
+                Some(0),
+                Some(1)
+            ]
         );
     }
 
@@ -346,7 +359,9 @@ mod tests {
             Some(MonitorEvent::OutOfRange { reading: 500.0 })
         );
         assert_eq!(
-            state.sample(&m, 1.0, Sample::Reading(f64::NAN)).map(|e| matches!(e, MonitorEvent::OutOfRange { .. })),
+            state
+                .sample(&m, 1.0, Sample::Reading(f64::NAN))
+                .map(|e| matches!(e, MonitorEvent::OutOfRange { .. })),
             Some(true)
         );
         let changed = state.sample(&m, 2.0, Sample::Reading(10.0));
@@ -367,7 +382,11 @@ mod tests {
         let mut state = MonitorState::new();
         state.sample(&m, 0.0, Sample::Reading(30.0));
         assert_eq!(state.close(&m, 0.0, true), (Some(ValueId(1)), None));
-        assert_eq!(state.close(&m, 2.0, false), (Some(ValueId(1)), None), "held");
+        assert_eq!(
+            state.close(&m, 2.0, false),
+            (Some(ValueId(1)), None),
+            "held"
+        );
         assert_eq!(
             state.close(&m, 3.0, false),
             (None, Some(MonitorEvent::Stale { last: 0.0 }))

@@ -145,31 +145,39 @@ fn never_enabled(component: &Component, c: usize, t: usize, places: &Places) -> 
     places
         .diagnostic(
             c,
-            &[Step::Field("transitions"), Step::Index(t), Step::Field("guard")],
+            &[
+                Step::Field("transitions"),
+                Step::Index(t),
+                Step::Field("guard"),
+            ],
             format!(
                 "component `{}`, transition `{mode}` -> `{target}` can never be enabled",
                 component.name(),
             ),
         )
-    .expected(format!(
-        "a guard that can hold while `{}` is `{mode}`",
-        component.name(),
-    ))
+        .expected(format!(
+            "a guard that can hold while `{}` is `{mode}`",
+            component.name(),
+        ))
 }
 
 fn unsatisfiable_mode(component: &Component, c: usize, m: usize, places: &Places) -> Diagnostic {
     places
         .diagnostic(
             c,
-            &[Step::Field("modes"), Step::Index(m), Step::Field("constraint")],
+            &[
+                Step::Field("modes"),
+                Step::Index(m),
+                Step::Field("constraint"),
+            ],
             format!(
                 "component `{}`, mode `{}` can never hold: its constraint contradicts the model",
                 component.name(),
                 component.modes()[m].name
             ),
         )
-    .expected("a constraint consistent with the interconnections and the other modes")
-    .note("the component would have no way to stay in this mode or to leave it")
+        .expected("a constraint consistent with the interconnections and the other modes")
+        .note("the component would have no way to stay in this mode or to leave it")
 }
 
 /// A transition out of a mode that may fire together with others, with its largest per-step
@@ -227,18 +235,22 @@ fn overfull_mode(
         places
             .diagnostic(
                 c,
-                &[Step::Field("modes"), Step::Index(mode.index()), Step::Field("name")],
+                &[
+                    Step::Field("modes"),
+                    Step::Index(mode.index()),
+                    Step::Field("name"),
+                ],
                 format!(
                     "component `{}`, mode `{}`: outgoing probabilities can add up to {total}",
                     component.name(),
                     component.mode(mode).name
                 ),
             )
-        .expected("at most 1: the mode stays with what its enabled transitions leave")
-        .note(format!(
-            "transitions to {} can be enabled together",
-            listed.join(", ")
-        )),
+            .expected("at most 1: the mode stays with what its enabled transitions leave")
+            .note(format!(
+                "transitions to {} can be enabled together",
+                listed.join(", ")
+            )),
     )
 }
 

@@ -693,7 +693,10 @@ mod tests {
         assert_eq!(scenario.kappa, DEFAULT_KAPPA);
         assert_eq!(scenario.deadline, None);
         let weather = scenario.script.hidden()[0];
-        assert_eq!(scenario.script.initial(), [(weather, Held::Value(ValueId(0)))]);
+        assert_eq!(
+            scenario.script.initial(),
+            [(weather, Held::Value(ValueId(0)))]
+        );
     }
 
     /// Numbers out of range are located errors, all of them reported together.

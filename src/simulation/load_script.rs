@@ -141,7 +141,9 @@ fn held_value(
     };
     let variable = world.variable(var);
     let value = match value {
-        NumberOrName::Number(x) if classes.is_numeric(var) => return Some((var, Held::Reading(*x))),
+        NumberOrName::Number(x) if classes.is_numeric(var) => {
+            return Some((var, Held::Reading(*x)));
+        }
         NumberOrName::Number(x) => {
             ctx.push(
                 Diagnostic::new(
@@ -149,7 +151,9 @@ fn held_value(
                     ctx.span(value_path),
                 )
                 .expected(format!("one of: {}", variable.values().join(", ")))
-                .note(format!("{x} is a reading; a model's `monitors` make an observable numeric")),
+                .note(format!(
+                    "{x} is a reading; a model's `monitors` make an observable numeric"
+                )),
             );
             return None;
         }

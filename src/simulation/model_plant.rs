@@ -543,7 +543,10 @@ impl ModelPlant<'_> {
                     continue;
                 }
             };
-            report.push(NamedValue::new(self.plant.table().variable(x).name(), number));
+            report.push(NamedValue::new(
+                self.plant.table().variable(x).name(),
+                number,
+            ));
         }
     }
 }

@@ -2,11 +2,13 @@
 //! transitions with their laws, every number read through the instance's parameters when the
 //! component is an instance of a type.
 
-use crate::diagnostic::locate::NumberOrName as Number;
 use super::{KindFile, Loader, Spec, TOLERANCE, TimingFile, TransitionFile};
+use crate::diagnostic::locate::NumberOrName as Number;
 use crate::diagnostic::locate::Step;
 use crate::logic::{Formula, ValueId, VarId};
-use crate::plant::{Component, Mode, ModeKind, Timing, Transition, TransitionLaw, TransitionSource};
+use crate::plant::{
+    Component, Mode, ModeKind, Timing, Transition, TransitionLaw, TransitionSource,
+};
 
 impl Loader {
     pub(super) fn component(&mut self, c: usize, spec: &Spec) -> Component {
@@ -141,7 +143,11 @@ impl Loader {
         let modes: Vec<&str> = spec.body.modes.iter().map(|m| m.name.as_str()).collect();
         let mut diagnostic = self
             .places
-            .diagnostic(c, rest, format!("component `{}` has no mode `{name}`", spec.name))
+            .diagnostic(
+                c,
+                rest,
+                format!("component `{}` has no mode `{name}`", spec.name),
+            )
             .expected(format!("a mode of `{}`", spec.name))
             .note(format!("`{}` has modes: {}", spec.name, modes.join(", ")));
         if let Some(close) = crate::diagnostic::did_you_mean(name, modes.iter().copied()) {
@@ -187,7 +193,12 @@ impl Loader {
                 "component `{}`: initial probabilities sum to {total}, not 1",
                 spec.name
             );
-            self.error_in(c, &[Step::Field("initial")], message, "probabilities that sum to 1");
+            self.error_in(
+                c,
+                &[Step::Field("initial")],
+                message,
+                "probabilities that sum to 1",
+            );
         }
         initial
     }
@@ -199,7 +210,13 @@ impl Loader {
         spec: &Spec,
         file: &TransitionFile,
     ) -> Option<Transition> {
-        let at = |field| [Step::Field("transitions"), Step::Index(t), Step::Field(field)];
+        let at = |field| {
+            [
+                Step::Field("transitions"),
+                Step::Index(t),
+                Step::Field(field),
+            ]
+        };
         let source = if file.from == "*" {
             Some(TransitionSource::AnyNominal)
         } else {
@@ -261,7 +278,13 @@ impl Loader {
             "component `{}`, transition `{}` -> `{}`",
             spec.name, file.from, file.to
         );
-        let at = |field| [Step::Field("transitions"), Step::Index(t), Step::Field(field)];
+        let at = |field| {
+            [
+                Step::Field("transitions"),
+                Step::Index(t),
+                Step::Field(field),
+            ]
+        };
         let probability = match &file.probability {
             Some(p) => Some(self.number(c, spec, &at("probability"), p)?),
             None => None,
@@ -274,7 +297,12 @@ impl Loader {
             let ok = (0.0..=1.0).contains(&p);
             if !ok {
                 let message = format!("{describe}: probability {p} is outside [0, 1]");
-                loader.error_in(c, &at("probability"), message, "a probability between 0 and 1");
+                loader.error_in(
+                    c,
+                    &at("probability"),
+                    message,
+                    "a probability between 0 and 1",
+                );
             }
             ok
         };

@@ -100,7 +100,11 @@ impl Loader {
                     self.error(&key, message, "an observable listed in `observables`");
                 } else if !listed.insert(var) {
                     let message = format!("`{name}` has two monitors");
-                    self.error(&[Step::Field("monitors")], message, "one monitor per observable");
+                    self.error(
+                        &[Step::Field("monitors")],
+                        message,
+                        "one monitor per observable",
+                    );
                 } else if let Some(monitor) = self.monitor(written, name, var, spec) {
                     monitors.push(monitor);
                 }
@@ -116,12 +120,22 @@ impl Loader {
         var: VarId,
         spec: &MonitorFile,
     ) -> Option<Monitor> {
-        let at = |field| [Step::Field("monitors"), Step::Value(written), Step::Field(field)];
+        let at = |field| {
+            [
+                Step::Field("monitors"),
+                Step::Value(written),
+                Step::Field(field),
+            ]
+        };
         let errors = self.errors.len();
         let (lower, upper) = spec.range;
         if !(lower.is_finite() && upper.is_finite() && lower < upper) {
             let message = format!("`{name}`: range ({lower}, {upper}) is not a range");
-            self.error(&at("range"), message, "finite bounds, the lower below the upper");
+            self.error(
+                &at("range"),
+                message,
+                "finite bounds, the lower below the upper",
+            );
         }
         let values = self.monitor_values(name, var, &spec.values, &at("values"));
         let thresholds = self.thresholds(name, spec, values.len(), written);
@@ -155,7 +169,11 @@ impl Loader {
         path: &[Step],
     ) -> Vec<ValueId> {
         if written.is_empty() {
-            self.error(path, format!("`{name}`: a monitor needs values"), "values, low to high");
+            self.error(
+                path,
+                format!("`{name}`: a monitor needs values"),
+                "values, low to high",
+            );
         }
         let mut values: Vec<ValueId> = Vec::with_capacity(written.len());
         for (i, value) in written.iter().enumerate() {
@@ -199,26 +217,39 @@ impl Loader {
             ]
         };
         if spec.thresholds.len() + 1 != spec.values.len() {
-            let at = [Step::Field("monitors"), Step::Value(written), Step::Field("thresholds")];
+            let at = [
+                Step::Field("monitors"),
+                Step::Value(written),
+                Step::Field("thresholds"),
+            ];
             let message = format!(
                 "`{name}`: {} thresholds for {} values",
                 spec.thresholds.len(),
                 spec.values.len()
             );
-            self.error(&at, message, "one threshold between each two neighbouring values");
+            self.error(
+                &at,
+                message,
+                "one threshold between each two neighbouring values",
+            );
         }
         let (lower, upper) = spec.range;
         let mut thresholds: Vec<Threshold> = Vec::with_capacity(values.saturating_sub(1));
         for (i, t) in spec.thresholds.iter().enumerate() {
             if !(t.at.is_finite() && lower < t.at && t.at < upper) {
                 let message = format!("`{name}`: threshold {} is outside the range", t.at);
-                self.error(&path(i, "at"), message, "a threshold inside the valid range");
+                self.error(
+                    &path(i, "at"),
+                    message,
+                    "a threshold inside the valid range",
+                );
             } else if !(t.hysteresis.is_finite() && t.hysteresis >= 0.0) {
                 let message = format!("`{name}`: hysteresis {} is not a width", t.hysteresis);
                 self.error(&path(i, "hysteresis"), message, "0 or more");
-            } else if let Some(before) = thresholds.last().filter(|b| {
-                b.at + b.hysteresis > t.at - t.hysteresis
-            }) {
+            } else if let Some(before) = thresholds
+                .last()
+                .filter(|b| b.at + b.hysteresis > t.at - t.hysteresis)
+            {
                 let message = format!(
                     "`{name}`: threshold {} (± {}) is not above {} (± {})",
                     t.at, t.hysteresis, before.at, before.hysteresis
@@ -255,14 +286,20 @@ impl Loader {
                 Step::Field("readings"),
                 Step::Key(value),
             ];
-            let Some(v) = self.table.variable(var).value(value).filter(|v| values.contains(v))
+            let Some(v) = self
+                .table
+                .variable(var)
+                .value(value)
+                .filter(|v| values.contains(v))
             else {
                 let message = format!("`{name}`: `{value}` is not one of the monitor's values");
                 self.error(&key, message, "a value listed in `values`");
                 continue;
             };
             let reading = match *law {
-                ReadingFile::Gaussian(mean, sd) if mean.is_finite() && sd.is_finite() && sd > 0.0 => {
+                ReadingFile::Gaussian(mean, sd)
+                    if mean.is_finite() && sd.is_finite() && sd > 0.0 =>
+                {
                     Reading::Gaussian { mean, sd }
                 }
                 ReadingFile::Uniform(lower, upper)

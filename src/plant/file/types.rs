@@ -159,7 +159,10 @@ mod tests {
         let mut expr = parse("self.out = self.in and self != blown and self.x = selfish").unwrap();
         rename_self(&mut expr, "b3");
         let reparsed = parse("b3.out = b3.in and b3 != blown and b3.x = selfish").unwrap();
-        assert_eq!(format!("{:?}", strip(&expr)), format!("{:?}", strip(&reparsed)));
+        assert_eq!(
+            format!("{:?}", strip(&expr)),
+            format!("{:?}", strip(&reparsed))
+        );
     }
 
     /// The names of a formula, in order (spans differ after renaming).

@@ -20,8 +20,8 @@
 //!   one order, no branching.
 
 use super::{Delay, Due, Effect, Held, Script, ScriptedPlant, TIME_EPSILON, due_at};
-use crate::logic::ValueId;
 use crate::executive::Value;
+use crate::logic::ValueId;
 
 /// At most this many contending effects of one cycle are permuted (6! = 720 orders); beyond
 /// it the later ones keep their fired order.
