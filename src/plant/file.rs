@@ -82,7 +82,7 @@
 //! (the current modes' constraints, the interconnections and the commands) entails its guard;
 //! a mode stays with the probability its enabled transitions leave (no explicit self-loops); a
 //! component takes at most one transition per cycle and its clock restarts when it changes mode.
-//! See [`TransitionLaw`] for how per-cycle, rate and timed laws combine.
+//! See [`TransitionLaw`](super::TransitionLaw) for how per-cycle, rate and timed laws combine.
 //!
 //! Every error names the file, line and column, shows the text, says what was expected and which
 //! component and mode it concerns. Formulas are the constraint language of DESIGN.md §4.

@@ -292,7 +292,7 @@ impl Plant {
     }
 
     /// The monitors of the numeric observables, in declaration order
-    /// ([`monitor`](self::monitor)).
+    /// ([`monitor`]).
     pub fn monitors(&self) -> &[Monitor] {
         &self.monitors
     }
