@@ -10,7 +10,7 @@ seconds=${1:-60}
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-    targets=(constraint rmpl plant scenario ocsp estimation_log executive)
+    targets=(constraint rmpl plant scenario ocsp estimation_log executive mission schedule mission_scenario protocol)
 fi
 export RUSTC_BOOTSTRAP=1 # cargo fuzz passes nightly-only flags; only the stable toolchain is installed
 mkdir -p fuzz/work/logs

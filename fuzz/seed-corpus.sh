@@ -23,6 +23,10 @@ seed plant models/*.ron tests/bad_models/*.ron
 seed scenario scenarios/*/*.ron tests/bad_scenarios/*.ron tests/scenarios/*.ron
 seed ocsp models/ocsp/*.ron tests/bad_input/ocsp_*.ron
 seed estimation_log tests/logs/*.jsonl
+seed mission missions/*.ron tests/missions/*.ron tests/bad_missions/*.ron
+seed schedule missions/*.ron tests/missions/*.ron tests/bad_missions/*.ron
+seed mission_scenario scenarios/thermostat/*.ron scenarios/rover/mission_*.ron scenarios/mars_edl/descent_mission.ron
+seed protocol scenarios/rover/r*.ron tests/bad_rover/*.ron
 
 # The constraint language has no files of its own: its seeds are the formulas written in the
 # models and scenarios (every quoted string with a comparison in it) and the programs'

@@ -84,8 +84,8 @@ enum Command {
         /// The log: one JSON object per cycle with `time`, `observations` and `commands`.
         #[arg(long)]
         log: PathBuf,
-        /// How many system states TimedME tracks.
-        #[arg(long, default_value_t = 10)]
+        /// How many system states TimedME tracks (at least 1).
+        #[arg(long, default_value_t = 10, value_parser = cli::limits::parse_kappa)]
         kappa: usize,
         /// Use the exact belief update (Figure 6-10; small models only) instead of TimedME.
         #[arg(long)]
@@ -169,7 +169,7 @@ enum Command {
     /// parallel, tabulated (pass rate, failures with the seeds that replay them, diagnosis
     /// latencies, cycle times); or `campaign merge DIR...` to join shards.
     Campaign(cli::campaign::CampaignArgs),
-    /// Measure cycle times per phase (estimation, sequencer, reconfiguration, whole cycle):
+    /// Measure cycle times per phase (estimation, sequencer, reconfiguration, submissions, whole cycle):
     /// min / median / p99 / max of quiet and busy cycles separately, for sizing a flight
     /// computer. Either run a scenario, or replay an estimation log with `--plant` and `--log`
     /// (estimation alone, once per `--kappa`).
@@ -183,8 +183,9 @@ enum Command {
         /// A replay log (the format of `kairos estimate`).
         #[arg(long, requires = "plant")]
         log: Option<PathBuf>,
-        /// κ values to measure estimation at (repeat the option or separate by commas).
-        #[arg(long, value_delimiter = ',', default_values_t = [10])]
+        /// κ values to measure at (repeat the option or separate by commas; default: the
+        /// scenario's κ, or 10 for a log).
+        #[arg(long, value_delimiter = ',', value_parser = cli::limits::parse_kappa)]
         kappa: Vec<usize>,
         /// Print one JSON object instead of the table.
         #[arg(long)]
@@ -268,11 +269,11 @@ fn main() -> ExitCode {
             json,
         } => {
             let target = match (&scenario, &plant, &log) {
-                (Some(scenario), _, _) => cli::bench::BenchTarget::Scenario(scenario),
+                (Some(scenario), _, _) => cli::bench::BenchTarget::Scenario(scenario, &kappa),
                 (None, Some(plant), Some(log)) => cli::bench::BenchTarget::Log {
                     plant,
                     log,
-                    kappas: &kappa,
+                    kappas: if kappa.is_empty() { &[10] } else { &kappa },
                 },
                 _ => {
                     return usage_error("kairos bench needs a SCENARIO, or --plant and --log");

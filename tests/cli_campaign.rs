@@ -85,8 +85,8 @@ fn a_records_seed_replays_the_run() {
     }
 }
 
-/// Bad arguments are bad input: a shard outside its count, a scripted scenario, a run in two
-/// shards.
+/// Bad arguments are bad input: a shard outside its count, a scripted scenario, a shard given
+/// twice to a merge.
 #[test]
 fn bad_campaigns_are_bad_input() {
     let (code, _, stderr) = kairos(&["campaign", SCENARIO, "--runs", "2", "--shard", "2/2"]);
@@ -102,7 +102,7 @@ fn bad_campaigns_are_bad_input() {
     let dir = campaign("twice", "2", &[]);
     let (code, _, stderr) = kairos(&["campaign", "merge", &dir, &dir]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("is in two shards"), "{stderr}");
+    assert!(stderr.contains("shard 0/1 is given twice"), "{stderr}");
 }
 
 /// The records of `dir`'s `runs.jsonl`, or of a recorded file, as JSON values without the

@@ -113,6 +113,38 @@ fn corpus_estimation_log() {
 }
 
 #[test]
+fn corpus_mission() {
+    assert!(
+        replay_files("mission") > 0,
+        "no seeds: run fuzz/seed-corpus.sh"
+    );
+}
+
+#[test]
+fn corpus_schedule() {
+    assert!(
+        replay_files("schedule") > 0,
+        "no seeds: run fuzz/seed-corpus.sh"
+    );
+}
+
+#[test]
+fn corpus_mission_scenario() {
+    assert!(
+        replay_files("mission_scenario") > 0,
+        "no seeds: run fuzz/seed-corpus.sh"
+    );
+}
+
+#[test]
+fn corpus_protocol() {
+    assert!(
+        replay_files("protocol") > 0,
+        "no seeds: run fuzz/seed-corpus.sh"
+    );
+}
+
+#[test]
 fn corpus_executive() {
     replay_files("executive");
 }
@@ -265,6 +297,26 @@ fn mutated_ocsps() {
 #[test]
 fn mutated_estimation_logs() {
     mutated_seeds("estimation_log", 256);
+}
+
+#[test]
+fn mutated_missions() {
+    mutated_seeds("mission", 128);
+}
+
+#[test]
+fn mutated_schedules() {
+    mutated_seeds("schedule", 128);
+}
+
+#[test]
+fn mutated_mission_scenarios() {
+    mutated_seeds("mission_scenario", 64);
+}
+
+#[test]
+fn mutated_protocol_scenarios() {
+    mutated_seeds("protocol", 256);
 }
 
 proptest! {

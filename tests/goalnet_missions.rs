@@ -56,6 +56,16 @@ bad_mission!(
 );
 bad_mission!(duplicate_names, "declared twice", "knowledge threshold 1.5");
 bad_mission!(unknown_field, "unknown_field.ron:6:", "begin");
+bad_mission!(
+    recursive_type,
+    "recursive_type.ron:15:56",
+    "goal type `Warm` elaborates into itself: Warm → Heat → Warm"
+);
+bad_mission!(
+    multiplying_types,
+    "multiplying_types.ron:11:25",
+    "a goal of type `T0` elaborates into 38228 goals"
+);
 
 /// System test 4's mission (mds-goal-networks.md §3.2): the windows of its points follow from
 /// the constraints alone (TP_S in [70, 165] before anything fires), and the goals are tied to the

@@ -288,3 +288,53 @@ fn kairos_schedule_dot_draws_the_elaboration_tree() {
     assert!(stdout.contains("stay-warm.TP_A"), "{stdout}");
     insta::assert_snapshot!(stdout);
 }
+
+/// A goal holds from its start to its end (docs/design/goal-networks.md, "Scheduling"): one word
+/// changed in a shipped mission's constraint let close-switch1's end come before its start, and
+/// `schedule` and `run` left the goal out with exit 0. The scheduler now refuses the network,
+/// naming the goal and the written constraint, each located.
+#[test]
+fn a_goal_whose_end_must_come_before_its_start_is_refused() {
+    let (code, stdout, stderr) = schedule_cli(&["tests/missions/reversed_goal.ron"]);
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(
+        stderr.contains("reversed goal: `close-switch1`")
+            && stderr.contains("tests/missions/reversed_goal.ron:36:25: goal `close-switch1`")
+            && stderr.contains("tests/missions/reversed_goal.ron:13:13: TP_A → TP_H"),
+        "{stderr}"
+    );
+}
+
+/// A goal whose start and end are forced to one instant covered no interval and vanished from
+/// its timeline; it is refused by name.
+#[test]
+fn a_goal_over_no_time_is_refused() {
+    let (code, stdout, stderr) = schedule_cli(&["tests/missions/empty_goal.ron"]);
+    assert_eq!(code, Some(1), "{stdout}");
+    assert!(
+        stderr.contains("empty goal: `close-switch1`")
+            && stderr.contains("tests/missions/empty_goal.ron:35:25"),
+        "{stderr}"
+    );
+}
+
+/// Constraints that merely allow the reverse order are fine: `start ≤ end` is part of every
+/// goal, so the network schedules with TP_A at or after TP_H, as the shipped mission does.
+#[test]
+fn constraints_that_allow_the_reverse_order_schedule_in_the_goals_order() {
+    let (_, result) = scheduled("tests/missions/reverse_allowed.ron");
+    let executable = result.expect("schedules");
+    let network = &executable.network;
+    let (h, a) = (
+        network.point_named("TP_H").expect("TP_H"),
+        network.point_named("TP_A").expect("TP_A"),
+    );
+    let window = |p| network.stn().window(p).expect("a window");
+    assert_eq!((window(h).lb, window(a).lb), (10.0, 10.0));
+    let close = network.goal_named("close-switch1").expect("declared");
+    let covering = (executable.timelines.iter())
+        .flat_map(|t| &t.xgoals)
+        .find(|x| x.constituents.contains(&close))
+        .expect("close-switch1 is on its timeline");
+    assert_eq!((covering.start, covering.end), (h, a));
+}

@@ -98,6 +98,7 @@ fn load_ron(path: &Path, scenarios: &[PathBuf]) {
                 &rover,
                 CoaController::new(rover.initial_value()),
                 Budget::Unbounded,
+                u64::MAX,
             );
             assert!(explored.holds(), "{}: a property fails", path.display());
         }

@@ -25,7 +25,12 @@ fn rover(file: &str) -> RoverScenario {
 
 fn explore_with<C: Controller>(file: &str, make: impl Fn(StateValue) -> C) -> ProtocolExploration {
     let scenario = rover(file);
-    explore(&scenario, make(scenario.initial_value()), Budget::Unbounded)
+    explore(
+        &scenario,
+        make(scenario.initial_value()),
+        Budget::Unbounded,
+        u64::MAX,
+    )
 }
 
 /// Explores `scenarios/rover/<r>.ron` with the seed's controller and asserts that every
@@ -292,7 +297,7 @@ fn p_succ_refutes_a_wrong_expectation_at_the_endcstr() {
 fn a_state_budget_cuts_the_search_and_says_so() {
     let scenario = rover("scenarios/rover/r5.ron");
     let controller = CoaController::new(scenario.initial_value());
-    let explored = explore(&scenario, controller, Budget::States(20));
+    let explored = explore(&scenario, controller, Budget::States(20), u64::MAX);
     assert!(explored.cut && !explored.holds());
     assert!(explored.states <= 21 + 2, "{}", explored.states);
 }

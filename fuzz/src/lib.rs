@@ -19,9 +19,13 @@ use kairos::diagnostic::Source;
 use kairos::estimation::log::{parse_log, replay};
 use kairos::estimation::{TimedMe, TimedMeOptions};
 use kairos::executive::{Executive, NamedValue, StepError};
+use kairos::exploration::Budget as ExploreBudget;
+use kairos::goalnet::{self, EstimateView, GoalController, Mission, display};
 use kairos::logic::{Formula, VarTable, parse_formula};
 use kairos::opsat::{Budget, SearchOptions};
 use kairos::plant::Plant;
+use kairos::protocol::CoaController;
+use kairos::reconfiguration::Reconfiguration;
 use kairos::rmpl::{self, LinkOptions};
 use kairos::simulation::{self, RunOptions};
 
@@ -31,6 +35,9 @@ pub const MAX_CYCLES: usize = 24;
 
 /// Records of an estimation log that are replayed (all of them are parsed).
 pub const MAX_REPLAYED_RECORDS: usize = 24;
+
+/// Configurations a fuzzed rover scenario's protocol search may store.
+pub const PROTOCOL_STATES: u64 = 2_000;
 
 /// OPSAT's node budget for a fuzzed OCSP, so that a large problem cannot stall the fuzzer.
 pub const OCSP_NODE_BUDGET: u64 = 2_000;
@@ -183,6 +190,107 @@ pub fn scenario(data: &[u8]) {
         .iter()
         .find(|(_, model)| text.contains(model))
         .map_or(SCENARIO_DIRS[0].0, |(dir, _)| dir);
+    run_scenario(text, dir);
+}
+
+/// The scenario directories of missions: scenarios that run a goal network (`mission:`).
+const MISSION_SCENARIO_DIRS: [(&str, &str); 3] = [
+    ("scenarios/thermostat", "thermostat.ron"),
+    ("scenarios/rover", "rover.ron"),
+    ("scenarios/mars_edl", "mars_lander.ron"),
+];
+
+/// Loads a mission file (`goalnet::mission::load_source`), its plant path relative to
+/// `missions/`; errors are rendered.
+fn load_mission(text: &str) -> Option<Mission> {
+    let source = Source::new("fuzz-mission.ron", text);
+    match goalnet::mission::load_source(&source, &repository().join("missions")) {
+        Ok(mission) => Some(mission),
+        Err(errors) => {
+            let _ = errors.to_string();
+            None
+        }
+    }
+}
+
+/// The reconfiguration compiled for the mission's plant and the plant's most likely initial
+/// modes, as `kairos run` and `kairos schedule` start from them.
+fn start(mission: &Mission) -> Option<(Reconfiguration, Vec<kairos::logic::ValueId>)> {
+    let reconfiguration = Reconfiguration::compile(&mission.plant).ok()?;
+    let current = mission.plant.most_likely_initial();
+    Some((reconfiguration, current))
+}
+
+/// Mission files (`goalnet::mission`): load (every check `kairos check` makes), then build the
+/// goal controller at time 0 from the initial modes — the elaboration of every goal type
+/// (tactics that create goals of their own types included) and the first schedule.
+pub fn mission(data: &[u8]) {
+    let Some(text) = text(data) else { return };
+    if ["/dev", "/proc", "/sys"].iter().any(|p| text.contains(p)) {
+        return;
+    }
+    let Some(mission) = load_mission(text) else {
+        return;
+    };
+    let Some((reconfiguration, current)) = start(&mission) else {
+        return;
+    };
+    let beliefs: Vec<Vec<f64>> = (mission.plant.components().iter())
+        .map(|c| c.initial().to_vec())
+        .collect();
+    let view = EstimateView {
+        modes: &current,
+        beliefs: &beliefs,
+    };
+    let controller = GoalController::new(&mission, &reconfiguration, 0.0, view);
+    let _ = controller.is_safed();
+}
+
+/// `kairos schedule`: a mission's network scheduled from the initial modes, rendered, and
+/// projected to a time the input's length picks (0 to 999 s).
+pub fn schedule(data: &[u8]) {
+    let Some(text) = text(data) else { return };
+    if ["/dev", "/proc", "/sys"].iter().any(|p| text.contains(p)) {
+        return;
+    }
+    let Some(mission) = load_mission(text) else {
+        return;
+    };
+    let Some((reconfiguration, current)) = start(&mission) else {
+        return;
+    };
+    match goalnet::schedule(&mission.network, &reconfiguration, &current) {
+        Ok(executable) => {
+            let _ = display::render(&executable, &mission.plant);
+            let at = (text.len() % 1000) as f64;
+            if let Ok(projection) = goalnet::project(&executable, at) {
+                let _ = display::render_projection(&projection, &mission.plant);
+            }
+        }
+        Err(error) => {
+            let _ = display::explain(&error, &mission.network, &mission.plant);
+        }
+    }
+}
+
+/// Scenarios that run a mission (a goal network against a scripted plant): load, then run at
+/// most [`MAX_CYCLES`] cycles, relative paths read from the shipped mission scenarios'
+/// directory of the model the text names.
+pub fn mission_scenario(data: &[u8]) {
+    let Some(text) = text(data) else { return };
+    if ["/dev", "/proc", "/sys"].iter().any(|p| text.contains(p)) {
+        return;
+    }
+    let dir = MISSION_SCENARIO_DIRS
+        .iter()
+        .find(|(_, model)| text.contains(model))
+        .map_or(MISSION_SCENARIO_DIRS[0].0, |(dir, _)| dir);
+    run_scenario(text, dir);
+}
+
+/// Loads the scenario `text` with relative paths from `dir` and runs at most [`MAX_CYCLES`]
+/// cycles; errors are rendered.
+fn run_scenario(text: &str, dir: &str) {
     let source = Source::new("fuzz-scenario.ron", text);
     let mut scenario = match simulation::load_source(&source, &repository().join(dir)) {
         Ok(scenario) => scenario,
@@ -193,6 +301,28 @@ pub fn scenario(data: &[u8]) {
     };
     scenario.end = scenario.end.min(scenario.cycle * MAX_CYCLES as f64);
     let _ = simulation::run(&scenario, RunOptions::default(), &mut |_| {});
+}
+
+/// Rover scenarios (`protocol::scenario`): load, then explore the controller protocol's
+/// interleavings within [`PROTOCOL_STATES`] configurations.
+pub fn protocol(data: &[u8]) {
+    let Some(text) = text(data) else { return };
+    let source = Source::new("fuzz-rover.ron", text);
+    let scenario = match kairos::protocol::scenario::load_source(&source) {
+        Ok(scenario) => scenario,
+        Err(errors) => {
+            let _ = errors.to_string();
+            return;
+        }
+    };
+    let controller = CoaController::new(scenario.initial_value());
+    let explored = kairos::exploration::protocol::explore(
+        &scenario,
+        controller,
+        ExploreBudget::States(PROTOCOL_STATES),
+        u64::MAX,
+    );
+    let _ = explored.holds();
 }
 
 /// OCSP files (`opsat::file`): load, then find the three best solutions within
@@ -407,7 +537,7 @@ pub type Entry = fn(&[u8]);
 
 /// Every target by name, as `cargo fuzz` knows them (`fuzz/fuzz_targets/<name>.rs`) and as the
 /// corpus directories are named.
-pub const TARGETS: [(&str, Entry); 7] = [
+pub const TARGETS: [(&str, Entry); 11] = [
     ("constraint", constraint),
     ("rmpl", rmpl),
     ("plant", plant),
@@ -415,4 +545,8 @@ pub const TARGETS: [(&str, Entry); 7] = [
     ("ocsp", ocsp),
     ("estimation_log", estimation_log),
     ("executive", executive),
+    ("mission", mission),
+    ("schedule", schedule),
+    ("mission_scenario", mission_scenario),
+    ("protocol", protocol),
 ];

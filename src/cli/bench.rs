@@ -1,8 +1,10 @@
 //! `kairos bench`: how long the executive's cycles take, per phase, for sizing a flight computer
 //! (DESIGN.md §12, §14).
 //!
-//! - `kairos bench SCENARIO [--json]` runs a scenario as `kairos run` does (no log) and reports,
-//!   per phase (estimation, sequencer, reconfiguration, whole cycle), the minimum, median, 99th
+//! - `kairos bench SCENARIO [--kappa K ...] [--json]` runs a scenario as `kairos run` does (no
+//!   log), once per κ given (the scenario's own κ when none is), and reports,
+//!   per phase (estimation, sequencer, reconfiguration, goals submitted before the cycle, whole
+//!   cycle, submissions included), the minimum, median, 99th
 //!   percentile and maximum wall time of its *quiet* and *busy* cycles separately.
 //! - `kairos bench --plant MODEL --log LOG [--kappa K ...] [--json]` replays an estimation log
 //!   (the format of `kairos estimate`) through TimedME once per κ and reports the same figures
@@ -29,8 +31,8 @@ use super::{Failure, load_plant, read_source};
 
 /// What to benchmark.
 pub enum BenchTarget<'a> {
-    /// A scenario, run whole.
-    Scenario(&'a Path),
+    /// A scenario, run whole once per κ (its own when none is given).
+    Scenario(&'a Path, &'a [usize]),
     /// Estimation alone over a replay log, once per κ.
     Log {
         /// The plant model.
@@ -45,7 +47,7 @@ pub enum BenchTarget<'a> {
 /// Runs the benchmark and prints its table (or JSON).
 pub fn run(target: &BenchTarget, json: bool) -> Result<(), Failure> {
     let report = match target {
-        BenchTarget::Scenario(path) => bench_scenario(path)?,
+        BenchTarget::Scenario(path, kappas) => bench_scenario(path, kappas)?,
         BenchTarget::Log { plant, log, kappas } => bench_log(plant, log, kappas)?,
     };
     let text = if json {
@@ -57,16 +59,22 @@ pub fn run(target: &BenchTarget, json: bool) -> Result<(), Failure> {
 }
 
 /// The phases a cycle's time is split into, in the order the report shows them.
-const PHASES: [&str; 4] = ["estimation", "sequencer", "reconfiguration", "cycle"];
+const PHASES: [&str; 5] = [
+    "estimation",
+    "sequencer",
+    "reconfiguration",
+    "submission",
+    "cycle",
+];
 
 /// The times of one kind of cycle (quiet or busy), per phase, in nanoseconds.
 #[derive(Default)]
 struct Samples {
-    phases: [Vec<u64>; 4],
+    phases: [Vec<u64>; 5],
 }
 
 impl Samples {
-    fn push(&mut self, times: [Duration; 4]) {
+    fn push(&mut self, times: [Duration; 5]) {
         for (samples, time) in self.phases.iter_mut().zip(times) {
             samples.push(u64::try_from(time.as_nanos()).unwrap_or(u64::MAX));
         }
@@ -121,18 +129,41 @@ struct Report {
     sections: Vec<Section>,
 }
 
-fn bench_scenario(path: &Path) -> Result<Report, Failure> {
-    let scenario = simulation::load(path).map_err(Failure::bad_input)?;
+/// Runs the scenario once per κ of `kappas` (its own κ when none is given).
+fn bench_scenario(path: &Path, kappas: &[usize]) -> Result<Report, Failure> {
+    let mut scenario = simulation::load(path).map_err(Failure::bad_input)?;
+    let kappas = if kappas.is_empty() {
+        vec![scenario.kappa]
+    } else {
+        kappas.to_vec()
+    };
+    let started = Instant::now();
+    let mut sections = Vec::new();
+    let mut cycles = 0;
+    for kappa in kappas {
+        scenario.kappa = kappa;
+        let (section, ran) = bench_run(&scenario)?;
+        sections.push(section);
+        cycles = ran;
+    }
+    Ok(Report {
+        subject: format!("{} ({cycles} cycles)", path.display()),
+        wall: started.elapsed(),
+        sections,
+    })
+}
+
+/// One run of the scenario, its cycles sorted into quiet and busy; and how many it ran.
+fn bench_run(scenario: &simulation::Scenario) -> Result<(Section, u64), Failure> {
     let mut section = Section {
         title: format!("scenario `{}`, κ = {}", scenario.name, scenario.kappa),
         quiet: Samples::default(),
         busy: Samples::default(),
-        phases: vec![0, 1, 2, 3],
+        phases: vec![0, 1, 2, 3, 4],
     };
     let mut previous: Option<Vec<NamedValue>> = None;
     let mut commanded = false;
-    let started = Instant::now();
-    let outcome = simulation::run(&scenario, RunOptions::default(), &mut |record| {
+    let outcome = simulation::run(scenario, RunOptions::default(), &mut |record| {
         let step = record.step;
         let busy =
             commanded || previous.as_deref() != Some(record.observation) || !step.events.is_empty();
@@ -141,6 +172,7 @@ fn bench_scenario(path: &Path) -> Result<Report, Failure> {
             times.estimation,
             times.sequencer,
             times.reconfiguration,
+            times.submission,
             times.total,
         ];
         if busy {
@@ -154,11 +186,7 @@ fn bench_scenario(path: &Path) -> Result<Report, Failure> {
         }
     })
     .map_err(|e| Failure::failed(format!("error: {e}")))?;
-    Ok(Report {
-        subject: format!("{} ({} cycles)", path.display(), outcome.cycles),
-        wall: started.elapsed(),
-        sections: vec![section],
-    })
+    Ok((section, outcome.cycles))
 }
 
 fn bench_log(plant_path: &Path, log: &Path, kappas: &[usize]) -> Result<Report, Failure> {
@@ -214,7 +242,13 @@ fn replay_timed(
             let now = &records[index];
             let busy = before.commands.issued(plant).next().is_some()
                 || before.observation != now.observation;
-            let samples = [elapsed, Duration::ZERO, Duration::ZERO, elapsed];
+            let samples = [
+                elapsed,
+                Duration::ZERO,
+                Duration::ZERO,
+                Duration::ZERO,
+                elapsed,
+            ];
             if busy {
                 section.busy.push(samples);
             } else {

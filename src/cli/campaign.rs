@@ -1,12 +1,20 @@
 //! `kairos campaign SCENARIO --runs N --seed S [--jobs J] [--shard i/n] [--out DIR] [--fault F]...
-//! [--noise q]`: a Monte
+//! [--noise q] [--memory BYTES]`: a Monte
 //! Carlo campaign of a scenario with a model-driven plant (`kairos::campaign`), and
 //! `kairos campaign merge DIR... [--out DIR]`, which joins the shards of one.
 //!
 //! With `--out`, the directory receives `runs.jsonl` (one [`RunRecord`] per line, by run index),
-//! `summary.txt` and `campaign.svg`; the summary is printed in any case. Exit 0 when every run
+//! `summary.txt`, `campaign.svg` and the shard's manifest (`super::shards`: a merge refuses
+//! shards of different campaigns); the summary is printed in any case. Exit 0 when every run
 //! passed, 1 when one did not (its seed replays it: `kairos run SCENARIO --seed SEED`), 2 on bad
-//! input.
+//! input or a file that cannot be written.
+//!
+//! # Memory
+//! A campaign holds its shard's records until the summary is made. A record is a few hundred
+//! bytes (its histogram of cycle times, its faults, its first failure), so [`RECORD_BYTES`]
+//! bounds it from above, and a shard whose runs would need more than the memory budget is
+//! refused before it starts, with the shard count that fits: `--runs 1000000000` in one process
+//! would otherwise run for days and then abort allocating.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -17,8 +25,15 @@ use kairos::campaign::{self, RunRecord, RunVerdict, Summary, plot};
 use kairos::simulation;
 
 use super::Failure;
+use super::limits::{self, parse_memory, parse_shard};
 use super::model_args::ModelArgs;
 use super::output::emit;
+use super::shards::{self, Manifest};
+
+/// An upper bound on the memory one run's record takes while the campaign holds it, bytes
+/// (its fields, its histogram's map nodes, its strings and faults; measured records of the
+/// shipped campaigns take a few hundred).
+pub const RECORD_BYTES: u64 = 2048;
 
 /// `kairos campaign`'s arguments.
 #[derive(clap::Args)]
@@ -30,15 +45,19 @@ pub struct CampaignArgs {
     /// The scenario (it needs `simulator: Model(...)`).
     #[arg(required = true)]
     pub scenario: Option<PathBuf>,
-    /// How many runs in the whole campaign (all shards).
-    #[arg(long, required = true)]
+    /// How many runs in the whole campaign (all shards), at least 1.
+    #[arg(long, required = true, value_parser = clap::value_parser!(u64).range(1..))]
     pub runs: Option<u64>,
     /// The campaign's seed; run i plays the plant seed derived from (seed, i).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Threads (default: one per core).
+    /// Threads, at most the machine's cores (default, 0: one per core).
     #[arg(long, default_value_t = 0)]
     pub jobs: usize,
+    /// The most memory the shard's records may take (`4G`, `512M`); a shard that needs more is
+    /// refused before it starts.
+    #[arg(long, value_name = "BYTES", value_parser = parse_memory, default_value = "4G")]
+    pub memory: u64,
     /// Run only shard i of n (the runs whose index is i modulo n), such as `--shard 3/100`.
     #[arg(long, value_name = "i/n", value_parser = parse_shard)]
     pub shard: Option<(u64, u64)>,
@@ -61,28 +80,16 @@ pub enum MergeCommand {
         /// Write the merged runs.jsonl, summary.txt and campaign.svg here.
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
-        /// The campaign's name in the summary and on the picture (the records do not carry
-        /// the scenario's).
-        #[arg(long, default_value = "campaign")]
-        title: String,
+        /// The campaign's name in the summary and on the picture (default: the scenario's).
+        #[arg(long)]
+        title: Option<String>,
     },
-}
-
-/// `i/n` with `i < n`.
-fn parse_shard(text: &str) -> Result<(u64, u64), String> {
-    let bad = || format!("`{text}` is not a shard `i/n` with 0 ≤ i < n, such as 0/4");
-    let (i, n) = text.split_once('/').ok_or_else(bad)?;
-    let (i, n): (u64, u64) = (
-        i.trim().parse().map_err(|_| bad())?,
-        n.trim().parse().map_err(|_| bad())?,
-    );
-    if i < n { Ok((i, n)) } else { Err(bad()) }
 }
 
 /// Runs the subcommand.
 pub fn run(args: &CampaignArgs) -> Result<(), Failure> {
     if let Some(MergeCommand::Merge { dirs, out, title }) = &args.merge {
-        return merge(dirs, title, out.as_deref());
+        return merge(dirs, title.as_deref(), out.as_deref());
     }
     let (Some(path), Some(runs)) = (&args.scenario, args.runs) else {
         return Err(Failure::bad_input(
@@ -97,16 +104,27 @@ pub fn run(args: &CampaignArgs) -> Result<(), Failure> {
         )));
     }
     args.model.apply(&mut scenario)?;
-    if let Some(out) = &args.out {
-        std::fs::create_dir_all(out).map_err(|e| {
-            Failure::bad_input(format!("error: cannot create {}: {e}", out.display()))
-        })?;
-    }
+    let jobs = limits::threads(args.jobs)?;
+    let memory = limits::memory_budget(args.memory)?;
     let (shard, shards) = args.shard.unwrap_or((0, 1));
-    let indices: Vec<u64> = (0..runs).filter(|i| i % shards == shard).collect();
+    // The runs whose index is `shard` modulo `shards`.
+    let count = runs.saturating_sub(shard).div_ceil(shards);
+    fits(count, shards, memory)?;
+    if let Some(out) = &args.out {
+        create_dir(out)?;
+        let options = [
+            ("seed", serde_json::json!(args.seed)),
+            ("runs", serde_json::json!(runs)),
+            ("fault", serde_json::json!(args.model.faults)),
+            ("noise", serde_json::json!(args.model.noise)),
+        ];
+        let options = options.map(|(k, v)| (k.to_string(), v)).into();
+        Manifest::new("campaign", path, &scenario.name, options, (shard, shards))?.write(out)?;
+    }
+    let indices: Vec<u64> = (0..count).map(|k| shard + k * shards).collect();
     let progress = progress_bar(indices.len() as u64);
     let started = Instant::now();
-    let records = campaign::run_campaign(&scenario, args.seed, &indices, args.jobs, &|| {
+    let records = campaign::run_campaign(&scenario, args.seed, &indices, jobs, &|| {
         progress.inc(1);
     })
     .map_err(|e| Failure::failed(format!("error: cannot start the threads: {e}")))?;
@@ -123,6 +141,53 @@ pub fn run(args: &CampaignArgs) -> Result<(), Failure> {
         args.model.command_line(),
     );
     report(&records, &scenario.name, &header, args.out.as_deref())
+}
+
+/// Refuses, before it starts, a shard of `count` runs whose records would take more than
+/// `memory` bytes, saying how many shards would fit.
+fn fits(count: u64, shards: u64, memory: u64) -> Result<(), Failure> {
+    let most = memory / RECORD_BYTES;
+    if count <= most {
+        return Ok(());
+    }
+    let total = count.saturating_mul(shards);
+    let needed = total.div_ceil(most.max(1));
+    Err(Failure::bad_input(format!(
+        "error: --runs: this shard has {count} runs, whose records take up to {} (at most {} \
+         a run), more than the memory budget of {}\n  expected: at most {most} runs a shard: \
+         split the campaign into at least {needed} shards (--shard i/{needed}), or raise \
+         --memory",
+        kairos::exploration::memory::format_bytes(count.saturating_mul(RECORD_BYTES)),
+        kairos::exploration::memory::format_bytes(RECORD_BYTES),
+        kairos::exploration::memory::format_bytes(memory),
+    )))
+}
+
+/// Creates an output directory.
+fn create_dir(dir: &Path) -> Result<(), Failure> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| Failure::io(format!("error: cannot create {}: {e}", dir.display())))
+}
+
+/// Checks that the merged records are the campaign's runs 0 to `runs − 1`, each with its seed.
+fn check_records(records: &[RunRecord], runs: u64, seed: u64) -> Result<(), Failure> {
+    if let Some(odd) = records
+        .iter()
+        .find(|r| r.index >= runs || r.seed != campaign::run_seed(seed, r.index))
+    {
+        return Err(Failure::bad_input(format!(
+            "error: run {} (seed {}) is not a run of the campaign of seed {seed} and {runs} runs",
+            odd.index, odd.seed
+        )));
+    }
+    if records.len() as u64 != runs {
+        return Err(Failure::bad_input(format!(
+            "error: the shards hold {} of the campaign's {runs} runs (a shard's runs.jsonl is \
+             incomplete)",
+            records.len()
+        )));
+    }
+    Ok(())
 }
 
 /// A progress bar with rate and ETA on standard error, drawn only when it is a terminal.
@@ -152,14 +217,7 @@ fn report(
     let summary = Summary::of(records);
     let text = format!("{header}{summary}");
     if let Some(dir) = out {
-        let mut lines = String::new();
-        for record in records {
-            let line = serde_json::to_string(record)
-                .map_err(|e| Failure::failed(format!("error: cannot encode a run: {e}")))?;
-            lines.push_str(&line);
-            lines.push('\n');
-        }
-        write(&dir.join("runs.jsonl"), &lines)?;
+        write_records(&dir.join("runs.jsonl"), records)?;
         write(&dir.join("summary.txt"), &text)?;
         write(&dir.join("campaign.svg"), &plot::render(&summary, title))?;
     }
@@ -175,13 +233,31 @@ fn report(
     }
 }
 
-fn write(path: &Path, text: &str) -> Result<(), Failure> {
-    std::fs::write(path, text)
-        .map_err(|e| Failure::failed(format!("error: cannot write {}: {e}", path.display())))
+/// Writes the records as JSON lines, one at a time.
+fn write_records(path: &Path, records: &[RunRecord]) -> Result<(), Failure> {
+    use std::io::Write;
+    let cannot =
+        |e: std::io::Error| Failure::io(format!("error: cannot write {}: {e}", path.display()));
+    let mut file = std::io::BufWriter::new(std::fs::File::create(path).map_err(cannot)?);
+    for record in records {
+        serde_json::to_writer(&mut file, record)
+            .map_err(|e| Failure::io(format!("error: cannot write {}: {e}", path.display())))?;
+        file.write_all(b"\n").map_err(cannot)?;
+    }
+    file.flush().map_err(cannot)
 }
 
-/// `kairos campaign merge`: the shards' records, by run index; a run in two shards is an error.
-fn merge(dirs: &[PathBuf], title: &str, out: Option<&Path>) -> Result<(), Failure> {
+fn write(path: &Path, text: &str) -> Result<(), Failure> {
+    std::fs::write(path, text)
+        .map_err(|e| Failure::io(format!("error: cannot write {}: {e}", path.display())))
+}
+
+/// `kairos campaign merge`: the shards' records, by run index, once their manifests show them
+/// the shards of one campaign, each once; a run in two shards, or a shard whose records are
+/// not its runs, is an error.
+fn merge(dirs: &[PathBuf], title: Option<&str>, out: Option<&Path>) -> Result<(), Failure> {
+    let manifests = shards::read_all("campaign", dirs)?;
+    let first = &manifests[0];
     let mut records = Vec::new();
     for dir in dirs {
         let path = dir.join("runs.jsonl");
@@ -211,11 +287,26 @@ fn merge(dirs: &[PathBuf], title: &str, out: Option<&Path>) -> Result<(), Failur
             pair[0].index
         )));
     }
-    if let Some(dir) = out {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            Failure::bad_input(format!("error: cannot create {}: {e}", dir.display()))
-        })?;
+    let runs = first
+        .options
+        .get("runs")
+        .and_then(serde_json::Value::as_u64);
+    let seed = first
+        .options
+        .get("seed")
+        .and_then(serde_json::Value::as_u64);
+    if let (Some(runs), Some(seed)) = (runs, seed) {
+        check_records(&records, runs, seed)?;
     }
-    let header = format!("campaign `{title}` merged from {} shards\n", dirs.len());
+    if let Some(dir) = out {
+        create_dir(dir)?;
+    }
+    let title = title.unwrap_or(&first.scenario);
+    let header = format!(
+        "campaign `{title}` merged from {} shards (seed {}, {} runs)\n",
+        dirs.len(),
+        seed.map_or_else(|| "?".to_string(), |s| s.to_string()),
+        records.len()
+    );
     report(&records, title, &header, out)
 }

@@ -4,16 +4,16 @@
 //!
 //! Prints what was explored (configurations, steps, terminal configurations, interleavings,
 //! time, coverage), whether each property holds, and for each violated one the shortest
-//! counterexample as a message trace. `--budget` and `--quiet` apply; `--faults`, `--depth` and
-//! `--jobs` concern a script's optional rules and are not used (the protocol's spaces are
-//! small and searched by one thread). Exit 0 when every property holds on every interleaving,
+//! counterexample as a message trace. `--budget`, `--memory` and `--quiet` apply; `--faults`,
+//! `--depth`, `--jobs` and `--shard` concern a script's optional rules and are refused here
+//! (the protocol's spaces are searched by one thread, in one process). Exit 0 when every property holds on every interleaving,
 //! 1 when one does not or the budget cut the search, 2 on bad input.
 
 use std::path::Path;
 
 use kairos::diagnostic::Source;
-use kairos::exploration::Budget;
 use kairos::exploration::protocol::{Property, ProtocolExploration, explore};
+use kairos::exploration::{Budget, Limit};
 use kairos::protocol::CoaController;
 use kairos::protocol::scenario::{self, RoverScenario};
 
@@ -27,14 +27,23 @@ pub fn is_rover(path: &Path) -> bool {
     Source::read(path).is_ok_and(|source| scenario::is_rover_scenario(&source.text))
 }
 
-/// Loads and explores the rover scenario; the outcome is the exit code.
-pub fn run(args: &ExploreArgs) -> Result<(), Failure> {
-    let scenario = scenario::load(&args.scenario).map_err(Failure::bad_input)?;
+/// Loads and explores the rover scenario at `path` within `memory` bytes; the outcome is the
+/// exit code.
+pub fn run(path: &Path, args: &ExploreArgs, memory: u64) -> Result<(), Failure> {
+    if args.shard.is_some() || args.out.is_some() {
+        return Err(Failure::bad_input(format!(
+            "error: {}: a rover scenario's protocol is explored in one process: --shard and \
+             --out apply to scripted scenarios",
+            path.display()
+        )));
+    }
+    let scenario = scenario::load(path).map_err(Failure::bad_input)?;
     let controller = CoaController::new(scenario.initial_value());
     let explored = explore(
         &scenario,
         controller,
         args.budget.unwrap_or(Budget::Unbounded),
+        memory,
     );
     emit(&report(&scenario, &explored, args.quiet))?;
     if explored.holds() {
@@ -74,9 +83,12 @@ pub fn report(scenario: &RoverScenario, explored: &ProtocolExploration, quiet: b
         explored.depth,
         wall(explored.wall),
     );
-    text.push_str(match explored.cut {
-        false => "covered: every interleaving\n",
-        true => "covered: partly — the budget ran out before every configuration was explored\n",
+    text.push_str(match explored.limit {
+        None => "covered: every interleaving\n",
+        Some(Limit::Memory) => {
+            "covered: partly — the memory budget ran out before every configuration was explored\n"
+        }
+        Some(_) => "covered: partly — the budget ran out before every configuration was explored\n",
     });
     let failed = |p: Property| explored.counterexamples.iter().any(|c| c.property == p);
     let held = Property::ALL.iter().filter(|&&p| !failed(p)).count();

@@ -8,11 +8,13 @@ pub mod estimate;
 pub mod explore;
 pub mod explore_rover;
 pub mod graph;
+pub mod limits;
 pub mod model_args;
 pub mod output;
 pub mod plan;
 pub mod run;
 pub mod schedule;
+pub mod shards;
 pub mod solve;
 
 use std::path::Path;
@@ -22,7 +24,8 @@ use kairos::diagnostic::Source;
 /// Exit code for bad input (unreadable or malformed files, bad arguments).
 pub const BAD_INPUT: u8 = 2;
 
-/// Why a subcommand did not succeed, and the exit code that says so.
+/// Why a subcommand did not succeed, and the exit code that says so (2 for bad input and for a
+/// file that cannot be written, 1 for a run that failed).
 pub struct Failure {
     /// 1: a run or an expectation failed; 2: bad input.
     pub code: u8,
@@ -45,6 +48,13 @@ impl Failure {
             code: BAD_INPUT,
             message: message.to_string(),
         }
+    }
+
+    /// A file or stream that cannot be read or written (a full disk, a directory without
+    /// write permission): exit 2 like bad input, since it says nothing of the run, and exit 1
+    /// is kept for a run or an expectation that failed.
+    pub fn io(message: impl ToString) -> Self {
+        Failure::bad_input(message)
     }
 }
 

@@ -14,9 +14,6 @@ pub fn emit(text: &str) -> Result<bool, Failure> {
     {
         Ok(()) => Ok(true),
         Err(e) if e.kind() == ErrorKind::BrokenPipe => Ok(false),
-        Err(e) => Err(Failure {
-            code: 1,
-            message: format!("error: cannot write the output: {e}"),
-        }),
+        Err(e) => Err(Failure::io(format!("error: cannot write the output: {e}"))),
     }
 }

@@ -153,9 +153,7 @@ fn execute(
         if let Some(writer) = trace.as_mut()
             && let Err(e) = writeln!(writer, "{}", tracer.line(scenario, record))
         {
-            problem.get_or_insert(Failure::failed(format!(
-                "error: cannot write the trace: {e}"
-            )));
+            problem.get_or_insert(Failure::io(format!("error: cannot write the trace: {e}")));
             trace = None;
         }
     })
@@ -168,9 +166,7 @@ fn execute(
     if let Some(mut writer) = trace
         && let Err(e) = writer.flush()
     {
-        problem.get_or_insert(Failure::failed(format!(
-            "error: cannot write the trace: {e}"
-        )));
+        problem.get_or_insert(Failure::io(format!("error: cannot write the trace: {e}")));
     }
     if let Some(problem) = problem {
         return Err(problem);
@@ -237,7 +233,7 @@ fn progress_bar(scenario: &Scenario, quiet: bool) -> ProgressBar {
 fn create(path: &Path) -> Result<BufWriter<File>, Failure> {
     File::create(path)
         .map(BufWriter::new)
-        .map_err(|e| Failure::bad_input(format!("error: cannot write {}: {e}", path.display())))
+        .map_err(|e| Failure::io(format!("error: cannot write {}: {e}", path.display())))
 }
 
 /// Draws the run's timeline (`kairos::report::timeline`) from the first to the last cycle.
@@ -256,5 +252,5 @@ fn draw(
 fn write_all(path: &Path, mut file: BufWriter<File>, text: &str) -> Result<(), Failure> {
     file.write_all(text.as_bytes())
         .and_then(|()| file.flush())
-        .map_err(|e| Failure::failed(format!("error: cannot write {}: {e}", path.display())))
+        .map_err(|e| Failure::io(format!("error: cannot write {}: {e}", path.display())))
 }

@@ -26,9 +26,10 @@ use super::output::emit;
 
 /// Loads, schedules, optionally projects to `at`, and prints as text or DOT.
 pub fn run(path: &Path, at: Option<f64>, dot: bool) -> Result<(), Failure> {
-    if let Some(at) = at.filter(|t| !t.is_finite()) {
+    if let Some(at) = at.filter(|t| !(t.is_finite() && *t >= 0.0)) {
         return Err(Failure::bad_input(format!(
-            "error: --at {at}: expected a finite time in seconds"
+            "error: --at {at}: expected a finite time in seconds, at or after the mission's \
+             start (0)"
         )));
     }
     let mission = mission::load(path).map_err(Failure::bad_input)?;
@@ -37,10 +38,11 @@ pub fn run(path: &Path, at: Option<f64>, dot: bool) -> Result<(), Failure> {
     let current = mission.plant.most_likely_initial();
     let executable = schedule(&mission.network, &reconfiguration, &current).map_err(|error| {
         Failure::failed(format!(
-            "mission: {} (plant {})\n{}",
+            "mission: {} (plant {})\n{}{}",
             mission.name,
             mission.plant_path,
-            display::explain(&error, &mission.network, &mission.plant)
+            display::explain(&error, &mission.network, &mission.plant),
+            located(&error, &mission)
         ))
     })?;
     let controller = (dot && !mission.elaborators.types.is_empty())
@@ -80,6 +82,35 @@ pub fn run(path: &Path, at: Option<f64>, dot: bool) -> Result<(), Failure> {
         (None, false) => header(&mission) + &display::render(&executable, plant),
     };
     emit(&text).map(|_| ())
+}
+
+/// Where a goal the scheduler refuses, and the written constraints that force it, are in the
+/// mission file (`file:line:column`), one line each.
+fn located(error: &ScheduleError, mission: &mission::Mission) -> String {
+    let (goal, cycle): (_, &[kairos::goalnet::ConstraintId]) = match error {
+        ScheduleError::Reversed { goal, cycle } => (*goal, cycle),
+        ScheduleError::EmptyInterval { goal } => (*goal, &[]),
+        _ => return String::new(),
+    };
+    let at = |span: &kairos::diagnostic::Span| {
+        let (line, column) = mission.source.line_col(span.start);
+        format!("{}:{line}:{column}", mission.source.name)
+    };
+    let network = &mission.network;
+    let goal = network.goal(goal);
+    let mut text = format!("\n  --> {}: goal `{}`", at(&goal.span), goal.name);
+    for id in cycle {
+        let constraint = network.stn().constraint(*id);
+        if let Provenance::Written(span) = &constraint.provenance {
+            text += &format!(
+                "\n  --> {}: {} → {}",
+                at(span),
+                network.point(constraint.from).name,
+                network.point(constraint.to).name
+            );
+        }
+    }
+    text
 }
 
 /// The goal controller made at time 0 from the initial modes (and the initial distribution as
@@ -204,7 +235,7 @@ fn drawing(
             // An ordering the XGoal boxes already show is not drawn twice.
             Provenance::Scheduled { .. } if joined_by_xgoal(executable, c.from, c.to) => continue,
             Provenance::Scheduled { reason } => (reason.clone(), true),
-            Provenance::AfterOrigin | Provenance::Fired => continue,
+            Provenance::AfterOrigin | Provenance::Fired | Provenance::GoalInterval => continue,
         };
         graph.edges.push(Edge {
             from: point_id(c.from),

@@ -148,7 +148,11 @@ pub struct PhaseTimes {
     pub sequencer: Duration,
     /// Goal interpretation and reactive planning.
     pub reconfiguration: Duration,
-    /// The whole cycle, including bookkeeping.
+    /// Goals submitted to the mission since the previous cycle ([`Executive::submit`]):
+    /// rescheduling the network is the cycle's work too, done between its steps.
+    pub submission: Duration,
+    /// The whole cycle, including bookkeeping and the submissions before it: what a deadline
+    /// is held to.
     pub total: Duration,
 }
 
@@ -292,6 +296,7 @@ impl ExecutiveBuilder {
             timelines,
             cycle: 0,
             last_time: None,
+            submission_time: Duration::ZERO,
             plant,
         })
     }
@@ -449,6 +454,8 @@ pub struct Executive {
     last_command: Commands,
     cycle: u64,
     last_time: Option<f64>,
+    /// Wall time spent in [`Executive::submit`] since the last cycle (counted in its times).
+    submission_time: Duration,
 }
 
 impl Executive {
@@ -543,7 +550,8 @@ impl Executive {
         let command = self.issue(action.as_ref(), purpose, &mut log);
         let ended = Instant::now();
         let (estimation, sequencer) = (estimated - started, sequenced - estimated);
-        let (reconfiguration, total) = (ended - sequenced, ended - started);
+        let submission = std::mem::take(&mut self.submission_time);
+        let (reconfiguration, total) = (ended - sequenced, ended - started + submission);
         if let Some(deadline) = self.options.cycle_deadline.filter(|&d| total > d) {
             log.push(EventKind::DeadlineOverrun {
                 elapsed: total,
@@ -569,6 +577,7 @@ impl Executive {
                 estimation,
                 sequencer,
                 reconfiguration,
+                submission,
                 total,
             },
         })
@@ -774,6 +783,12 @@ impl Executive {
     ) -> Result<Option<ConfigurationGoal>, StepError> {
         let sequencer = match &mut self.control.0 {
             Program::Rmpl(sequencer) => sequencer,
+            // No tracked state explains what was observed (ŝ is empty): the network can be
+            // neither scheduled nor monitored from it, so it waits for the next cycle with an
+            // estimate, as a program does after INCONSISTENT; nothing is commanded meanwhile.
+            Program::Mission(_) if self.most_likely.len() != self.plant.components().len() => {
+                return Ok(None);
+            }
             Program::Mission(mission) => {
                 let (events, formula) = mission.step(
                     now,

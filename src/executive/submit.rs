@@ -15,7 +15,17 @@ impl Executive {
     /// unmergeable, unachievable) is refused with the reason, and the running network is left
     /// unchanged. New points fire no earlier than the last cycle's time. Before the first cycle
     /// ŝ is the plant's most likely initial state.
+    ///
+    /// The time it takes is the next cycle's: [`PhaseTimes::submission`](super::PhaseTimes),
+    /// counted in its total and so against its deadline.
     pub fn submit(&mut self, submission: &Submission) -> Result<(), SubmitError> {
+        let started = std::time::Instant::now();
+        let outcome = self.submit_now(submission);
+        self.submission_time += started.elapsed();
+        outcome
+    }
+
+    fn submit_now(&mut self, submission: &Submission) -> Result<(), SubmitError> {
         let modes = if self.most_likely.is_empty() {
             self.plant.most_likely_initial()
         } else {

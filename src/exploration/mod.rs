@@ -58,6 +58,7 @@
 
 pub mod deep;
 mod landing;
+pub mod memory;
 pub mod protocol;
 mod replay;
 mod search;
@@ -65,6 +66,7 @@ mod search;
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 pub use replay::{replay_scenario, replay_text};
 
@@ -82,6 +84,38 @@ pub enum Budget {
     Time(Duration),
 }
 
+/// What stopped a search before it covered every path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Limit {
+    /// The state budget ([`Budget::States`]).
+    States,
+    /// The time budget ([`Budget::Time`]).
+    Time,
+    /// The memory budget ([`ExploreOptions::memory`]): the process's resident set reached it.
+    Memory,
+}
+
+/// One of `count` processes that split a search between them (`kairos explore --shard i/n`).
+///
+/// The search deals the branches off the fault-free path out by their ordinal (the module
+/// documentation, "Parallel and deterministic"); shard `index` of `count` running `jobs`
+/// workers is workers `index + count × w` (w < jobs) of a search with `count × jobs` workers, so
+/// the shards of one search together are that search, whatever `jobs` each uses, and their
+/// merge ([`merge`]) gives what one process finds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// This process's shard, `0 ≤ index < count`.
+    pub index: u64,
+    /// The number of shards.
+    pub count: u64,
+}
+
+impl Shard {
+    /// The whole search in one process.
+    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
+}
+
 /// A search's settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ExploreOptions {
@@ -93,6 +127,11 @@ pub struct ExploreOptions {
     pub budget: Budget,
     /// Workers (at least 1).
     pub jobs: usize,
+    /// Stop, as a budget does, once the process holds this many bytes (its resident set,
+    /// [`memory::resident_bytes`]).
+    pub memory: u64,
+    /// Which part of the search this process explores.
+    pub shard: Shard,
 }
 
 impl Default for ExploreOptions {
@@ -102,12 +141,14 @@ impl Default for ExploreOptions {
             depth: None,
             budget: Budget::Unbounded,
             jobs: 1,
+            memory: memory::DEFAULT_BUDGET,
+            shard: Shard::WHOLE,
         }
     }
 }
 
 /// An optional rule firing on a path.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub struct Choice {
     /// The cycle it fired at.
     pub cycle: u64,
@@ -117,7 +158,7 @@ pub struct Choice {
 
 /// Where a timed response with an interval landed on a path (one per rule: its first firing's
 /// delay is kept for the later ones).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub struct Landing {
     /// The rule, by index into the script's rules.
     pub rule: usize,
@@ -129,7 +170,7 @@ pub struct Landing {
 
 /// The order simultaneous effects were applied in at a cycle, where it differed from the
 /// order their rules fired.
-#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub struct Delivery {
     /// The cycle.
     pub cycle: u64,
@@ -138,7 +179,7 @@ pub struct Delivery {
 }
 
 /// What a counterexample shows.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Finding {
     /// This expectation (by index) does not hold on the path.
     Violated {
@@ -154,7 +195,7 @@ pub enum Finding {
 }
 
 /// A path on which something fails, the shortest found.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Counterexample {
     /// What fails.
     pub finding: Finding,
@@ -184,7 +225,7 @@ impl Counterexample {
 }
 
 /// How paths ended.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct PathCounts {
     /// Reached the scenario's end time.
     pub ended: u64,
@@ -214,7 +255,7 @@ impl PathCounts {
 }
 
 /// What a search found and covered.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Exploration {
     /// Distinct states visited (the fault-free path's counted once).
     pub states: u64,
@@ -232,6 +273,8 @@ pub struct Exploration {
     /// did not: every path whose first choice (an optional rule firing, a landing later than
     /// its lower bound, an order other than the fired one) falls before it was covered.
     pub cut_at: Option<u64>,
+    /// What cut the search, when something did.
+    pub limit: Option<Limit>,
     /// Wall time.
     pub wall: Duration,
 }
@@ -259,10 +302,14 @@ pub enum ExploreError {
         "the scenario pins its choices with `choose` or `deliver` (a replay is one path): explore the scenario without them"
     )]
     Pinned,
+    /// A shard outside its count.
+    #[error("shard {0}/{1} does not exist: a shard is i/n with 0 ≤ i < n")]
+    Shard(u64, u64),
 }
 
-/// Explores every path of `scenario` the options allow; `progress` is told of new states (in
-/// batches) from every worker.
+/// Explores every path of `scenario` the options allow (of them, the part
+/// [`ExploreOptions::shard`] names); `progress` is told of new states (in batches) from every
+/// worker.
 pub fn explore(
     scenario: &Scenario,
     options: &ExploreOptions,
@@ -274,10 +321,15 @@ pub fn explore(
     if !scenario.script.pinned().is_empty() || !scenario.script.deliveries().is_empty() {
         return Err(ExploreError::Pinned);
     }
+    let shard = options.shard;
+    if shard.count == 0 || shard.index >= shard.count {
+        return Err(ExploreError::Shard(shard.index, shard.count));
+    }
     let started = Instant::now();
     let jobs = options.jobs.max(1);
+    // A time budget too long for the clock to represent is no deadline at all.
     let deadline = match options.budget {
-        Budget::Time(limit) => Some(started + limit),
+        Budget::Time(limit) => started.checked_add(limit),
         _ => None,
     };
     let states = match options.budget {
@@ -288,53 +340,86 @@ pub fn explore(
         .num_threads(jobs)
         .build()
         .ok();
-    let work = |worker: usize| {
+    // The shard's workers are workers `index + count × w` of the whole search's `count × jobs`.
+    let workers = (jobs as u64).saturating_mul(shard.count);
+    let work = |w: usize| {
         let limits = search::Limits {
             faults: options.faults,
             depth: options.depth,
             states,
             deadline,
+            memory: options.memory,
         };
-        search::Worker::new(scenario, limits, worker, jobs, progress).run()
+        let worker = shard.index + shard.count * w as u64;
+        search::Worker::new(scenario, limits, worker, workers, progress).run()
     };
     let results: Vec<Result<search::Outcome, BuildError>> = match pool {
         Some(pool) => pool.install(|| (0..jobs).into_par_iter().map(work).collect()),
         // Without a pool of its own the search still runs, on the global one.
         None => (0..jobs).into_par_iter().map(work).collect(),
     };
-    let mut merged = Exploration {
-        states: 0,
-        paths: PathCounts::default(),
-        longest: 0,
-        counterexamples: Vec::new(),
-        failing_paths: vec![0; scenario.expectations.len()],
-        cut_at: None,
-        wall: Duration::ZERO,
-    };
-    let mut found: Vec<Counterexample> = Vec::new();
+    let mut merged = Exploration::empty(scenario.expectations.len());
     for result in results {
-        let outcome = result?;
-        merged.states += outcome.states;
-        merged.paths.add(&outcome.paths);
-        merged.longest = merged.longest.max(outcome.longest);
-        for (total, count) in merged.failing_paths.iter_mut().zip(&outcome.failing_paths) {
-            *total += count;
-        }
-        merged.cut_at = match (merged.cut_at, outcome.cut_at) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        };
-        for candidate in outcome.found {
-            keep_shortest(&mut found, candidate);
-        }
+        merged.add(result?.into());
     }
-    found.sort_by_key(|c| match &c.finding {
-        Finding::Violated { expectation, .. } => *expectation,
-        Finding::Error(_) => usize::MAX,
-    });
-    merged.counterexamples = found;
     merged.wall = started.elapsed();
     Ok(merged)
+}
+
+/// Joins the explorations of the shards of one search (each run with the same scenario,
+/// faults, depth and budget, and [`Shard`]s `0/n` to `n−1/n`) into what one process finds: the
+/// counts added, the shortest counterexample of each finding kept, the coverage the least
+/// of theirs, the wall time the longest.
+pub fn merge(shards: Vec<Exploration>) -> Exploration {
+    let expectations = shards.first().map_or(0, |s| s.failing_paths.len());
+    let mut merged = Exploration::empty(expectations);
+    for shard in shards {
+        let wall = merged.wall.max(shard.wall);
+        merged.add(shard);
+        merged.wall = wall;
+    }
+    merged
+}
+
+impl Exploration {
+    /// Nothing explored yet, for a scenario with `expectations` expectations.
+    fn empty(expectations: usize) -> Self {
+        Exploration {
+            states: 0,
+            paths: PathCounts::default(),
+            longest: 0,
+            counterexamples: Vec::new(),
+            failing_paths: vec![0; expectations],
+            cut_at: None,
+            limit: None,
+            wall: Duration::ZERO,
+        }
+    }
+
+    /// Adds what `other` (disjoint work of the same search) found.
+    fn add(&mut self, other: Exploration) {
+        self.states += other.states;
+        self.paths.add(&other.paths);
+        self.longest = self.longest.max(other.longest);
+        for (total, count) in self.failing_paths.iter_mut().zip(&other.failing_paths) {
+            *total += count;
+        }
+        if other
+            .cut_at
+            .is_some_and(|b| self.cut_at.is_none_or(|a| b < a))
+        {
+            self.cut_at = other.cut_at;
+            self.limit = other.limit;
+        }
+        for candidate in other.counterexamples {
+            keep_shortest(&mut self.counterexamples, candidate);
+        }
+        self.counterexamples.sort_by_key(|c| match &c.finding {
+            Finding::Violated { expectation, .. } => *expectation,
+            Finding::Error(_) => usize::MAX,
+        });
+        self.wall += other.wall;
+    }
 }
 
 /// Keeps `candidate` if it is the first counterexample of its finding or shorter than the one

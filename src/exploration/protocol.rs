@@ -39,7 +39,7 @@ use std::time::{Duration, Instant};
 
 use rustc_hash::FxHashMap;
 
-use super::Budget;
+use super::{Budget, Limit, memory};
 use crate::protocol::Controller;
 use crate::protocol::RoverScenario;
 use crate::protocol::components::{StateVariable, actuator, estimator, sensor};
@@ -159,6 +159,8 @@ pub struct ProtocolExploration {
     pub depth: usize,
     /// True when the budget stopped the search before every configuration was explored.
     pub cut: bool,
+    /// What stopped it then.
+    pub limit: Option<Limit>,
     /// The shortest counterexample of each violated property, in [`Property::ALL`]'s order.
     pub counterexamples: Vec<Counterexample>,
     /// Wall time.
@@ -187,19 +189,29 @@ struct Search<'a, C> {
 }
 
 /// Explores every interleaving of `scenario` with `controller` (in its initial state), within
-/// `budget`.
+/// `budget` and, once the process holds `memory` bytes ([`memory::resident_bytes`]), no
+/// further: the configurations stored grow with the scenario's constraints (40 of them reached
+/// gigabytes in seconds), and a cut search says so.
 pub fn explore<C: Controller>(
     scenario: &RoverScenario,
     controller: C,
     budget: Budget,
+    memory: u64,
 ) -> ProtocolExploration {
     let started = Instant::now();
     let mut search = Search::initial(scenario, controller);
-    let (mut transitions, mut stopped, mut excluded, mut cut) = (0, 0, 0, false);
+    let (mut transitions, mut stopped, mut excluded, mut limit) = (0, 0, 0, None);
     let mut queue = VecDeque::from([0usize]);
+    let mut checked = 0;
     while let Some(at) = queue.pop_front() {
-        if out_of_budget(budget, search.states.len(), started) {
-            cut = true;
+        limit = out_of_budget(budget, search.states.len(), started);
+        if limit.is_none() && search.states.len() >= checked + memory::CHECK_EVERY as usize {
+            checked = search.states.len();
+            if memory::resident_bytes().is_some_and(|bytes| bytes >= memory) {
+                limit = Some(Limit::Memory);
+            }
+        }
+        if limit.is_some() {
             break;
         }
         if search.check_safety(at) {
@@ -235,18 +247,19 @@ pub fn explore<C: Controller>(
         excluded,
         paths,
         depth: search.level.iter().copied().max().unwrap_or(0),
-        cut,
+        cut: limit.is_some(),
+        limit,
         counterexamples,
         wall: started.elapsed(),
     }
 }
 
-/// Whether the budget is spent with `states` configurations stored.
-fn out_of_budget(budget: Budget, states: usize, started: Instant) -> bool {
+/// The budget that is spent with `states` configurations stored, if one is.
+fn out_of_budget(budget: Budget, states: usize, started: Instant) -> Option<Limit> {
     match budget {
-        Budget::Unbounded => false,
-        Budget::States(limit) => states as u64 > limit,
-        Budget::Time(limit) => started.elapsed() > limit,
+        Budget::Unbounded => None,
+        Budget::States(limit) => (states as u64 > limit).then_some(Limit::States),
+        Budget::Time(limit) => (started.elapsed() > limit).then_some(Limit::Time),
     }
 }
 
@@ -614,7 +627,7 @@ mod tests {
         let text = include_str!("../../scenarios/rover/r5.ron");
         let scenario = load_source(&Source::new("r5.ron", text)).expect("R5 loads");
         let controller = CoaController::new(scenario.initial_value());
-        let explored = explore(&scenario, controller.clone(), Budget::Unbounded);
+        let explored = explore(&scenario, controller.clone(), Budget::Unbounded, u64::MAX);
         let search = Search::<CoaController>::initial(&scenario, controller);
         let enumerated = count_paths(&scenario, &search.states[0]);
         assert_eq!(explored.paths, Some(enumerated));

@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use rustc_hash::FxHashMap;
 
-use super::landing;
-use super::{Choice, Counterexample, Delivery, Finding, Landing, PathCounts, keep_shortest};
+use super::{Choice, Counterexample, Delivery, Exploration, Finding, Landing, Limit, PathCounts};
+use super::{keep_shortest, landing, memory};
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
 use crate::executive::{BuildError, Executive, NamedValue, Retention, Step};
 use crate::simulation::{
@@ -27,6 +27,8 @@ pub(super) struct Limits {
     pub(super) depth: Option<u64>,
     pub(super) states: Option<u64>,
     pub(super) deadline: Option<Instant>,
+    /// Bytes the process may hold ([`memory::resident_bytes`]).
+    pub(super) memory: u64,
 }
 
 /// What a worker found.
@@ -37,6 +39,23 @@ pub(super) struct Outcome {
     pub(super) found: Vec<Counterexample>,
     pub(super) failing_paths: Vec<u64>,
     pub(super) cut_at: Option<u64>,
+    pub(super) limit: Option<Limit>,
+}
+
+impl From<Outcome> for Exploration {
+    fn from(outcome: Outcome) -> Self {
+        Exploration {
+            states: outcome.states,
+            paths: outcome.paths,
+            longest: outcome.longest,
+            // One per finding already ([`Worker::record`] keeps the shortest).
+            counterexamples: outcome.found,
+            failing_paths: outcome.failing_paths,
+            cut_at: outcome.cut_at,
+            limit: outcome.limit,
+            wall: std::time::Duration::ZERO,
+        }
+    }
 }
 
 /// A state of the search: the executive, the plant and the checker, with the path's choices.
@@ -65,8 +84,9 @@ enum Next {
 pub(super) struct Worker<'s, 'p> {
     scenario: &'s Scenario,
     limits: Limits,
-    worker: usize,
-    jobs: usize,
+    /// This worker's number among `workers` (of every shard).
+    worker: u64,
+    workers: u64,
     progress: &'p (dyn Fn(u64) + Sync),
     /// Fingerprint → fewest optional rules fired on a path that reached the state.
     visited: FxHashMap<u64, usize>,
@@ -78,25 +98,30 @@ pub(super) struct Worker<'s, 'p> {
     /// Per expectation, the paths followed to their end on which it fails.
     failing_paths: Vec<u64>,
     /// Branches met along the fault-free path so far (they are dealt out by this number).
-    ordinal: usize,
+    ordinal: u64,
     /// The fault-free path's current cycle: paths whose first firing is earlier are covered.
     spine_cycle: u64,
     cut_at: Option<u64>,
+    limit: Option<Limit>,
+    /// New states since the resident set was last read.
+    unchecked: u64,
+    /// The memory budget was reached.
+    out_of_memory: bool,
 }
 
 impl<'s, 'p> Worker<'s, 'p> {
     pub(super) fn new(
         scenario: &'s Scenario,
         limits: Limits,
-        worker: usize,
-        jobs: usize,
+        worker: u64,
+        workers: u64,
         progress: &'p (dyn Fn(u64) + Sync),
     ) -> Self {
         Worker {
             scenario,
             limits,
             worker,
-            jobs,
+            workers,
             progress,
             visited: FxHashMap::default(),
             states: 0,
@@ -108,6 +133,9 @@ impl<'s, 'p> Worker<'s, 'p> {
             ordinal: 0,
             spine_cycle: 0,
             cut_at: None,
+            limit: None,
+            unchecked: 0,
+            out_of_memory: false,
         }
     }
 
@@ -151,6 +179,7 @@ impl<'s, 'p> Worker<'s, 'p> {
             found: self.found,
             failing_paths: self.failing_paths,
             cut_at: self.cut_at,
+            limit: self.limit,
         })
     }
 
@@ -163,16 +192,20 @@ impl<'s, 'p> Worker<'s, 'p> {
             if spine {
                 self.spine_cycle = node.cycle;
             }
-            if self.out_of_budget() {
-                self.cut_at = Some(self.spine_cycle);
+            if self.cut_if_out_of_budget() {
                 return;
             }
             let orders = (node.plant).delivery_orders(node.cycle, self.time(node.cycle));
-            let optional = self.alternatives(&node);
+            let (candidates, left) = self.alternatives(&node);
             for (k, order) in orders.iter().enumerate() {
                 // The fired order without an optional rule is the node's own path.
                 let none = (k > 0).then(Vec::new);
-                for forced in none.into_iter().chain(optional.iter().cloned()) {
+                for forced in none.into_iter().chain(Subsets::new(&candidates, left)) {
+                    // Many alternatives may end in their first cycle (a rule whose condition
+                    // does not hold): the budget is checked before each, not only on paths.
+                    if self.cut_if_out_of_budget() {
+                        return;
+                    }
                     if !self.owns(spine) {
                         continue;
                     }
@@ -215,7 +248,7 @@ impl<'s, 'p> Worker<'s, 'p> {
         !spine || {
             let ordinal = self.ordinal;
             self.ordinal += 1;
-            ordinal % self.jobs == self.worker
+            ordinal % self.workers == self.worker
         }
     }
 
@@ -250,20 +283,52 @@ impl<'s, 'p> Worker<'s, 'p> {
         }
     }
 
-    fn out_of_budget(&self) -> bool {
+    /// True, with the cut recorded, when a limit is reached.
+    fn cut_if_out_of_budget(&mut self) -> bool {
+        match self.out_of_budget() {
+            Some(limit) => {
+                self.cut_at = Some(self.spine_cycle);
+                self.limit = Some(limit);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The limit the search has reached, if any.
+    fn out_of_budget(&self) -> Option<Limit> {
         let states = self
             .limits
             .states
             .is_some_and(|limit| self.visited.len() as u64 >= limit);
-        states || self.limits.deadline.is_some_and(|d| Instant::now() >= d)
+        if states {
+            Some(Limit::States)
+        } else if self.limits.deadline.is_some_and(|d| Instant::now() >= d) {
+            Some(Limit::Time)
+        } else if self.out_of_memory {
+            Some(Limit::Memory)
+        } else {
+            None
+        }
     }
 
-    /// The sets of optional rules that may fire at `node`'s next cycle, besides none: every
-    /// non-empty set of at most the faults left, smallest first, in rule order.
-    fn alternatives(&self, node: &Node<'s>) -> Vec<Vec<usize>> {
+    /// Reads the resident set once every [`memory::CHECK_EVERY`] new states.
+    fn check_memory(&mut self) {
+        self.unchecked += 1;
+        if self.unchecked >= memory::CHECK_EVERY {
+            self.unchecked = 0;
+            self.out_of_memory |=
+                memory::resident_bytes().is_some_and(|bytes| bytes >= self.limits.memory);
+        }
+    }
+
+    /// The optional rules that may fire at `node`'s next cycle, and how many of them may fire
+    /// together (the faults left): the alternatives to none are every non-empty set of at most
+    /// that many ([`Subsets`]).
+    fn alternatives(&self, node: &Node<'s>) -> (Vec<usize>, usize) {
         let left = self.limits.faults.saturating_sub(node.choices.len());
         if left == 0 {
-            return Vec::new();
+            return (Vec::new(), 0);
         }
         let time = self.time(node.cycle);
         let script = &self.scenario.script;
@@ -275,11 +340,7 @@ impl<'s, 'p> Worker<'s, 'p> {
             })
             .map(|(i, _)| i)
             .collect();
-        let mut sets = Vec::new();
-        for size in 1..=left.min(candidates.len()) {
-            subsets(&candidates, size, &mut Vec::new(), &mut sets);
-        }
-        sets
+        (candidates, left)
     }
 
     fn time(&self, cycle: u64) -> f64 {
@@ -350,6 +411,7 @@ impl<'s, 'p> Worker<'s, 'p> {
             return false;
         }
         self.visited.insert(key, spent);
+        self.check_memory();
         if self.counts(spine) {
             self.states += 1;
             self.unreported += 1;
@@ -459,15 +521,100 @@ fn run_cycle(node: &mut Node<'_>, forced: &[usize], time: f64) -> Result<Step, S
     Ok(step)
 }
 
-/// Appends every `size`-element subset of `items` (in order) extending `prefix` to `out`.
-fn subsets(items: &[usize], size: usize, prefix: &mut Vec<usize>, out: &mut Vec<Vec<usize>>) {
-    if prefix.len() == size {
-        out.push(prefix.clone());
-        return;
+/// Every non-empty subset of `items` with at most `max` elements, smallest first and, among
+/// those of one size, in lexicographic order of positions. They are made one at a time: with
+/// many optional rules and many faults their number, the sum of C(n, k), is far too large to
+/// hold (30 rules and 30 faults: 2³⁰ sets), while a search walks them in order and a budget
+/// stops it.
+struct Subsets<'a> {
+    items: &'a [usize],
+    max: usize,
+    /// The positions of the last subset given; empty before the first.
+    positions: Vec<usize>,
+    done: bool,
+}
+
+impl<'a> Subsets<'a> {
+    fn new(items: &'a [usize], max: usize) -> Self {
+        Subsets {
+            items,
+            max: max.min(items.len()),
+            positions: Vec::new(),
+            done: false,
+        }
     }
-    for (k, &item) in items.iter().enumerate() {
-        prefix.push(item);
-        subsets(&items[k + 1..], size, prefix, out);
-        prefix.pop();
+
+    /// Moves `positions` to the next subset of its size; false after the last one.
+    fn advance(&mut self) -> bool {
+        let (n, k) = (self.items.len(), self.positions.len());
+        let Some(i) = (0..k).rev().find(|&i| self.positions[i] < n - k + i) else {
+            return false;
+        };
+        self.positions[i] += 1;
+        for j in i + 1..k {
+            self.positions[j] = self.positions[j - 1] + 1;
+        }
+        true
+    }
+}
+
+impl Iterator for Subsets<'_> {
+    type Item = Vec<usize>;
+
+    fn next(&mut self) -> Option<Vec<usize>> {
+        if self.done {
+            return None;
+        }
+        if !self.advance() {
+            let size = self.positions.len() + 1;
+            if size > self.max {
+                self.done = true;
+                return None;
+            }
+            self.positions = (0..size).collect();
+        }
+        Some(self.positions.iter().map(|&p| self.items[p]).collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Subsets;
+
+    /// The brute-force oracle: every bit mask of the items, kept when its size is 1 to `max`,
+    /// ordered by size then by the positions.
+    fn oracle(items: &[usize], max: usize) -> Vec<Vec<usize>> {
+        let mut all: Vec<Vec<usize>> = (1u32..1 << items.len())
+            .map(|mask| {
+                (0..items.len())
+                    .filter(|&i| mask & (1 << i) != 0)
+                    .map(|i| items[i])
+                    .collect::<Vec<usize>>()
+            })
+            .filter(|set| set.len() <= max)
+            .collect();
+        all.sort_by(|a, b| a.len().cmp(&b.len()).then_with(|| a.cmp(b)));
+        all
+    }
+
+    #[test]
+    fn subsets_are_every_small_set_in_order() {
+        for n in 0..7 {
+            let items: Vec<usize> = (0..n).map(|i| 3 * i + 1).collect();
+            for max in 0..n + 2 {
+                let made: Vec<Vec<usize>> = Subsets::new(&items, max).collect();
+                assert_eq!(made, oracle(&items, max), "n = {n}, max = {max}");
+            }
+        }
+    }
+
+    /// Thirty rules and thirty faults: the first sets come at once, none is held beyond the
+    /// one given.
+    #[test]
+    fn subsets_of_many_rules_are_made_lazily() {
+        let items: Vec<usize> = (0..30).collect();
+        let first: Vec<Vec<usize>> = Subsets::new(&items, 30).take(31).collect();
+        assert_eq!(first[29], vec![29]);
+        assert_eq!(first[30], vec![0, 1]);
     }
 }

@@ -8,7 +8,7 @@ use super::network::{ExecutableNetwork, GoalNetwork};
 use super::projection::Projection;
 use super::schedule::ScheduleError;
 use super::stn::Inconsistency;
-use super::temporal_constraint::Provenance;
+use super::temporal_constraint::{ConstraintId, Provenance};
 use super::xgoal::XGoal;
 use crate::logic::ValueId;
 use crate::plant::{ComponentId, Plant};
@@ -166,6 +166,34 @@ pub fn explain(error: &ScheduleError, network: &GoalNetwork, plant: &Plant) -> S
             xgoal_line(network, plant, previous),
             xgoal_line(network, plant, next),
         ),
+        ScheduleError::Reversed { goal, cycle } => {
+            let g = network.goal(*goal);
+            let mut out = format!(
+                "reversed goal: `{}` ({}) — the constraints force its end `{}` before its start \
+                 `{}`; a goal holds from its start to its end:",
+                g.name,
+                g.text,
+                network.point(g.end).name,
+                network.point(g.start).name
+            );
+            for id in cycle {
+                if let Some(line) = constraint_line(network, *id) {
+                    out.push_str(&line);
+                }
+            }
+            out
+        }
+        ScheduleError::EmptyInterval { goal } => {
+            let goal = network.goal(*goal);
+            format!(
+                "empty goal: `{}` ({}) holds over no time — the constraints force its start `{}` \
+                 and its end `{}` to the same instant",
+                goal.name,
+                goal.text,
+                network.point(goal.start).name,
+                network.point(goal.end).name
+            )
+        }
         ScheduleError::DelegatedUnachievable { goal, sv, value } => {
             let goal = network.goal(*goal);
             format!(
@@ -181,22 +209,33 @@ fn inconsistent(inconsistency: &Inconsistency, network: &GoalNetwork) -> String 
     let mut out =
         String::from("inconsistent: the temporal constraints of this cycle cannot all hold");
     for id in &inconsistency.cycle {
-        let c = network.stn().constraint(*id);
+        match constraint_line(network, *id) {
+            Some(line) => out.push_str(&line),
+            None => out.push_str("\n  (an order the scheduler added)"),
+        }
+    }
+    out
+}
+
+/// `\n  from → to ∈ [min, max] (why)` for a constraint of `network`; `None` for one it does
+/// not hold (the scheduler's, added to a copy).
+fn constraint_line(network: &GoalNetwork, id: ConstraintId) -> Option<String> {
+    let c = network.stn().constraints().get(id.index())?;
+    {
         let why = match &c.provenance {
             Provenance::Written(_) => "written".to_string(),
             Provenance::AfterOrigin => "every point is at or after the origin".to_string(),
             Provenance::Fired => "the point fired".to_string(),
             Provenance::Scheduled { reason } => format!("scheduler: {reason}"),
             Provenance::Submitted => "submitted".to_string(),
+            Provenance::GoalInterval => "a goal starts no later than it ends".to_string(),
         };
-        let _ = write!(
-            out,
+        Some(format!(
             "\n  {} → {} ∈ [{}, {}] ({why})",
             network.point(c.from).name,
             network.point(c.to).name,
             seconds(c.min),
             seconds(c.max)
-        );
+        ))
     }
-    out
 }

@@ -89,7 +89,7 @@ pub(super) fn copy(
     for c in network.stn().constraints() {
         let derived = matches!(
             c.provenance,
-            Provenance::AfterOrigin | Provenance::Scheduled { .. }
+            Provenance::AfterOrigin | Provenance::Scheduled { .. } | Provenance::GoalInterval
         );
         if derived || retired(c.from) || retired(c.to) {
             continue;

@@ -67,6 +67,20 @@ pub enum ScheduleError {
         /// The XGoal that cannot be entered.
         next: Box<XGoal>,
     },
+    /// Constraints that force a goal's end before its start (the cycle they form with
+    /// `start ≤ end`, the constraints of the network as given).
+    Reversed {
+        /// The goal.
+        goal: GoalId,
+        /// The network's constraints in the cycle.
+        cycle: Vec<super::ConstraintId>,
+    },
+    /// A goal whose start and end the constraints force to one instant: it would hold over no
+    /// time and vanish from its timeline.
+    EmptyInterval {
+        /// The goal.
+        goal: GoalId,
+    },
     /// A goal delegated to the controller of a state variable that is not a component cannot
     /// be achieved by it from the SV's value ([`judge_delegated`](super::judge_delegated)).
     DelegatedUnachievable {
@@ -101,6 +115,16 @@ impl std::fmt::Display for ScheduleError {
                 "component {} cannot move from one XGoal into the next",
                 next.sv.0
             ),
+            ScheduleError::Reversed { goal, .. } => write!(
+                f,
+                "the constraints force goal {}'s end before its start",
+                goal.0
+            ),
+            ScheduleError::EmptyInterval { goal } => write!(
+                f,
+                "goal {} holds over no time: its start and end are forced to one instant",
+                goal.0
+            ),
             ScheduleError::DelegatedUnachievable { goal, sv, value } => write!(
                 f,
                 "goal {} cannot be achieved by the controller of {sv} from {sv} = {value}",
@@ -118,8 +142,13 @@ pub fn schedule(
     reconfiguration: &Reconfiguration,
     current: &[ValueId],
 ) -> Result<ExecutableNetwork, ScheduleError> {
+    let given = network.stn().constraints().len();
     let mut network = network.clone();
     network.propagate().map_err(ScheduleError::Inconsistent)?;
+    require_intervals(&mut network)?;
+    network
+        .propagate()
+        .map_err(|inconsistency| reversed(&network, given, inconsistency))?;
     let plant = reconfiguration.plant();
     let fired = fired_points(&network);
     let mut timelines = Vec::new();
@@ -131,12 +160,57 @@ pub fn schedule(
         serialise(&mut network, sv, &goals)?;
         let points = order(&mut network, &goals)?;
         let domain = plant.component(sv).modes().len();
-        let xgoals = xgoals(&network, sv, domain, &goals, &points);
+        let xgoals = xgoals(&network, sv, domain, &goals, &points, &fired)?;
         let timeline = Timeline { sv, points, xgoals };
         project(reconfiguration, &timeline, current[sv.index()], &fired)?;
         timelines.push(timeline);
     }
     Ok(ExecutableNetwork { network, timelines })
+}
+
+/// Adds `start(g) ≤ end(g)` for every goal on a state variable: a goal holds over its
+/// interval, so constraints that would let its end come first are an inconsistency (its
+/// explanation names them) rather than an order in which the goal covers nothing and is
+/// silently left out. A goal whose start and end are one point holds over no time.
+fn require_intervals(network: &mut GoalNetwork) -> Result<(), ScheduleError> {
+    let intervals: Vec<(GoalId, TimePointId, TimePointId)> = (network.goals().iter().enumerate())
+        .filter(|(_, g)| !g.is_macro())
+        .map(|(i, g)| (GoalId(i as u32), g.start, g.end))
+        .collect();
+    for (goal, start, end) in intervals {
+        if start == end {
+            return Err(ScheduleError::EmptyInterval { goal });
+        }
+        let constraint = TemporalConstraint::before(start, end, Provenance::GoalInterval);
+        // The points exist and the bounds are [0, +∞): the constraint is well formed.
+        let _ = network.add_constraint(constraint);
+    }
+    Ok(())
+}
+
+/// The goal whose `start ≤ end` closes the negative cycle `inconsistency` of `network` (whose
+/// first `given` constraints are the network's as given), with those of the cycle.
+fn reversed(network: &GoalNetwork, given: usize, inconsistency: Inconsistency) -> ScheduleError {
+    let constraints = network.stn().constraints();
+    let interval = (inconsistency.cycle.iter())
+        .map(|id| &constraints[id.index()])
+        .find(|c| c.provenance == Provenance::GoalInterval);
+    let goal = interval.and_then(|c| {
+        (network
+            .goals()
+            .iter()
+            .position(|g| !g.is_macro() && g.start == c.from && g.end == c.to))
+        .map(|i| GoalId(i as u32))
+    });
+    match goal {
+        Some(goal) => ScheduleError::Reversed {
+            goal,
+            cycle: (inconsistency.cycle.into_iter())
+                .filter(|id| id.index() < given)
+                .collect(),
+        },
+        None => ScheduleError::Inconsistent(inconsistency),
+    }
 }
 
 /// Serialises every pair of goals on `sv` whose constraints do not merge (§2.2 step 2d).
@@ -272,27 +346,41 @@ impl OrderSearch {
 }
 
 /// One XGoal per interval of consecutive points not forced to zero length (§2.2 step 2c).
+/// The XGoals of one timeline (§2.2 step 2c); a goal that covers no interval — its start and
+/// end forced to one instant — is an [`ScheduleError::EmptyInterval`], unless it is history (its
+/// end has fired).
 fn xgoals(
     network: &GoalNetwork,
     sv: ComponentId,
     domain: usize,
     goals: &[GoalId],
     points: &[TimePointId],
-) -> Vec<XGoal> {
+    fired: &[TimePointId],
+) -> Result<Vec<XGoal>, ScheduleError> {
     let position = |p: TimePointId| points.iter().position(|q| *q == p).unwrap_or(0);
     let mut out = Vec::new();
+    let mut covered = vec![false; goals.len()];
     for (i, pair) in points.windows(2).enumerate() {
         let (a, b) = (pair[0], pair[1]);
         if network.stn().distance(a, b).is_some_and(|d| d <= 0.0) {
             continue; // a and b coincide: no interval
         }
-        let covering = goals.iter().filter_map(|&id| {
-            let goal = network.goal(id);
-            (position(goal.start) <= i && position(goal.end) > i).then_some((id, goal))
-        });
+        let covering: Vec<(GoalId, &super::goal::Goal)> = (goals.iter().enumerate())
+            .filter_map(|(k, &id)| {
+                let goal = network.goal(id);
+                let covers = position(goal.start) <= i && position(goal.end) > i;
+                covered[k] |= covers;
+                covers.then_some((id, goal))
+            })
+            .collect();
         out.push(XGoal::merge(sv, a, b, domain, covering));
     }
-    out
+    if let Some(k) =
+        (0..goals.len()).find(|&k| !covered[k] && !fired.contains(&network.goal(goals[k]).end))
+    {
+        return Err(ScheduleError::EmptyInterval { goal: goals[k] });
+    }
+    Ok(out)
 }
 
 /// The points grounded by firing (a network being promoted over a running one).

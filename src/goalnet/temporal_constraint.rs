@@ -34,6 +34,10 @@ pub enum Provenance {
     },
     /// Given with a goal submitted to a running network.
     Submitted,
+    /// A goal holds over its interval: its start no later than its end, added by the scheduler
+    /// for every goal, so that constraints allowing the reverse order are an inconsistency
+    /// naming them rather than a goal left out of the timeline.
+    GoalInterval,
 }
 
 /// `min ≤ t(to) − t(from) ≤ max`.

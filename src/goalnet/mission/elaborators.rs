@@ -28,6 +28,11 @@
 //! ```
 //! A goal or macro of the initial network takes a type with `type: "StayWarm"`; the safe
 //! network is not elaborated and its goals take none.
+//!
+//! A type may not elaborate into itself, directly or through other types (elaboration would
+//! never end), and one goal's elaboration may create at most [`MAX_ELABORATED_GOALS`] goals
+//! (types whose tactics each create several typed children multiply: ten levels of two make a
+//! thousand); both are load errors, so `kairos check` reports them too.
 
 use serde::Deserialize;
 
@@ -114,6 +119,11 @@ fn listed(net: &super::NetworkFile) -> Vec<Listed<'_>> {
     macros.chain(goals).collect()
 }
 
+/// The most goals one goal's elaboration may create, counted down every level of typed
+/// children with the tactic that creates the most at each: beyond this a mission is refused at
+/// load rather than left to exhaust memory at its first cycle.
+pub const MAX_ELABORATED_GOALS: u64 = 10_000;
+
 /// Names a tactic's points may not take: the parent's points and the origin.
 const RESERVED_POINTS: [&str; 3] = ["start", "end", "origin"];
 
@@ -164,8 +174,132 @@ impl Loader<'_> {
                 elaborators.types[i].tactics.push(tactic);
             }
         }
+        self.recursive_types(file, &elaborators);
         self.typed_goals(file, network, &mut elaborators);
         elaborators
+    }
+
+    /// Refuses goal types that elaborate into themselves: a tactic's child whose type is the
+    /// tactic's own type, or leads back to it through other types. Elaboration expands every
+    /// typed child at once (elaborate.rs), so such a type would expand without end — memory
+    /// exhausted within seconds. Each cycle is reported once, at the child's `type` that
+    /// closes it (the back edge of a depth-first walk over "type → child's type"), naming the
+    /// types around it.
+    fn recursive_types(&mut self, file: &MissionFile, elaborators: &Elaborators) {
+        // edges[t]: (child's type, tactic index, child index) for every typed child of t.
+        let edges: Vec<Vec<(usize, usize, usize)>> = (file.types.iter())
+            .map(|spec| {
+                let children = spec.tactics.iter().enumerate().flat_map(|(j, tactic)| {
+                    tactic.goals.iter().enumerate().map(move |(k, c)| (j, k, c))
+                });
+                children
+                    .filter_map(|(j, k, child)| {
+                        let to = elaborators.named(child.goal_type.as_deref()?)?;
+                        Some((to.index(), j, k))
+                    })
+                    .collect()
+            })
+            .collect();
+        // 0: not visited, 1: on the walk's stack, 2: done.
+        let mut state = vec![0u8; edges.len()];
+        // Finished types in the order the walk finished them: children first.
+        let mut finished: Vec<usize> = Vec::new();
+        let mut recursive = false;
+        for root in 0..edges.len() {
+            if state[root] != 0 {
+                continue;
+            }
+            // An explicit stack (type, next edge): a long chain of types cannot overflow it.
+            let mut stack: Vec<(usize, usize)> = vec![(root, 0)];
+            state[root] = 1;
+            while let Some(&mut (t, ref mut next)) = stack.last_mut() {
+                let Some(&(to, j, k)) = edges[t].get(*next) else {
+                    state[t] = 2;
+                    finished.push(t);
+                    stack.pop();
+                    continue;
+                };
+                *next += 1;
+                match state[to] {
+                    0 => {
+                        state[to] = 1;
+                        stack.push((to, 0));
+                    }
+                    1 => {
+                        recursive = true;
+                        let from = stack.iter().position(|&(s, _)| s == to).unwrap_or(0);
+                        let mut cycle: Vec<&str> = (stack[from..].iter())
+                            .map(|&(s, _)| file.types[s].name.as_str())
+                            .collect();
+                        cycle.push(file.types[to].name.as_str());
+                        let path = [
+                            Step::Field("types"),
+                            Step::Index(t),
+                            Step::Field("tactics"),
+                            Step::Index(j),
+                            Step::Field("goals"),
+                            Step::Index(k),
+                            Step::Field("type"),
+                        ];
+                        self.error(
+                            &path,
+                            format!(
+                                "goal type `{}` elaborates into itself: {}",
+                                file.types[to].name,
+                                cycle.join(" → ")
+                            ),
+                            "child goals whose types do not lead back to their parent's type \
+                             (elaboration would never end)",
+                        );
+                    }
+                    _ => {}
+                }
+            }
+        }
+        if !recursive {
+            self.expansion_sizes(file, &finished);
+        }
+    }
+
+    /// Refuses a type one goal of which elaborates into more than [`MAX_ELABORATED_GOALS`]
+    /// goals; `order` lists the types children first (the types form no cycle).
+    fn expansion_sizes(&mut self, file: &MissionFile, order: &[usize]) {
+        let named = |name: &str| file.types.iter().position(|t| t.name == name);
+        let mut size = vec![0u64; file.types.len()];
+        for &t in order {
+            // Each goal elaborates with one tactic; the largest bounds them all.
+            size[t] = (file.types[t].tactics.iter())
+                .map(|tactic| {
+                    (tactic.goals.iter())
+                        .map(|child| {
+                            let below = child.goal_type.as_deref().and_then(named);
+                            1u64.saturating_add(below.map_or(0, |c| size[c]))
+                        })
+                        .fold(0u64, u64::saturating_add)
+                })
+                .max()
+                .unwrap_or(0);
+            if size[t] > MAX_ELABORATED_GOALS {
+                self.error(
+                    &[Step::Field("types"), Step::Index(t), Step::Field("name")],
+                    format!(
+                        "a goal of type `{}` elaborates into {} goals",
+                        file.types[t].name,
+                        if size[t] == u64::MAX {
+                            "more than 10¹⁹".to_string()
+                        } else {
+                            size[t].to_string()
+                        }
+                    ),
+                    &format!(
+                        "at most {MAX_ELABORATED_GOALS} goals from one goal's elaboration \
+                         (typed children multiply down every level)"
+                    ),
+                );
+                // Its parents would repeat the error: they are bounded by this one's report.
+                size[t] = 0;
+            }
+        }
     }
 
     /// Resolves the `type` of the initial network's macros and goals; refuses one in `safe`.
