@@ -171,7 +171,10 @@ impl LineReader<'_> {
                 NumberOrName::Number(x) => readings.push((name.as_str(), *x)),
             }
         }
-        let observed = self.assignments(&named, self.plant.observables(), "an observable");
+        let reported: Vec<VarId> = (self.plant.observables().iter().copied())
+            .chain(self.plant.acknowledgements().iter().map(|a| a.observable))
+            .collect();
+        let observed = self.assignments(&named, &reported, "an observable");
         let readings = self.readings(&readings);
         let controls: Vec<VarId> = self.plant.controls().iter().map(|c| c.var).collect();
         let commanded = self.assignments(&parsed.commands, &controls, "a control");

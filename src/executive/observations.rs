@@ -194,7 +194,7 @@ pub(crate) fn check_observation(plant: &Plant, observed: &[NamedValue]) -> Check
             rejected.push(reject("no such variable in the plant model".to_string()));
             continue;
         };
-        if !plant.observables().contains(&var) {
+        if !plant.is_reported(var) {
             rejected.push(reject("not an observable of the plant model".to_string()));
             continue;
         }

@@ -78,6 +78,10 @@
 //! readings become qualitative values (`src/plant/file/monitors.rs` has the
 //! format, [`monitor`](super::monitor) the semantics).
 //!
+//! A control may name the observable that reports flight software's answer to its last command:
+//! `acknowledgements: { "PDE.cmd": "PDE.ack" }` (`src/plant/file/acknowledgements.rs` has the
+//! rules, [`acknowledgement`](super::acknowledgement) the semantics).
+//!
 //! Semantics (thesis §6.1, DESIGN.md §6.2): a transition is enabled when the constraint store
 //! (the current modes' constraints, the interconnections and the commands) entails its guard;
 //! a mode stays with the probability its enabled transitions leave (no explicit self-loops); a
@@ -87,6 +91,7 @@
 //! Every error names the file, line and column, shows the text, says what was expected and which
 //! component and mode it concerns. Formulas are the constraint language of DESIGN.md §4.
 
+mod acknowledgements;
 mod component;
 mod monitors;
 pub(crate) mod types;
@@ -120,6 +125,8 @@ struct PlantFile {
     connections: Vec<String>,
     #[serde(default)]
     monitors: Entries<monitors::MonitorFile>,
+    #[serde(default)]
+    acknowledgements: Entries<String>,
 }
 
 /// `Type(...)`: a component written once, instantiated by `Component(name, type)`.
@@ -388,6 +395,9 @@ impl Loader {
         let observables = self.observables(file, &controls);
         let connections = self.connections(file);
         let monitors = self.monitors(&file.monitors, &observables);
+        let acknowledgements =
+            self.acknowledgements(&file.acknowledgements, &controls, &observables);
+        self.refuse_acknowledgements_in_constraints(&acknowledgements, &components, &connections);
         let mut component_of = vec![None; self.table.len()];
         for (i, component) in components.iter().enumerate() {
             component_of[component.mode_var.index()] = Some(ComponentId(i as u32));
@@ -400,6 +410,7 @@ impl Loader {
             observables,
             connections,
             monitors,
+            acknowledgements,
             component_of,
         }
     }

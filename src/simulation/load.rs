@@ -591,7 +591,7 @@ impl VarClasses {
         VarClasses {
             controls: plant.controls().iter().map(|c| c.var).collect(),
             modes: plant.components().iter().map(|c| c.mode_var()).collect(),
-            observables: plant.observables().to_vec(),
+            observables: reported(plant),
             numeric: plant.monitors().iter().map(|m| m.observable).collect(),
             hidden,
             plant_vars: plant.table().len(),
@@ -645,11 +645,18 @@ impl VarClasses {
     }
 }
 
+/// What a scripted plant may report: the observables, then the acknowledgement observables.
+fn reported(plant: &Plant) -> Vec<VarId> {
+    (plant.observables().iter().copied())
+        .chain(plant.acknowledgements().iter().map(|a| a.observable))
+        .collect()
+}
+
 /// Makes an empty script for a plant (used before anything is declared).
 pub(super) fn empty_script(plant: &Plant) -> Script {
     Script {
         world: plant.table().clone(),
-        observables: plant.observables().to_vec(),
+        observables: reported(plant),
         controls: plant.controls().iter().map(|c| (c.var, c.idle)).collect(),
         modes: plant.components().iter().map(|c| c.mode_var()).collect(),
         hidden: Vec::new(),
