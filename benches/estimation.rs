@@ -443,7 +443,6 @@ fn unminimised(plant: &Plant) -> Theory {
     plant
         .theory_with(TheoryOptions {
             minimize_conflicts: false,
-            ..TheoryOptions::default()
         })
         .expect("theory")
 }

@@ -1,6 +1,9 @@
 //! Goal networks (DESIGN.md §14–15): STN propagation and incremental grounding on
-//! networks of 10–10,000 points, scheduling the thermostat mission, and the cost a goal network
-//! adds to a quiet executive cycle (monitoring and a firing pass that fires nothing). Run:
+//! networks of 10–10,000 points, scheduling the thermostat mission, the cost a goal network
+//! adds to a quiet executive cycle (monitoring and a firing pass that fires nothing), and how
+//! scheduling and submissions grow with the number of goals (the workloads of
+//! tests/support/goal_workload.rs: `schedule_goals/KIND/N` schedules a mission of N goals,
+//! `submissions/knowledge/N` runs a scenario that submits N goals, one a cycle). Run:
 //! `cargo bench --bench goalnet`; numbers in BENCHMARKS.md.
 //!
 //! The random networks are a chain `p(i−1) → p(i) ∈ [1, 10]` (a timeline) plus, per point, one
@@ -11,11 +14,18 @@ use std::hint::black_box;
 use std::path::Path;
 
 use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
+use kairos::diagnostic::Source;
 use kairos::goalnet::{
     EstimateView, Execution, Provenance, Stn, TemporalConstraint, TimePointId, mission, schedule,
 };
 use kairos::logic::ValueId;
 use kairos::reconfiguration::Reconfiguration;
+use kairos::simulation;
+
+#[path = "../tests/support/goal_workload.rs"]
+mod goal_workload;
+
+use goal_workload::Kind;
 
 fn network(points: u32) -> Stn {
     let mut stn = Stn::new();
@@ -125,5 +135,37 @@ fn thermostat(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, stn, thermostat);
+/// Scheduling N goals, and a run with N submissions (one a cycle).
+fn workloads(c: &mut Criterion) {
+    let mut group = c.benchmark_group("schedule_goals");
+    group.sample_size(10);
+    for kind in [Kind::Knowledge, Kind::Transition] {
+        let name = format!("{kind:?}").to_lowercase();
+        for n in [50, 100, 150, 300, 1000] {
+            let source = Source::new("workload.ron", goal_workload::mission(n, kind));
+            let mission = mission::load_source(&source, goal_workload::dir()).expect("loads");
+            let reconfiguration = Reconfiguration::compile(&mission.plant).expect("compiles");
+            let initial = vec![ValueId(0); mission.plant.components().len()];
+            group.bench_with_input(BenchmarkId::new(&name, n), &n, |b, _| {
+                b.iter(|| black_box(schedule(&mission.network, &reconfiguration, &initial)))
+            });
+        }
+    }
+    group.finish();
+    let mut group = c.benchmark_group("submissions");
+    group.sample_size(10);
+    for n in [50, 100, 150, 300] {
+        let source = Source::new("workload.ron", goal_workload::scenario(n, Kind::Knowledge));
+        let scenario = simulation::load_source(&source, goal_workload::dir()).expect("loads");
+        group.bench_with_input(BenchmarkId::new("knowledge", n), &n, |b, _| {
+            b.iter(|| {
+                let outcome = simulation::run(&scenario, Default::default(), &mut |_| {});
+                black_box(outcome.expect("runs"))
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, stn, thermostat, workloads);
 criterion_main!(benches);

@@ -25,7 +25,7 @@ fn options(use_conflicts: bool) -> SearchOptions {
         decompose: true,
         budget: Budget {
             max_nodes: Some(PLAIN_NODE_CAP),
-            max_time: None,
+            ..Budget::default()
         },
     }
 }
@@ -53,7 +53,6 @@ fn report_checks(workloads: &[(String, RandomOcsp)]) {
             let cda_sat_calls = theory.stats().sat_calls;
             let minimised = TheoryOptions {
                 minimize_conflicts: true,
-                ..TheoryOptions::default()
             };
             let (mut theory, ocsp) = problem.build(minimised);
             let raw = ocsp.best_with(&mut theory, k, options(true));
@@ -89,10 +88,7 @@ fn bench_search(c: &mut Criterion) {
             ("cda*-minimised-cores", true, true),
             ("plain", false, false),
         ] {
-            let theory_options = TheoryOptions {
-                minimize_conflicts,
-                ..TheoryOptions::default()
-            };
+            let theory_options = TheoryOptions { minimize_conflicts };
             let (mut theory, ocsp) = problem.build(theory_options);
             // Skip timing the plain search where it hits the cap: its time then measures the cap.
             if !use_conflicts

@@ -191,6 +191,22 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Bind a plant model to an F´ deployment's JSON dictionary (what `fpp-to-dict` writes):
+    /// with `--binding`, check the binding file (every observable reported by a channel, every
+    /// control value sent as a command, types matching; errors located); without, print a
+    /// starting binding matched by name similarity. The format is documented in
+    /// `src/executive/fprime/binding.rs` and docs/embedding.md.
+    Bind {
+        /// The F´ JSON dictionary.
+        #[arg(long, value_name = "DICT")]
+        fprime_dict: PathBuf,
+        /// The plant model.
+        #[arg(long)]
+        plant: PathBuf,
+        /// The binding file to check.
+        #[arg(long)]
+        binding: Option<PathBuf>,
+    },
 }
 
 /// Bad arguments that clap's rules let through: the message and exit code 2.
@@ -203,6 +219,11 @@ fn main() -> ExitCode {
     let outcome = match Cli::parse().command {
         Command::Solve { file, k, json } => cli::solve::run(&file, k, json),
         Command::Check { files, deep: false } => cli::check::run(&files),
+        Command::Bind {
+            fprime_dict,
+            plant,
+            binding,
+        } => cli::bind::run(&fprime_dict, &plant, binding.as_deref()),
         Command::Check { files, deep: true } => cli::check::run_deep(&files),
         Command::Schedule { mission, at, dot } => cli::schedule::run(&mission, at, dot),
         Command::Compile {

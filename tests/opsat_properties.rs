@@ -7,8 +7,7 @@ mod support;
 mod seeded;
 use kairos::logic::{Formula, ValueId, VarId};
 use kairos::opsat::{
-    Budget, ConflictStore, Consistency, Literal, Ocsp, SatBackend, SearchOptions, Solution,
-    TheoryOptions,
+    Budget, ConflictStore, Consistency, Cut, Literal, Ocsp, SearchOptions, Solution, TheoryOptions,
 };
 use proptest::prelude::*;
 use support::random_ocsp::{RandomOcsp, random_ocsp, random_ocsp_with_assumptions};
@@ -50,22 +49,17 @@ fn assert_prefix_up_to_ties(found: &[Solution], expected: &[(Vec<usize>, f64)]) 
 
 fn all_option_combinations() -> Vec<(TheoryOptions, SearchOptions)> {
     let mut out = Vec::new();
-    for backend in [SatBackend::Batsat, SatBackend::Varisat] {
-        for minimize_conflicts in [true, false] {
-            for use_conflicts in [true, false] {
-                for decompose in [true, false] {
-                    out.push((
-                        TheoryOptions {
-                            backend,
-                            minimize_conflicts,
-                        },
-                        SearchOptions {
-                            use_conflicts,
-                            decompose,
-                            budget: Budget::default(),
-                        },
-                    ));
-                }
+    for minimize_conflicts in [true, false] {
+        for use_conflicts in [true, false] {
+            for decompose in [true, false] {
+                out.push((
+                    TheoryOptions { minimize_conflicts },
+                    SearchOptions {
+                        use_conflicts,
+                        decompose,
+                        budget: Budget::default(),
+                    },
+                ));
             }
         }
     }
@@ -246,7 +240,7 @@ proptest! {
         let expected = problem.brute_force();
         let (mut theory, ocsp) = problem.build(TheoryOptions::default());
         let options = SearchOptions {
-            budget: Budget { max_nodes: Some(nodes), max_time: None },
+            budget: Budget { max_nodes: Some(nodes), ..Budget::default() },
             ..SearchOptions::default()
         };
         let found = ocsp.best_with(&mut theory, usize::MAX, options);
@@ -255,6 +249,33 @@ proptest! {
             prop_assert_eq!(found.solutions.len(), expected.len());
         }
         prop_assert!(found.stats.nodes <= nodes);
+    }
+
+    /// A deadline shared by calls (`Budget::until`): one that has passed stops a search before
+    /// its first node, and says so; one far ahead changes nothing (the answer is brute force's).
+    #[test]
+    fn a_passed_deadline_stops_the_search_and_a_far_one_does_not(problem in random_ocsp(8, 2, 10)) {
+        let expected = problem.brute_force();
+        let now = std::time::Instant::now();
+        for (until, cut) in [(now, Some(Cut::Time)), (now + std::time::Duration::from_secs(3600), None)] {
+            let (mut theory, ocsp) = problem.build(TheoryOptions::default());
+            let options = SearchOptions {
+                budget: Budget { until: Some(until), ..Budget::default() },
+                ..SearchOptions::default()
+            };
+            let found = ocsp.best_with(&mut theory, usize::MAX, options);
+            if cut.is_some() {
+                prop_assert_eq!(found.stats.nodes, 0);
+                prop_assert!(found.solutions.is_empty());
+            }
+            // A search that needs no node (no solution: the problem is refuted before its
+            // first) ends uncut even past the deadline; every other is cut.
+            if found.cut.is_none() {
+                assert_prefix_up_to_ties(&found.solutions, &expected);
+                prop_assert_eq!(found.solutions.len(), expected.len());
+            }
+            prop_assert!(found.cut == cut || expected.is_empty(), "{:?} {}", found.cut, expected.len());
+        }
     }
 
     /// consistent() agrees with brute force, and every conflict it returns is a subset of the
@@ -266,7 +287,7 @@ proptest! {
         minimize in any::<bool>(),
     ) {
         let literals = random_literals(&problem, &picks);
-        let options = TheoryOptions { minimize_conflicts: minimize, ..TheoryOptions::default() };
+        let options = TheoryOptions { minimize_conflicts: minimize };
         let (mut theory, _) = problem.build(options);
         match theory.consistent(&literals) {
             Consistency::Consistent => prop_assert!(brute_consistent(&problem, &literals)),

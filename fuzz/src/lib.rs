@@ -335,7 +335,7 @@ pub fn ocsp(data: &[u8]) {
     let options = SearchOptions {
         budget: Budget {
             max_nodes: Some(OCSP_NODE_BUDGET),
-            max_time: None,
+            ..Budget::default()
         },
         ..SearchOptions::default()
     };

@@ -1,6 +1,7 @@
 //! Subcommand implementations for the `kairos` binary.
 
 pub mod bench;
+pub mod bind;
 pub mod campaign;
 pub mod check;
 pub mod compile;

@@ -37,7 +37,7 @@ use std::cell::OnceCell;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::hash::{Hash, Hasher};
-use std::rc::Rc;
+use std::sync::Arc;
 
 use rustc_hash::{FxHashMap, FxHasher};
 
@@ -87,10 +87,10 @@ impl NextMode {
 
 /// Per component, the next modes a source state may take (shared between the sources of a
 /// step whose component has the same distribution).
-pub(crate) type Choices = Vec<Rc<[NextMode]>>;
+pub(crate) type Choices = Vec<Arc<[NextMode]>>;
 
 /// Next modes from a (mode, probability) distribution.
-fn next_modes(distribution: Vec<(ValueId, f64)>) -> Rc<[NextMode]> {
+fn next_modes(distribution: Vec<(ValueId, f64)>) -> Arc<[NextMode]> {
     distribution
         .into_iter()
         .map(|(m, p)| NextMode::new(m, p))
@@ -107,7 +107,7 @@ pub(crate) struct SourceChoices {
     /// The source state's probability (1 for the initial distribution's pseudo-source).
     pub(crate) probability: f64,
     /// Per component, next modes (shared: quiet sources reuse them from cycle to cycle).
-    pub(crate) choices: Rc<Choices>,
+    pub(crate) choices: Arc<Choices>,
 }
 
 /// What an expansion found.
@@ -152,7 +152,7 @@ pub(crate) struct Limits {
 /// The expansion machinery and its caches (one per estimator, per plant).
 #[derive(Default)]
 pub(crate) struct Expander {
-    enabled: FxHashMap<Vec<u32>, Rc<Vec<Enabled>>>,
+    enabled: FxHashMap<Vec<u32>, Arc<Vec<Enabled>>>,
     memo: StepMemo,
     /// The sources of the last step and of this one, with their choices ([`Recents`]).
     recent: Recents,
@@ -196,17 +196,17 @@ struct Memo {
     mode: ValueId,
     /// The source's enabled transitions (all components'; this one's at its index), shared
     /// with the cache of enabled transitions rather than copied.
-    enabled: Rc<Vec<Enabled>>,
+    enabled: Arc<Vec<Enabled>>,
     clock: Option<u64>,
-    next: Rc<[NextMode]>,
+    next: Arc<[NextMode]>,
 }
 
 /// The clockless distributions of one (modes, μ) and step length.
 struct Untimed {
     /// The enabled transitions whose address is the key, held so that it stays unique.
-    _enabled: Rc<Vec<Enabled>>,
+    _enabled: Arc<Vec<Enabled>>,
     /// Per component.
-    next: Vec<Option<Rc<[NextMode]>>>,
+    next: Vec<Option<Arc<[NextMode]>>>,
 }
 
 impl StepMemo {
@@ -232,18 +232,18 @@ fn timed(
     component: &Component,
     c: usize,
     mode: ValueId,
-    enabled: &Rc<Vec<Enabled>>,
+    enabled: &Arc<Vec<Enabled>>,
     reading: f64,
     step: f64,
-) -> Rc<[NextMode]> {
+) -> Arc<[NextMode]> {
     let bits = Some(reading.to_bits());
     let known = memos.iter().find(|m| {
         m.mode == mode
             && m.clock == bits
-            && (Rc::ptr_eq(&m.enabled, enabled) || m.enabled[c] == enabled[c])
+            && (Arc::ptr_eq(&m.enabled, enabled) || m.enabled[c] == enabled[c])
     });
     if let Some(memo) = known {
-        return Rc::clone(&memo.next);
+        return Arc::clone(&memo.next);
     }
     let next = next_modes(component_distribution(
         component,
@@ -254,9 +254,9 @@ fn timed(
     ));
     memos.push(Memo {
         mode,
-        enabled: Rc::clone(enabled),
+        enabled: Arc::clone(enabled),
         clock: bits,
-        next: Rc::clone(&next),
+        next: Arc::clone(&next),
     });
     next
 }
@@ -282,10 +282,10 @@ fn same_bits(a: &[NextMode], b: &[NextMode]) -> bool {
 /// a component has no clock; a component whose clock runs is computed again (through the memo)
 /// unless its reading is the same bit for bit, and the recent distribution is kept when the new
 /// one equals it bit for bit. When no component changed, the source gets the very same
-/// `Rc<Choices>` as before, which lets the replay reuse what it prepared from it (`replay.rs`).
-/// Every `Rc<Choices>` [`Expander::choices`] hands out is made for one entry and handed out
+/// `Arc<Choices>` as before, which lets the replay reuse what it prepared from it (`replay.rs`).
+/// Every `Arc<Choices>` [`Expander::choices`] hands out is made for one entry and handed out
 /// again only for states equal to that entry's (modes and clock starts bit for bit): the
-/// replay takes the address, while it holds the `Rc`, as naming that state.
+/// replay takes the address, while it holds the `Arc`, as naming that state.
 #[derive(Default)]
 struct Recents {
     /// The step (`from`, `to`) asked last, as bits.
@@ -314,8 +314,8 @@ struct Recent {
     /// [`Recents::steps`] when it was last used.
     used: u64,
     /// The enabled transitions of `state` under `commands`.
-    enabled: Rc<Vec<Enabled>>,
-    choices: Rc<Choices>,
+    enabled: Arc<Vec<Enabled>>,
+    choices: Arc<Choices>,
 }
 
 impl Recents {
@@ -384,7 +384,7 @@ impl Recent {
         }
         self.from = from;
         if let Some(choices) = changed {
-            self.choices = Rc::new(choices);
+            self.choices = Arc::new(choices);
         }
     }
 }
@@ -403,7 +403,7 @@ impl Expander {
         commands: &Commands,
         from: f64,
         to: f64,
-    ) -> Result<Rc<Choices>, EstimationError> {
+    ) -> Result<Arc<Choices>, EstimationError> {
         self.memo.start(plant, from, to);
         self.recent.start(from, to);
         let step = to - from;
@@ -411,15 +411,15 @@ impl Expander {
         if let Some(source) = self.recent.find(state, commands, step) {
             source.advance(plant, &mut self.memo.timed, state, from, step);
             source.used = now;
-            return Ok(Rc::clone(&source.choices));
+            return Ok(Arc::clone(&source.choices));
         }
         let enabled = self.enabled(plant, theory, state, commands)?;
-        let key = (Rc::as_ptr(&enabled) as usize, step.to_bits());
+        let key = (Arc::as_ptr(&enabled) as usize, step.to_bits());
         let untimed = self.memo.untimed.entry(key).or_insert_with(|| Untimed {
-            _enabled: Rc::clone(&enabled),
+            _enabled: Arc::clone(&enabled),
             next: vec![None; plant.components().len()],
         });
-        let choices: Rc<Choices> = Rc::new(
+        let choices: Arc<Choices> = Arc::new(
             plant
                 .component_ids()
                 .zip(&state.modes)
@@ -428,7 +428,7 @@ impl Expander {
                 .enumerate()
                 .map(|(c, ((((id, component), &mode), memos), untimed))| {
                     match state.clock(id, from) {
-                        None => Rc::clone(untimed.get_or_insert_with(|| {
+                        None => Arc::clone(untimed.get_or_insert_with(|| {
                             next_modes(component_distribution(
                                 component,
                                 mode,
@@ -452,7 +452,7 @@ impl Expander {
             from,
             used: now,
             enabled,
-            choices: Rc::clone(&choices),
+            choices: Arc::clone(&choices),
         });
         Ok(choices)
     }
@@ -464,7 +464,7 @@ impl Expander {
         theory: &mut Theory,
         state: &SystemState,
         commands: &Commands,
-    ) -> Result<Rc<Vec<Enabled>>, EstimationError> {
+    ) -> Result<Arc<Vec<Enabled>>, EstimationError> {
         self.scratch.clear();
         self.scratch.extend(state.modes.iter().map(|m| m.0));
         self.scratch
@@ -477,14 +477,14 @@ impl Expander {
                 .extend(commands.delivered().iter().map(|v| v.0));
         }
         if let Some(enabled) = self.enabled.get(self.scratch.as_slice()) {
-            return Ok(Rc::clone(enabled));
+            return Ok(Arc::clone(enabled));
         }
-        let enabled = Rc::new(enabled_transitions(plant, theory, &state.modes, commands)?);
+        let enabled = Arc::new(enabled_transitions(plant, theory, &state.modes, commands)?);
         if self.enabled.len() >= CACHE_LIMIT {
             self.enabled.clear();
         }
         self.enabled
-            .insert(self.scratch.clone(), Rc::clone(&enabled));
+            .insert(self.scratch.clone(), Arc::clone(&enabled));
         Ok(enabled)
     }
 

@@ -28,7 +28,7 @@
 //! previous step's when equal.
 
 use std::collections::VecDeque;
-use std::rc::Rc;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::Belief;
@@ -49,8 +49,8 @@ pub(super) struct Step<'a> {
 /// One step's inputs, kept.
 #[derive(Clone)]
 pub(super) struct Input {
-    commands: Rc<Commands>,
-    observation: Rc<Observation>,
+    commands: Arc<Commands>,
+    observation: Arc<Observation>,
     time: f64,
     /// The fraction of the merged weight the step truncated away.
     lost: f64,
@@ -184,9 +184,9 @@ impl History {
 }
 
 /// `value`, sharing `previous` when it is equal.
-fn shared<T: Clone + PartialEq>(previous: Option<&Rc<T>>, value: &T) -> Rc<T> {
+fn shared<T: Clone + PartialEq>(previous: Option<&Arc<T>>, value: &T) -> Arc<T> {
     match previous {
-        Some(previous) if **previous == *value => Rc::clone(previous),
-        _ => Rc::new(value.clone()),
+        Some(previous) if **previous == *value => Arc::clone(previous),
+        _ => Arc::new(value.clone()),
     }
 }

@@ -67,10 +67,10 @@
 //!    restart its clock at t but has it forgotten, by its new mode alone, whatever t. So the
 //!    copy equals what the full step builds, bit for bit, and it is merged under the same hash
 //!    (`expand::state_hash` of an equal state) by the same `Merged` code. "Equal to s" is
-//!    checked by comparing the states, or by the source's `Rc<Choices>` being one already seen
-//!    with the state compared: `Expander::choices` hands an `Rc<Choices>` out only for states
+//!    checked by comparing the states, or by the source's `Arc<Choices>` being one already seen
+//!    with the state compared: `Expander::choices` hands an `Arc<Choices>` out only for states
 //!    equal (modes and clock starts bit for bit) to the one it was made for (`expand.rs`,
-//!    `Recents`), and the record holds the `Rc`, so its address names that state.
+//!    `Recents`), and the record holds the `Arc`, so its address names that state.
 //!
 //! Under 1–7 the merge — the same function in both cases (`expand::merge`) — sees the same
 //! costs, modes, factors and masses in the same order as in the full step, so it examines the
@@ -84,12 +84,12 @@
 //! The record's bound on the other solutions is computed once per record (it costs a pass over
 //! the shape's known solutions, what `take` does every step), at the first replay. A source's
 //! preparation (its shape, L, O and its R ordered) is a function of its choices while the
-//! record lives, so it is kept per source for the last few distinct `Rc<Choices>` (a quiet
-//! source keeps its very `Rc` from step to step, `expand.rs` `Recents`) and a source whose
-//! choices are one of those allocations (`Rc::ptr_eq`; the preparation holds the `Rc`, so the
+//! record lives, so it is kept per source for the last few distinct `Arc<Choices>` (a quiet
+//! source keeps its very `Arc` from step to step, `expand.rs` `Recents`) and a source whose
+//! choices are one of those allocations (`Arc::ptr_eq`; the preparation holds the `Arc`, so the
 //! address cannot be reused) is not prepared again.
 
-use std::rc::Rc;
+use std::sync::Arc;
 
 use super::WeightedState;
 use super::expand::{Choices, Merged, Serve, SourceChoices, state_hash};
@@ -147,7 +147,7 @@ struct Shape {
     /// Its slot in the solution cache.
     slot: usize,
     /// The choices of a source of this shape at recording (c_ref).
-    choices: Rc<Choices>,
+    choices: Arc<Choices>,
     /// R: the known solutions its sources' streams served or fetched ahead, by index,
     /// ascending (widened once by [`Others::of`]).
     served: Vec<usize>,
@@ -181,7 +181,7 @@ struct Successors {
     /// The source state and the shape (its index in [`Replay::shapes`]) they were built from.
     from: Option<(SystemState, usize)>,
     /// Choices handed out for that state (at most [`VARIANTS`], one per step length).
-    seen: Vec<Rc<Choices>>,
+    seen: Vec<Arc<Choices>>,
     /// Per known solution of the shape.
     built: Vec<Option<(SystemState, u64)>>,
 }
@@ -189,13 +189,13 @@ struct Successors {
 impl Successors {
     /// Keeps what was built if it was built from `source` of shape `shape`, else starts afresh
     /// for a shape of `solutions` known solutions. `choices` are `source`'s: `Expander::choices`
-    /// hands an `Rc<Choices>` out again only for a state equal to the one it was made for
+    /// hands an `Arc<Choices>` out again only for a state equal to the one it was made for
     /// (`expand.rs`, `Recents`), so choices already seen with the state built from (and held
     /// here, so that the address is not reused) spare comparing the states.
     fn keep_for(
         &mut self,
         source: &SystemState,
-        choices: &Rc<Choices>,
+        choices: &Arc<Choices>,
         shape: usize,
         solutions: usize,
     ) {
@@ -205,7 +205,7 @@ impl Successors {
         if *at != shape {
             return self.start(source, choices, shape, solutions);
         }
-        if self.seen.iter().any(|seen| Rc::ptr_eq(seen, choices)) {
+        if self.seen.iter().any(|seen| Arc::ptr_eq(seen, choices)) {
             return;
         }
         if state != source {
@@ -214,19 +214,19 @@ impl Successors {
         if self.seen.len() >= VARIANTS {
             self.seen.remove(0);
         }
-        self.seen.push(Rc::clone(choices));
+        self.seen.push(Arc::clone(choices));
     }
 
     fn start(
         &mut self,
         source: &SystemState,
-        choices: &Rc<Choices>,
+        choices: &Arc<Choices>,
         shape: usize,
         solutions: usize,
     ) {
         self.from = Some((source.clone(), shape));
         self.seen.clear();
-        self.seen.push(Rc::clone(choices));
+        self.seen.push(Arc::clone(choices));
         self.built.clear();
         self.built.resize(solutions, None);
     }
@@ -240,11 +240,11 @@ impl Variants {
 
     /// Selects the preparation made from `choices` if there is one (true), else an entry to
     /// prepare, emptied (false).
-    fn select(&mut self, choices: &Rc<Choices>) -> bool {
+    fn select(&mut self, choices: &Arc<Choices>) -> bool {
         let made = self
             .prepared
             .iter()
-            .position(|p| p.choices.as_ref().is_some_and(|c| Rc::ptr_eq(c, choices)));
+            .position(|p| p.choices.as_ref().is_some_and(|c| Arc::ptr_eq(c, choices)));
         if let Some(at) = made {
             self.current = at;
             return true;
@@ -268,8 +268,8 @@ impl Variants {
 /// One source of this step, prepared.
 struct Prepared {
     /// The choices it was prepared from: everything below is a function of them while the
-    /// record lives, so a source with the very same choices (`Rc::ptr_eq`) is prepared already.
-    choices: Option<Rc<Choices>>,
+    /// record lives, so a source with the very same choices (`Arc::ptr_eq`) is prepared already.
+    choices: Option<Arc<Choices>>,
     /// Index of its shape in [`Replay::shapes`].
     shape: usize,
     /// R's solutions with their costs under this step's choices, dearest first (served from
@@ -339,7 +339,7 @@ impl Others {
             .zip(new)
             .zip(&self.used)
             .map(|((a, b), used)| {
-                if Rc::ptr_eq(a, b) {
+                if Arc::ptr_eq(a, b) {
                     return 0.0;
                 }
                 a.iter()
@@ -360,7 +360,7 @@ impl Others {
 fn same_shape(a: &Choices, b: &Choices) -> bool {
     a.len() == b.len()
         && a.iter().zip(b).all(|(x, y)| {
-            Rc::ptr_eq(x, y)
+            Arc::ptr_eq(x, y)
                 || (x.len() == y.len() && x.iter().zip(y.iter()).all(|(m, n)| m.mode == n.mode))
         })
 }
@@ -390,7 +390,7 @@ impl Replay {
                 }
                 None => shapes.push(Shape {
                     slot,
-                    choices: Rc::clone(&source.choices),
+                    choices: Arc::clone(&source.choices),
                     served,
                     others: None,
                     factors: vec![f64::NAN; known.solutions.len()],
@@ -442,7 +442,7 @@ impl Replay {
                 shape,
                 &source.choices,
             )?;
-            prepared.choices = Some(Rc::clone(&source.choices));
+            prepared.choices = Some(Arc::clone(&source.choices));
         }
         Ok(())
     }

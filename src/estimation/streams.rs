@@ -25,7 +25,7 @@ use std::cell::OnceCell;
 
 use rustc_hash::FxHashMap;
 
-use std::rc::Rc;
+use std::sync::Arc;
 
 use super::expand::{Choices, Limits, SourceChoices};
 use crate::logic::ValueId;
@@ -62,7 +62,7 @@ pub(super) struct Known {
     pub(super) positions: Vec<Vec<u32>>,
     /// Every feasible solution not in `solutions` costs at least `bound` under these choices'
     /// costs.
-    pub(super) certificate: Option<(Rc<Choices>, f64)>,
+    pub(super) certificate: Option<(Arc<Choices>, f64)>,
     /// `solutions` holds every feasible solution.
     pub(super) complete: bool,
     /// Per next mode of the shape (components in order, each one's next modes in order), whether
@@ -143,7 +143,7 @@ impl Possible {
 struct Stream {
     /// Index into [`Streams::known`].
     shape: usize,
-    choices: Rc<Choices>,
+    choices: Arc<Choices>,
     /// Solutions handed out (or fetched ahead), cheapest first under `costs`, by index into
     /// the shape's solutions (which only grow during an expansion, and are distinct, so an
     /// index names one solution).
@@ -249,7 +249,7 @@ pub(super) fn drift(
         .zip(new)
         .enumerate()
         .map(|(c, (a, b))| {
-            if Rc::ptr_eq(a, b) {
+            if Arc::ptr_eq(a, b) {
                 // The same allocation: every change is 0 (or NaN for an infinite cost), which
                 // the fold below would never take either.
                 return 0.0;
@@ -355,7 +355,7 @@ impl<'o> Streams<'o> {
                     cache.possible.allows(plant, theory, c, mode)
                 }),
                 done: known.complete,
-                choices: Rc::clone(&source.choices),
+                choices: Arc::clone(&source.choices),
                 served: Vec::new(),
                 live_bound: None,
                 asked: 0,
@@ -373,12 +373,12 @@ impl<'o> Streams<'o> {
         if let Some(conflicts) = self.conflicts {
             cache.conflicts = conflicts;
         }
-        let mut renewed: Vec<Option<(Rc<Choices>, f64)>> = vec![None; self.known.len()];
+        let mut renewed: Vec<Option<(Arc<Choices>, f64)>> = vec![None; self.known.len()];
         for stream in &self.streams {
             if let Some(bound) = stream.live_bound {
                 let slot = &mut renewed[stream.shape];
                 if slot.as_ref().is_none_or(|(_, b)| bound > *b) {
-                    *slot = Some((Rc::clone(&stream.choices), bound));
+                    *slot = Some((Arc::clone(&stream.choices), bound));
                 }
             }
         }

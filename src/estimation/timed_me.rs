@@ -17,7 +17,7 @@
 //! components jump into their unconstrained fault modes, which explain anything of theirs; if
 //! even that fails, it keeps the previous belief, clocks running on.
 
-use std::rc::Rc;
+use std::sync::Arc;
 
 use super::expand::{
     Expander, Expansion, Limits, NextMode, SourceChoices, choices_from, successor_from,
@@ -145,6 +145,12 @@ impl TimedMe {
     /// Its options.
     pub fn options(&self) -> TimedMeOptions {
         self.options
+    }
+
+    /// Sets OPSAT's budget for the updates that follow (the executive gives each cycle's
+    /// searches their deadline: [`Budget::until`]).
+    pub fn set_budget(&mut self, budget: Budget) {
+        self.options.budget = budget;
     }
 }
 
@@ -410,7 +416,7 @@ pub(crate) fn initial_belief(
         .collect();
     let mut sources = vec![SourceChoices {
         probability: 1.0,
-        choices: Rc::new(choices_from(initial)),
+        choices: Arc::new(choices_from(initial)),
     }];
     let entered = |_: usize, modes: Vec<ValueId>| SystemState::entered_at(plant, modes, time);
     let expansion = expander.expand(plant, theory, &sources, observation, limits, entered)?;
@@ -436,7 +442,7 @@ pub(crate) fn initial_belief(
 /// [`JUMP`] (DESIGN.md §8's first fallback).
 pub(crate) fn with_fault_jumps(plant: &Plant, sources: &mut [SourceChoices]) {
     for source in sources {
-        let choices = Rc::make_mut(&mut source.choices);
+        let choices = Arc::make_mut(&mut source.choices);
         for (component, next) in plant.components().iter().zip(choices) {
             let jumps = (0..component.modes().len())
                 .map(|m| ValueId(m as u32))

@@ -99,21 +99,36 @@ impl Executive {
     /// the entry), links the program against the plant, and returns the builder to set options
     /// on. See [`Executive`] for the whole loop.
     pub fn load(plant: &Path, program: &Path) -> Result<ExecutiveBuilder, LoadError> {
-        let plant = Plant::load(&Source::read(plant)?)?;
+        Executive::load_source(Source::read(plant)?, Source::read(program)?)
+    }
+
+    /// [`Executive::load`] from texts already in memory (an embedder that keeps its model in
+    /// flash, or receives it over a link): each [`Source`]'s name is what errors point at.
+    pub fn load_source(plant: Source, program: Source) -> Result<ExecutiveBuilder, LoadError> {
+        let plant = Plant::load(&plant)?;
         let options = LinkOptions {
             plant: Some(plant.table()),
             ..LinkOptions::default()
         };
-        let source = Source::read(program)?;
-        let program = rmpl::load(&source, &options)?;
-        Ok(Executive::builder(plant, program).source(source))
+        let program_thca = rmpl::load(&program, &options)?;
+        Ok(Executive::builder(plant, program_thca).source(program))
     }
 
     /// Reads the mission at `mission` and the plant model it names (relative to the mission's
     /// directory), checks both, schedules the mission's goal network from the plant's most
     /// likely initial state (DESIGN.md §15.2), and returns the builder to set options on.
     pub fn load_mission(mission: &Path) -> Result<ExecutiveBuilder, LoadError> {
-        let mission = mission::load(mission)?;
+        let dir = mission.parent().unwrap_or(Path::new(""));
+        Executive::load_mission_source(&Source::read(mission)?, dir)
+    }
+
+    /// [`Executive::load_mission`] from the mission's text in memory; the plant model it names
+    /// is read from disk, relative to `dir`.
+    pub fn load_mission_source(
+        mission: &Source,
+        dir: &Path,
+    ) -> Result<ExecutiveBuilder, LoadError> {
+        let mission = mission::load_source(mission, dir)?;
         let reconfiguration =
             Reconfiguration::compile(&mission.plant).map_err(LoadError::Encoding)?;
         let (plant, source, network) = (

@@ -31,6 +31,7 @@ mod describe;
 mod events;
 mod evidence;
 mod fingerprint;
+pub mod fprime;
 mod load;
 mod mission;
 mod monitoring;
@@ -81,6 +82,13 @@ pub struct ExecutiveOptions {
     pub cycle_deadline: Option<Duration>,
     /// OPSAT's budget for mode estimation, per tracked state.
     pub estimation_budget: Budget,
+    /// Mode estimation stops this long after the cycle starts (goals submitted since the last
+    /// cycle count against it): every OPSAT search of the cycle's estimation — one per tracked
+    /// state, and any re-estimation of the history window or fall-back expansion — stops at
+    /// that instant, and the belief is the best found, reported by a search-cut event. It
+    /// bounds mode estimation as a whole, the phase that varies most; the sequencer and the
+    /// planner have no budget.
+    pub estimation_deadline: Option<Duration>,
     /// How much state, command and observation history to keep.
     pub retention: Retention,
     /// When the goal is unreachable from ŝ: how probable another tracked plant state must be to
@@ -94,6 +102,7 @@ impl Default for ExecutiveOptions {
             kappa: 10,
             cycle_deadline: None,
             estimation_budget: Budget::default(),
+            estimation_deadline: None,
             retention: Retention::default(),
             ambiguity: AmbiguityOptions::default(),
         }
@@ -234,6 +243,13 @@ impl ExecutiveBuilder {
     /// Sets OPSAT's budget for mode estimation.
     pub fn estimation_budget(mut self, budget: Budget) -> Self {
         self.options.estimation_budget = budget;
+        self
+    }
+
+    /// Sets the time after a cycle's start by which mode estimation stops
+    /// ([`ExecutiveOptions::estimation_deadline`]).
+    pub fn estimation_deadline(mut self, deadline: Duration) -> Self {
+        self.options.estimation_deadline = Some(deadline);
         self
     }
 
@@ -458,6 +474,16 @@ pub struct Executive {
     submission_time: Duration,
 }
 
+// An executive moves between threads (one call at a time, DESIGN.md §10): an embedding host
+// steps it from whichever thread runs its flight loop, and the C ABI's handle is one executive.
+// Everything it owns is therefore `Send` — mode estimation's shared caches by `Arc`, the theory
+// on batsat with callbacks of its own (`opsat/sat.rs`) — and this fails to compile if a change
+// makes it otherwise.
+const _: () = {
+    const fn assert_send<T: Send>() {}
+    assert_send::<Executive>();
+};
+
 impl Executive {
     /// Starts building an executive for `program`: an RMPL program's [`Thca`], which must have
     /// been linked against `plant`'s variables (`rmpl::load` with `LinkOptions { plant:
@@ -538,6 +564,12 @@ impl Executive {
         // One clock reading per phase boundary, each phase ending where the next starts: four
         // readings a cycle, not eight (they were 4 % of the nominal EDL's run time).
         let started = Instant::now();
+        if let Some(deadline) = self.options.estimation_deadline {
+            self.estimator.set_budget(Budget {
+                until: Some(started + deadline.saturating_sub(self.submission_time)),
+                ..self.options.estimation_budget
+            });
+        }
         self.estimate(now, observed, &mut log)?;
         let estimated = Instant::now();
         let goal = self.sequence(now, &mut log)?;

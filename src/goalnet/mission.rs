@@ -57,6 +57,7 @@ mod delegated;
 mod elaborators;
 mod submission;
 
+pub use submission::parse_submission;
 pub(crate) use submission::resolve_submission;
 
 use std::path::Path;

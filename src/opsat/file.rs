@@ -82,8 +82,8 @@ pub fn load(source: &Source) -> Result<OcspInstance, SourceErrors> {
     load_with(source, TheoryOptions::default())
 }
 
-/// Reads an OCSP file and encodes its theory with the given options (benchmarks compare SAT
-/// backends on the shipped examples).
+/// Reads an OCSP file and encodes its theory with the given options (benchmarks compare
+/// conflict minimisation on the shipped examples).
 pub fn load_with(source: &Source, options: TheoryOptions) -> Result<OcspInstance, SourceErrors> {
     let fail = |diagnostics| SourceErrors::new(source.clone(), diagnostics);
     let file: OcspFile =

@@ -27,7 +27,6 @@ pub use merge::Enumeration;
 pub use ocsp::{
     Budget, Choice, Cut, Decision, Ocsp, OcspError, SearchOptions, SearchStats, Solution, Solutions,
 };
-pub use sat::SatBackend;
 pub use shared::ConflictStore;
 pub use theory::{
     Consistency, Definition, Literal, Theory, TheoryError, TheoryOptions, TheoryStats,

@@ -126,6 +126,9 @@ pub struct Budget {
     pub max_nodes: Option<u64>,
     /// At most this much time.
     pub max_time: Option<Duration>,
+    /// Until this instant: a deadline several calls share (the executive gives every search of
+    /// a cycle's mode estimation the same one). Reported as [`Cut::Time`].
+    pub until: Option<Instant>,
 }
 
 /// Which limit stopped a search early.
@@ -133,7 +136,7 @@ pub struct Budget {
 pub enum Cut {
     /// [`Budget::max_nodes`] was reached.
     Nodes,
-    /// [`Budget::max_time`] was reached.
+    /// [`Budget::max_time`] was reached, or [`Budget::until`] passed.
     Time,
 }
 
@@ -215,6 +218,7 @@ impl Meter {
             .budget
             .max_time
             .is_some_and(|max| self.started.elapsed() >= max)
+            || self.budget.until.is_some_and(|t| Instant::now() >= t)
         {
             return Err(Cut::Time);
         }

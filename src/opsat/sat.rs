@@ -1,20 +1,14 @@
-//! The incremental SAT solvers the [`super::Theory`] is built on, behind one small interface.
+//! The incremental SAT solver the [`super::Theory`] is built on, behind one small interface.
 //!
-//! Two maintained pure-Rust CDCL solvers with assumptions and failed-assumption cores are wired
-//! in: batsat (a MiniSat descendant) and varisat. `benches/theory.rs` measures both on the
-//! Theory's workloads; BENCHMARKS.md records the numbers and the choice of the default.
+//! batsat, a maintained pure-Rust CDCL solver descended from MiniSat, with assumptions and
+//! failed-assumption cores. It was chosen over varisat by measurement on the Theory's workloads
+//! (BENCHMARKS.md, "The theory and OPSAT"). varisat was later removed: its solver holds trait
+//! objects that are not `Send` (a proof writer, a checker), and the executive, which owns a
+//! theory, must be `Send` so that a host can step it from any thread. batsat runs with
+//! [`NoCallbacks`] for the same reason (its own `Basic` callbacks box a stop function that is
+//! not `Send`).
 
 use std::ops::Not;
-
-/// Which SAT solver a [`super::Theory`] runs on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum SatBackend {
-    /// `batsat`: the default, chosen by benchmark (BENCHMARKS.md).
-    #[default]
-    Batsat,
-    /// `varisat`.
-    Varisat,
-}
 
 /// A literal in the solver-independent numbering: variable index times two, plus one when
 /// negated.
@@ -69,39 +63,26 @@ pub(crate) trait SatSolver {
 }
 
 /// A solver that keeps every variable and clause it was given, so that it can be cloned by
-/// building a fresh solver of the same kind from them: the copy has the same clauses, hence the
+/// building a fresh solver from them: the copy has the same clauses, hence the
 /// same satisfiable assumption sets (it lacks only the learned clauses, which are consequences).
 /// Explicit-state exploration (`crate::exploration`) clones the executive, whose theory holds
 /// one.
+#[derive(Default)]
 pub(crate) struct RecordedSolver {
-    backend: SatBackend,
-    solver: Box<dyn SatSolver>,
+    solver: Batsat,
     vars: u32,
     /// Every clause, in the order given.
     clauses: Vec<Box<[SatLit]>>,
 }
 
-impl RecordedSolver {
-    /// A fresh solver of the chosen kind.
-    pub(crate) fn new(backend: SatBackend) -> Self {
-        RecordedSolver {
-            backend,
-            solver: new_solver(backend),
-            vars: 0,
-            clauses: Vec::new(),
-        }
-    }
-}
-
 impl Clone for RecordedSolver {
     fn clone(&self) -> Self {
-        let mut solver = new_solver(self.backend);
+        let mut solver = Batsat::default();
         (0..self.vars).for_each(|_| {
             solver.new_var();
         });
         self.clauses.iter().for_each(|c| solver.add_clause(c));
         RecordedSolver {
-            backend: self.backend,
             solver,
             vars: self.vars,
             clauses: self.clauses.clone(),
@@ -129,17 +110,16 @@ impl SatSolver for RecordedSolver {
     }
 }
 
-/// A fresh solver of the chosen kind.
-fn new_solver(backend: SatBackend) -> Box<dyn SatSolver> {
-    match backend {
-        SatBackend::Batsat => Box::new(Batsat::default()),
-        SatBackend::Varisat => Box::new(Varisat::default()),
-    }
-}
+/// batsat's callbacks that do nothing: `batsat::BasicSolver`'s boxed stop function is not
+/// `Send`, this is (and the theory never interrupts a solve).
+#[derive(Default)]
+struct NoCallbacks;
+
+impl batsat::Callbacks for NoCallbacks {}
 
 #[derive(Default)]
 struct Batsat {
-    solver: batsat::BasicSolver,
+    solver: batsat::Solver<NoCallbacks>,
     /// batsat's variable for each of ours, in creation order.
     vars: Vec<batsat::Var>,
     scratch: Vec<batsat::Lit>,
@@ -199,70 +179,13 @@ impl SatSolver for Batsat {
     }
 }
 
-#[derive(Default)]
-struct Varisat {
-    solver: varisat::Solver<'static>,
-    scratch: Vec<varisat::Lit>,
-}
-
-fn to_varisat(lit: SatLit) -> varisat::Lit {
-    varisat::Lit::from_index(lit.var() as usize, lit.is_positive())
-}
-
-impl SatSolver for Varisat {
-    fn new_var(&mut self) -> SatLit {
-        use varisat::ExtendFormula;
-        let var = self.solver.new_var();
-        SatLit::new(var.index() as u32, true)
-    }
-
-    fn add_clause(&mut self, clause: &[SatLit]) {
-        use varisat::ExtendFormula;
-        self.scratch.clear();
-        self.scratch.extend(clause.iter().map(|&l| to_varisat(l)));
-        self.solver.add_clause(&self.scratch);
-    }
-
-    fn solve(&mut self, assumptions: &[SatLit]) -> Outcome {
-        self.scratch.clear();
-        self.scratch
-            .extend(assumptions.iter().map(|&l| to_varisat(l)));
-        self.solver.assume(&self.scratch);
-        match self.solver.solve() {
-            Ok(true) => Outcome::Satisfiable,
-            Ok(false) => {
-                let failed = self.solver.failed_core().unwrap_or(&[]);
-                let core = assumptions
-                    .iter()
-                    .copied()
-                    .filter(|&a| failed.contains(&to_varisat(a)))
-                    .collect();
-                Outcome::Unsatisfiable { core }
-            }
-            // varisat fails only when interrupted or writing a proof; this solver does neither.
-            Err(error) => unreachable!("varisat failed without proof or interrupt: {error}"),
-        }
-    }
-
-    fn model(&self) -> Vec<bool> {
-        let mut values = Vec::new();
-        for lit in self.solver.model().unwrap_or_default() {
-            let var = lit.var().index();
-            if values.len() <= var {
-                values.resize(var + 1, false);
-            }
-            values[var] = lit.is_positive();
-        }
-        values
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn check_backend(backend: SatBackend) {
-        let mut solver = new_solver(backend);
+    #[test]
+    fn batsat_reports_cores_over_the_assumptions() {
+        let mut solver = Batsat::default();
         let (a, b, c) = (solver.new_var(), solver.new_var(), solver.new_var());
         solver.add_clause(&[!a, b]); // a => b
         solver.add_clause(&[!b, c]); // b => c
@@ -275,15 +198,5 @@ mod tests {
             Outcome::Satisfiable => panic!("a, b, not c contradicts a => b => c"),
         }
         assert!(matches!(solver.solve(&[]), Outcome::Satisfiable));
-    }
-
-    #[test]
-    fn batsat_reports_cores_over_the_assumptions() {
-        check_backend(SatBackend::Batsat);
-    }
-
-    #[test]
-    fn varisat_reports_cores_over_the_assumptions() {
-        check_backend(SatBackend::Varisat);
     }
 }

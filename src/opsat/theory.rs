@@ -17,7 +17,7 @@ use petgraph::unionfind::UnionFind;
 use rustc_hash::FxHashMap;
 
 use super::propagate::{Solver, Value};
-use super::sat::{Outcome, RecordedSolver, SatBackend, SatLit, SatSolver};
+use super::sat::{Outcome, RecordedSolver, SatLit, SatSolver};
 use crate::logic::{Atom, Formula, ValueId, VarId, VarTable};
 
 /// How many literals unit propagation may decide, one at a time, to complete the stored model
@@ -127,26 +127,15 @@ pub enum TheoryError {
     ExternalAtom,
 }
 
-/// How a theory is built.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// How a theory is built. The default (conflicts as the solver finds them) was chosen by
+/// measurement (BENCHMARKS.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct TheoryOptions {
-    /// Which SAT solver to run on.
-    pub backend: SatBackend,
     /// Shrink every conflict [`Theory::consistent`] returns to a minimal one by deletion (one
     /// SAT call per member). Off by default: in conflict-directed search the SAT solver's own
     /// cores prune nearly as well at half the SAT calls (BENCHMARKS.md). Callers that show a
     /// conflict to a person ask [`Theory::minimal_conflict`] instead.
     pub minimize_conflicts: bool,
-}
-
-impl Default for TheoryOptions {
-    /// batsat, conflicts as the solver finds them: both chosen by measurement (BENCHMARKS.md).
-    fn default() -> Self {
-        TheoryOptions {
-            backend: SatBackend::Batsat,
-            minimize_conflicts: false,
-        }
-    }
 }
 
 /// Counts of the work a theory has done, for benchmarks and budgets.
@@ -208,7 +197,7 @@ impl Theory {
         constraints: &[Formula],
         options: TheoryOptions,
     ) -> Result<Theory, TheoryError> {
-        let mut solver = Solver::new(RecordedSolver::new(options.backend));
+        let mut solver = Solver::new(RecordedSolver::default());
         let constant_true = solver.new_var();
         solver.add_clause(&[constant_true]);
         let mut value_lits = Vec::with_capacity(table.len());
@@ -795,26 +784,5 @@ mod tests {
             theory.component_root(VarId(0)),
             theory.component_root(VarId(1))
         );
-    }
-
-    #[test]
-    fn both_backends_agree() {
-        for backend in [SatBackend::Batsat, SatBackend::Varisat] {
-            let plain = driver();
-            let table = plain.table().clone();
-            let constraints = [formula(&plain, "driver = on => valve = open")];
-            let mut theory = Theory::with_options(
-                table,
-                &constraints,
-                TheoryOptions {
-                    backend,
-                    minimize_conflicts: false,
-                },
-            )
-            .unwrap();
-            let open = formula(&theory, "valve = open");
-            let on = [is(&theory, "driver", "on")];
-            assert!(theory.entails(&on, &open).unwrap(), "{backend:?}");
-        }
     }
 }

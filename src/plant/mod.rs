@@ -355,7 +355,7 @@ impl Plant {
         Theory::new(self.table.clone(), &self.constraints())
     }
 
-    /// [`Plant::theory`] with chosen options (SAT backend, conflict minimisation; BENCHMARKS.md
+    /// [`Plant::theory`] with chosen options (conflict minimisation; BENCHMARKS.md
     /// measures their effect on estimation).
     pub fn theory_with(&self, options: TheoryOptions) -> Result<Theory, TheoryError> {
         Theory::with_options(self.table.clone(), &self.constraints(), options)

@@ -6,7 +6,7 @@
 
 use super::{GoalNetwork, Item, Loader, NetworkFile};
 use crate::diagnostic::locate::{Locator, Step};
-use crate::diagnostic::{Diagnostic, Source};
+use crate::diagnostic::{Diagnostic, Source, SourceErrors, ron_error};
 use crate::goalnet::{Submission, SubmittedConstraint, SubmittedGoal};
 use crate::plant::Plant;
 
@@ -93,4 +93,22 @@ pub(crate) fn resolve_submission(
         constraints,
         goals,
     })
+}
+
+/// A submission written on its own as a `Network(points: [...], constraints: [...], goals:
+/// [...])` — what an embedder hands a running mission ([`Executive::submit`]) — read and resolved
+/// against `mission` (its plant and its network as loaded), every problem located in `source`.
+///
+/// [`Executive::submit`]: crate::executive::Executive::submit
+pub fn parse_submission(
+    source: &Source,
+    mission: &super::Mission,
+) -> Result<Submission, SourceErrors> {
+    let options =
+        ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let located = |diagnostics| SourceErrors::new(source.clone(), diagnostics);
+    let file: NetworkFile = options
+        .from_str(&source.text)
+        .map_err(|e| located(vec![ron_error(source, &e)]))?;
+    resolve_submission(source, &[], &mission.plant, &mission.network, &file).map_err(located)
 }
