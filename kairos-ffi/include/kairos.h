@@ -153,6 +153,8 @@ typedef enum KairosEventKind {
   KAIROS_EVENT_KIND_NETWORK_STALLED = 38,
   KAIROS_EVENT_KIND_SAFE_GOAL_DROPPED = 39,
   KAIROS_EVENT_KIND_X_GOAL_WITHDRAWN = 40,
+  KAIROS_EVENT_KIND_MONITORED = 41,
+  KAIROS_EVENT_KIND_STALE = 42,
 } KairosEventKind;
 
 // An executive and what the C ABI keeps beside it. Opaque to C.
