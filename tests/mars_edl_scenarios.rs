@@ -16,7 +16,7 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/mars_edl";
 
 /// The scenarios this file runs, one test each.
-const SCENARIOS: [&str; 13] = [
+const SCENARIOS: [&str; 15] = [
     "nominal.ron",
     "descent_mission.ron",
     "descent_flameout.ron",

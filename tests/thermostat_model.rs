@@ -33,7 +33,7 @@ const WARM: &str = "(temperature = warm-low or temperature = warm or temperature
 
 /// The RMPL scenarios this file runs, one test each. (Goal-network missions on the same plant
 /// have tests of their own: `tests/thermostat_missions.rs`.)
-const SCENARIOS: [&str; 8] = [
+const SCENARIOS: [&str; 9] = [
     "stay_warm.ron",
     "telemetry.ron",
     "switch1_sticks_open.ron",
