@@ -32,8 +32,8 @@
 // An observation's value is a symbol: `symbol` holds it.
 #define KAIROS_VALUE_SYMBOL 0
 
-// An observation's value is a number: `number` holds it (refused with
-// `KAIROS_STATUS_NO_MONITOR` until plant models declare monitors).
+// An observation's value is a number: `number` holds it, a reading for the observable's monitor
+// (refused with `KAIROS_STATUS_NO_MONITOR` when the model declares no monitor for it).
 #define KAIROS_VALUE_NUMBER 1
 
 // The program has completed.
