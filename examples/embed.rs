@@ -20,7 +20,7 @@ struct DriverAndValve {
 impl DriverAndValve {
     /// Applies one command sent to the driver.
     fn command(&mut self, command: &NamedValue) {
-        match command.value.as_str() {
+        match command.value.symbol().unwrap_or_default() {
             "on" => self.driver_on = true,
             "off" => self.driver_on = false,
             "open" if self.driver_on => self.valve_open = true,

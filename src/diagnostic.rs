@@ -32,6 +32,9 @@ pub struct Diagnostic {
     pub expected: String,
     /// Further lines of help (suggestions, the list of known names, ...).
     pub notes: Vec<String>,
+    /// Other places the problem concerns, each with what it is (the instance of a component
+    /// type whose body has the error), shown beside the main location.
+    pub related: Vec<(Span, String)>,
 }
 
 impl Diagnostic {
@@ -42,6 +45,7 @@ impl Diagnostic {
             span,
             expected: String::new(),
             notes: Vec::new(),
+            related: Vec::new(),
         }
     }
 
@@ -54,6 +58,12 @@ impl Diagnostic {
     /// Adds a line of help.
     pub fn note(mut self, note: impl Into<String>) -> Self {
         self.notes.push(note.into());
+        self
+    }
+
+    /// Adds another place the problem concerns, labelled.
+    pub fn related(mut self, span: Span, label: impl Into<String>) -> Self {
+        self.related.push((span, label.into()));
         self
     }
 
@@ -120,11 +130,15 @@ impl Source {
         let mut out = String::new();
         for diagnostic in diagnostics {
             let span = self.clamp(diagnostic.span.start)..self.clamp(diagnostic.span.end);
+            let mut labels =
+                vec![Label::primary((), span.clone()).with_message(&diagnostic.expected)];
+            labels.extend(diagnostic.related.iter().map(|(related, label)| {
+                let related = self.clamp(related.start)..self.clamp(related.end);
+                Label::secondary((), related).with_message(label)
+            }));
             let report = Report::error()
                 .with_message(&diagnostic.message)
-                .with_labels(vec![
-                    Label::primary((), span.clone()).with_message(&diagnostic.expected),
-                ])
+                .with_labels(labels)
                 .with_notes(diagnostic.notes.clone());
             match term::emit_into_string(&config, &file, &report) {
                 Ok(text) => out.push_str(&text),

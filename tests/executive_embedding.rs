@@ -61,8 +61,8 @@ impl ControlAdapter for Hardware {
             if assignment.variable != "PDE.cmd" {
                 return Err(format!("no actuator for {assignment}"));
             }
-            self.commands.push((time, assignment.value.clone()));
-            self.apply(time, &assignment.value);
+            self.commands.push((time, assignment.value.to_string()));
+            self.apply(time, assignment.value.symbol().unwrap_or_default());
         }
         Ok(())
     }
@@ -757,4 +757,63 @@ fn load_errors_are_located_and_every_error_composes_with_question_mark() {
         Ok(())
     }
     composes().expect("the shipped thermostat mission runs");
+}
+
+/// Numeric telemetry through the embedding API (`plant::monitor`, the thermostat's sensor in °C):
+/// readings go in as numbers, the step says what the monitor made of them, a reading out of the
+/// valid range is an event and the cycle goes on, and several readings in a cycle are taken in
+/// order.
+#[test]
+fn readings_go_in_as_numbers_and_the_monitor_reads_them() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut executive = Executive::load(
+        &root.join("models/thermostat.ron"),
+        &root.join("programs/thermostat_stay_warm.rmpl"),
+    )
+    .expect("loads")
+    .build()
+    .expect("builds");
+    let reading = executive
+        .plant()
+        .table()
+        .variable_id("sensor.reading")
+        .expect("the sensor");
+    let value_at = |executive: &mut Executive, time: f64, readings: &[f64]| {
+        let observed: Vec<NamedValue> = (readings.iter())
+            .map(|&x| NamedValue::new("sensor.reading", x))
+            .collect();
+        let step = executive.step(time, &observed).expect("a cycle");
+        let plant = executive.plant();
+        let value = step.monitored.iter().find(|(x, _)| *x == reading);
+        let name = value
+            .and_then(|(_, v)| *v)
+            .map(|v| plant.table().variable(reading).value_name(v).to_string());
+        (name, step)
+    };
+    // Persistence 3: three readings in one cycle settle the value at once.
+    let (value, step) = value_at(&mut executive, 0.0, &[5.1, 5.3, 4.9]);
+    assert_eq!(value.as_deref(), Some("cold"));
+    assert!(
+        step.events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Monitored { .. }))
+    );
+    // A lone reading across an edge is a glitch.
+    let (value, _) = value_at(&mut executive, 1.0, &[22.0, 5.0]);
+    assert_eq!(value.as_deref(), Some("cold"));
+    // Out of range: refused with an event, the value held.
+    let (value, step) = value_at(&mut executive, 2.0, &[900.0]);
+    assert_eq!(value.as_deref(), Some("cold"));
+    assert!(step.events.iter().any(|e| matches!(
+        &e.kind,
+        EventKind::ObservationRejected { reason, .. } if reason.contains("valid range")
+    )));
+    // Silent for more than 5 s: stale, unknown.
+    let (value, step) = value_at(&mut executive, 8.5, &[]);
+    assert_eq!(value, None);
+    assert!(
+        step.events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Stale { .. }))
+    );
 }

@@ -16,7 +16,7 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/mars_edl";
 
 /// The scenarios this file runs, one test each.
-const SCENARIOS: [&str; 13] = [
+const SCENARIOS: [&str; 15] = [
     "nominal.ron",
     "descent_mission.ron",
     "descent_flameout.ron",
@@ -29,12 +29,20 @@ const SCENARIOS: [&str; 13] = [
     "mars_polar_lander.ron",
     "valve2_ignores_open.ron",
     "valve2_stuck_closed.ron",
+    "valve2_rejected.ron",
+    "valve2_accepted_stuck.ron",
     "explore_faults.ron",
 ];
 /// The other files there: the scripts the scenarios include, the requirement mapping, and the
 /// campaign scenario, whose runs `kairos campaign` judges one by one (docs/campaigns.md; at
 /// ≈ 17,200 cycles a run it is measured in BENCHMARKS.md, not run here).
-const NOT_SCENARIOS: [&str; 4] = ["plant.ron", "descent.ron", "README.md", "campaign.ron"];
+const NOT_SCENARIOS: [&str; 5] = [
+    "plant.ron",
+    "descent.ron",
+    "acknowledgements.ron",
+    "README.md",
+    "campaign.ron",
+];
 
 /// Runs a scenario of this directory and returns its mission log, failing with the log if it
 /// does not pass.
@@ -206,6 +214,49 @@ fn a_valve_that_ignores_the_first_open_command_is_commanded_again_and_the_edl_la
     );
     assert_eq!(log.matches("RETRY").count(), 1, "{log}");
     assert!(!log.contains("GOAL FAILED"), "{log}");
+}
+
+/// Command acknowledgements (src/plant/acknowledgement.rs): the PDE rejects the first `open2`,
+/// so the step is estimated as if it had not been sent — no diagnosis, no retry on a
+/// hypothesis: the planner sends `open2` again from ŝ in the next cycle.
+#[test]
+fn a_rejected_open_command_is_sent_again_at_once_without_ambiguity() {
+    let log = run("valve2_rejected.ron");
+    assert_in_order(
+        &log,
+        &[
+            "command PDE.cmd = open2 (valve2: closed -> open)",
+            "PDE.ack = rejected",
+            "command PDE.cmd = open2 (valve2: closed -> open)",
+            "PDE.ack = accepted",
+            "command PDE.cmd = engine-fire (engine: standby -> firing)",
+            "completed the program has completed",
+        ],
+    );
+    for absent in ["RETRY", "DIAGNOSIS", "GOAL FAILED"] {
+        assert!(!log.contains(absent), "{absent}: {log}");
+    }
+}
+
+/// Command acknowledgements: the PDE accepts `open2` and the pressure stays low. "The command
+/// was not taken" is then impossible: stuck-closed is diagnosed with only an empty tank behind
+/// an open valve beside it (no `closed` candidate), nothing is retried and the goal fails.
+#[test]
+fn an_accepted_open_command_without_flow_is_a_stuck_valve_without_retry() {
+    let log = run("valve2_accepted_stuck.ron");
+    assert_in_order(
+        &log,
+        &[
+            "command PDE.cmd = open2 (valve2: closed -> open)",
+            "PDE.ack = accepted",
+            "DIAGNOSIS valve2 = stuck-closed (p 0.91); evidence: valve2.outlet = low; next: valve2 = open (p 0.09)",
+            "GOAL FAILED engine = firing",
+        ],
+    );
+    assert!(!log.contains("RETRY"), "{log}");
+    assert!(!log.contains("valve2 = closed (p"), "{log}");
+    let sent = "PDE.cmd = open2 (valve2: closed -> open)";
+    assert_eq!(log.matches(sent).count(), 1, "{log}");
 }
 
 /// Valve 2 is really stuck closed. One retry on the closed hypothesis; its

@@ -525,6 +525,7 @@ fn nominal_step(
     for &k in cluster {
         let component = plant.component(k);
         let moves: Vec<ValueId> = enabled[k.index()]
+            .transitions
             .iter()
             .map(|&t| &component.transitions()[t])
             .filter(|t| component.mode(t.target).kind == ModeKind::Nominal)

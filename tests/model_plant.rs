@@ -143,7 +143,7 @@ fn observations_are_consistent_with_the_sampled_modes() {
             let v = plant
                 .table()
                 .variable(var)
-                .value(&value.value)
+                .value(value.value.symbol().unwrap_or_default())
                 .expect("known");
             literals.push(Literal::Is(var, v));
         }
@@ -262,7 +262,7 @@ fn a_script_beside_the_model_overrides_its_observables() {
             .observation
             .iter()
             .find(|o| o.variable == "engine.temp")
-            .map(|o| o.value.clone());
+            .map(|o| o.value.to_string());
         temps.push((record.step.time, temp));
     })
     .expect("runs");

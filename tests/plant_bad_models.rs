@@ -102,3 +102,23 @@ fn check_exits_2_on_a_bad_model_and_0_on_a_good_one() {
     let good = run("models/driver_valve.ron");
     assert_eq!(good.status.code(), Some(0));
 }
+bad_model!(
+    type_body_errors,
+    "unknown variable `valve1.flwo`",
+    "in `valve1`, an instance of type `valve`",
+    "has no mode `opne`",
+    "no parameter `stuk`",
+    "did you mean `stuck`?",
+    "the same in 2 other instances"
+);
+bad_model!(
+    type_instances,
+    "no type `swich`",
+    "did you mean `switch`?",
+    "type `switch` has no parameter `stick`",
+    "`s3` is an instance of a type and has `modes` of its own",
+    "`s[4..]` has a malformed index range",
+    "`t[1..2]`: only instances of a type have indexed names",
+    "`bonus` is not a number (parameter names are for types)",
+    "the ranges have different lengths (2 and 3)"
+);

@@ -259,13 +259,13 @@ fn the_index_lists_every_page() {
 }
 
 /// The keys of a trace line's objects (the estimate and a belief's `modes` are maps keyed by
-/// component names: their keys are data, not fields).
+/// component names, `monitored` by observables: their keys are data, not fields).
 fn keys(value: &serde_json::Value, out: &mut BTreeSet<String>) {
     match value {
         serde_json::Value::Object(map) => {
             for (key, inner) in map {
                 out.insert(key.clone());
-                if key != "estimate" && key != "modes" {
+                if key != "estimate" && key != "modes" && key != "monitored" {
                     keys(inner, out);
                 }
             }
@@ -276,20 +276,25 @@ fn keys(value: &serde_json::Value, out: &mut BTreeSet<String>) {
 }
 
 /// `docs/reference/trace.md` has a row for every key the full trace of a run writes, and every
-/// key it has a row for is written: the run is `docs/examples/intermittent/stall.ron`, which
-/// has a diagnosis with another candidate, a preemption, rules and commands.
+/// key it has a row for is written: the runs are `docs/examples/intermittent/stall.ron`, which
+/// has a diagnosis with another candidate, a preemption, rules and commands, and
+/// `scenarios/thermostat/telemetry.ron`, whose plant has a monitor.
 #[test]
 fn the_trace_page_documents_every_key() {
-    let path = root().join("docs/examples/intermittent/stall.ron");
-    let scenario = simulation::load(&path).unwrap_or_else(|e| panic!("{e}"));
-    let mut trace = Trace::full();
     let mut written = BTreeSet::new();
-    simulation::run(&scenario, RunOptions::default(), &mut |record| {
-        let line: serde_json::Value =
-            serde_json::from_str(&trace.line(&scenario, record)).expect("a JSON line");
-        keys(&line, &mut written);
-    })
-    .unwrap_or_else(|e| panic!("{e}"));
+    for example in [
+        "docs/examples/intermittent/stall.ron",
+        "scenarios/thermostat/telemetry.ron",
+    ] {
+        let scenario = simulation::load(&root().join(example)).unwrap_or_else(|e| panic!("{e}"));
+        let mut trace = Trace::full();
+        simulation::run(&scenario, RunOptions::default(), &mut |record| {
+            let line: serde_json::Value =
+                serde_json::from_str(&trace.line(&scenario, record)).expect("a JSON line");
+            keys(&line, &mut written);
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+    }
     let page = std::fs::read_to_string(root().join("docs/reference/trace.md")).expect("page");
     let documented: BTreeSet<String> = page
         .lines()

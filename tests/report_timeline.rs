@@ -167,7 +167,7 @@ impl Hardware for Propulsion {
     }
 
     fn command(&mut self, time: f64, assignment: &NamedValue) {
-        match assignment.value.as_str() {
+        match assignment.value.symbol().unwrap_or_default() {
             "on" if !self.pde_resettable => self.pde_on = true,
             "off" => (self.pde_on, self.pde_resettable) = (false, false),
             "reset" if self.pde_resettable => (self.pde_on, self.pde_resettable) = (true, false),
@@ -546,7 +546,7 @@ fn room_run() -> Run {
             ]
         }
         fn command(&mut self, _: f64, assignment: &NamedValue) {
-            let on = assignment.value == "on";
+            let on = assignment.value.symbol() == Some("on");
             match assignment.variable.as_str() {
                 "lamp.cmd" => self.lamp = on,
                 _ => self.fan = on,

@@ -33,8 +33,9 @@ const WARM: &str = "(temperature = warm-low or temperature = warm or temperature
 
 /// The RMPL scenarios this file runs, one test each. (Goal-network missions on the same plant
 /// have tests of their own: `tests/thermostat_missions.rs`.)
-const SCENARIOS: [&str; 8] = [
+const SCENARIOS: [&str; 9] = [
     "stay_warm.ron",
+    "telemetry.ron",
     "switch1_sticks_open.ron",
     "switch2_sticks_closed.ron",
     "sensor_fails.ron",
@@ -219,6 +220,30 @@ fn run_scenario(name: &str) -> String {
     assert_eq!(code, 0, "{path} failed:\n{stdout}\n{stderr}");
     assert!(stdout.contains("PASS: "), "{stdout}");
     stdout
+}
+
+/// Numeric telemetry through the model's monitor (`plant::monitor`): the log shows each
+/// reading that changed the band and what the monitor made of it, a refused reading and the
+/// silent sensor going stale; the glitch and the reading inside the hysteresis band change
+/// nothing, and nothing is diagnosed.
+#[test]
+fn numeric_telemetry_goes_through_the_monitor() {
+    let log = run_scenario("telemetry.ron");
+    assert_in_order(
+        &log,
+        &[
+            "monitor sensor.reading = 5.2 °C -> cold",
+            "monitor sensor.reading = 21.4 °C -> warm-low (was cold)",
+            "believed temperature: warming -> warm-low",
+            "monitor sensor.reading = 29.8 °C -> warm (was warm-low)",
+            "rule `a glitch` takes effect: sensor.reading = 19.1",
+            "rejected sensor.reading = \"999\": outside the valid range [-50, 150] °C",
+            "STALE sensor.reading: no reading since 229.000 s (more than 5 s): unknown",
+            "monitor sensor.reading = 30.3 °C -> warm",
+        ],
+    );
+    assert_eq!(log.matches("monitor ").count(), 4, "{log}");
+    assert!(!log.contains("DIAGNOSIS"), "{log}");
 }
 
 /// The log has each line (whitespace squeezed), in this order.

@@ -56,7 +56,7 @@ fn driver_valve(c: &mut Criterion) {
         .map(|o| {
             (
                 CString::new(o.variable.as_str()).expect("a name"),
-                CString::new(o.value.as_str()).expect("a value"),
+                CString::new(o.value.to_string()).expect("a value"),
             )
         })
         .collect();

@@ -32,8 +32,8 @@
 // An observation's value is a symbol: `symbol` holds it.
 #define KAIROS_VALUE_SYMBOL 0
 
-// An observation's value is a number: `number` holds it (refused with
-// `KAIROS_STATUS_NO_MONITOR` until plant models declare monitors).
+// An observation's value is a number: `number` holds it, a reading for the observable's monitor
+// (refused with `KAIROS_STATUS_NO_MONITOR` when the model declares no monitor for it).
 #define KAIROS_VALUE_NUMBER 1
 
 // The program has completed.
@@ -153,6 +153,8 @@ typedef enum KairosEventKind {
   KAIROS_EVENT_KIND_NETWORK_STALLED = 38,
   KAIROS_EVENT_KIND_SAFE_GOAL_DROPPED = 39,
   KAIROS_EVENT_KIND_X_GOAL_WITHDRAWN = 40,
+  KAIROS_EVENT_KIND_MONITORED = 41,
+  KAIROS_EVENT_KIND_STALE = 42,
 } KairosEventKind;
 
 // An executive and what the C ABI keeps beside it. Opaque to C.

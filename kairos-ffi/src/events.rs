@@ -56,6 +56,8 @@ pub enum KairosEventKind {
     NetworkStalled = 38,
     SafeGoalDropped = 39,
     XGoalWithdrawn = 40,
+    Monitored = 41,
+    Stale = 42,
 }
 
 impl KairosEventKind {
@@ -102,6 +104,8 @@ impl KairosEventKind {
             EventKind::XGoalWithdrawn { .. } => K::XGoalWithdrawn,
             EventKind::GoalContradicted { .. } => K::GoalContradicted,
             EventKind::Chatter { .. } => K::Chatter,
+            EventKind::Monitored { .. } => K::Monitored,
+            EventKind::Stale { .. } => K::Stale,
         }
     }
 }

@@ -6,14 +6,21 @@
 //! name, a value outside the observable's domain: DESIGN.md §10, §13); what C got wrong about
 //! the call itself is an error code and the cycle does not run, leaving the executive as it was:
 //! a NULL where a string is needed, a string that is not UTF-8, a kind tag that is none of
-//! `KAIROS_VALUE_*`, a number (plant models declare no monitors yet), a time that does not
-//! increase.
+//! `KAIROS_VALUE_*`, a number for an observable the model declares no monitor for, a time that
+//! does not increase.
+//!
+//! A number for an observable with a monitor is a reading and goes to the executive as the Rust
+//! API's does: the monitor turns it into the observable's value (thresholds, hysteresis,
+//! persistence), and a reading that is not finite or is outside the monitor's valid range is an
+//! `ObservationRejected` event, not an error. A number for a name the model does not know goes
+//! to the executive too, which reports it as an event like an unknown symbolic observation.
 
 use std::ffi::c_char;
 use std::sync::Arc;
 
 use kairos::executive::{EventKind, NamedValue, Step, StepError};
 use kairos::logic::{ValueId, VarId};
+use kairos::plant::Plant;
 
 use crate::error::{Failure, KairosStatus, guard};
 use crate::events::{KairosEvent, KairosEventKind, StoredEvent};
@@ -24,8 +31,8 @@ use crate::raw::{self, c_string};
 
 /// An observation's value is a symbol: `symbol` holds it.
 pub const KAIROS_VALUE_SYMBOL: u32 = 0;
-/// An observation's value is a number: `number` holds it (refused with
-/// `KAIROS_STATUS_NO_MONITOR` until plant models declare monitors).
+/// An observation's value is a number: `number` holds it, a reading for the observable's monitor
+/// (refused with `KAIROS_STATUS_NO_MONITOR` when the model declares no monitor for it).
 pub const KAIROS_VALUE_NUMBER: u32 = 1;
 
 /// The program has completed.
@@ -166,7 +173,10 @@ pub(crate) fn run(
 ///
 /// # Safety
 /// Each observation's strings are NULL or NUL-terminated strings valid for the call.
-unsafe fn named(observations: &[KairosObservation]) -> Result<Vec<NamedValue>, Failure> {
+unsafe fn named(
+    plant: &Plant,
+    observations: &[KairosObservation],
+) -> Result<Vec<NamedValue>, Failure> {
     let mut named = Vec::with_capacity(observations.len());
     for (i, observation) in observations.iter().enumerate() {
         // SAFETY: the caller's contract.
@@ -180,14 +190,20 @@ unsafe fn named(observations: &[KairosObservation]) -> Result<Vec<NamedValue>, F
                 named.push(NamedValue::new(variable, symbol));
             }
             KAIROS_VALUE_NUMBER => {
-                return Err(Failure::new(
-                    KairosStatus::NoMonitor,
-                    format!(
-                        "observation {i} gives `{variable}` the number {}: no monitor for this observable \
-                         (plant models declare no monitors yet; report its symbolic value)",
-                        observation.number
-                    ),
-                ));
+                let unmonitored = plant.table().variable_id(variable).is_some_and(|var| {
+                    plant.observables().contains(&var) && plant.monitor_of(var).is_none()
+                });
+                if unmonitored {
+                    return Err(Failure::new(
+                        KairosStatus::NoMonitor,
+                        format!(
+                            "observation {i} gives `{variable}` the number {}: the model declares no \
+                             monitor for this observable (report its symbolic value)",
+                            observation.number
+                        ),
+                    ));
+                }
+                named.push(NamedValue::new(variable, observation.number));
             }
             kind => {
                 return Err(Failure::new(
@@ -228,7 +244,7 @@ pub unsafe extern "C" fn kairos_step(
     unsafe {
         with_handle(handle, |handle| {
             let observations = raw::slice(observations, count, "observations")?;
-            let observed = named(observations)?;
+            let observed = named(handle.executive.plant(), observations)?;
             run(handle, now, &observed, out)
         })
     }

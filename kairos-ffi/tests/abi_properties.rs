@@ -2,7 +2,9 @@
 //! (DESIGN.md §13): arrays of observations with unknown names, values outside the domain,
 //! numbers (NaN and infinities among them), bad kind tags, NULL and non-UTF-8 strings; arrays of
 //! F´ telemetry with unknown channel ids, values of the wrong type, enumeration values that are
-//! no constant, bools that are not 0 or 1; times that are NaN or do not increase. The status of
+//! no constant, bools that are not 0 or 1; times that are NaN or do not increase; readings in °C
+//! of a monitored observable (NaN, infinities, out of range among them). A number for an
+//! observable without a monitor is `KAIROS_STATUS_NO_MONITOR`. The status of
 //! each call is checked against an oracle written from the documented contract (the first
 //! offending item decides the code), a successful step against the events it must carry, and a
 //! failed call must leave the handle usable.
@@ -256,6 +258,53 @@ proptest! {
             kairos_step_free(step);
             kairos_executive_free(handle);
         }
+    }
+}
+
+/// The thermostat's sensor monitor's valid range (models/thermostat.ron, °C).
+const SENSOR_RANGE: std::ops::RangeInclusive<f64> = -50.0..=150.0;
+
+fn reading() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        4 => -60.0..160.0f64,
+        1 => Just(f64::NAN),
+        1 => Just(f64::INFINITY),
+        1 => Just(f64::NEG_INFINITY),
+        1 => any::<f64>(),
+    ]
+}
+
+proptest! {
+    #![proptest_config(seeded::config(64))]
+
+    /// Numbers for a monitored observable (the thermostat's sensor in °C) are readings: the
+    /// cycle runs, and each reading that is not a number or is outside the monitor's valid range
+    /// is an `ObservationRejected` event, as in the Rust API (`plant::monitor`).
+    #[test]
+    fn random_readings_of_a_monitored_observable_run_or_are_events(
+        cycles in prop::collection::vec(prop::collection::vec(reading(), 0..5), 1..8),
+    ) {
+        let handle = load("models/thermostat.ron", "programs/thermostat_stay_warm.rmpl");
+        let mut now = 0.0;
+        for readings in &cycles {
+            let observations: Vec<KairosObservation> = readings
+                .iter()
+                .map(|&x| KairosObservation {
+                    variable: c"sensor.reading".as_ptr(),
+                    kind: KAIROS_VALUE_NUMBER,
+                    symbol: std::ptr::null(),
+                    number: x,
+                })
+                .collect();
+            let rejected = readings.iter().filter(|x| !SENSOR_RANGE.contains(*x)).count();
+            let mut step = std::ptr::null_mut();
+            // SAFETY: a live handle; the observations' strings are static.
+            let status = unsafe { kairos_step(handle, now, observations.as_ptr(), observations.len(), &mut step) };
+            prop_assert!(check_step(status, KairosStatus::Ok, step, rejected)?);
+            now += 1.0;
+        }
+        // SAFETY: the handle is not used after this.
+        unsafe { kairos_executive_free(handle) };
     }
 }
 

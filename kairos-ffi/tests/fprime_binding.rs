@@ -60,7 +60,7 @@ fn telemetry(dictionary: &serde_json::Value, observation: &NamedValue) -> Kairos
     let definition = (types.iter())
         .find(|t| t["qualifiedName"] == type_name)
         .expect("the type");
-    let constant = observation.value.to_uppercase();
+    let constant = observation.value.to_string().to_uppercase();
     let constants = definition["enumeratedConstants"]
         .as_array()
         .expect("constants");

@@ -14,6 +14,7 @@ use kairos::estimation::{
     BeliefUpdate, EstimationEvent, Fallback, ModeEstimator, TimedMe, TimedMeOptions, Update,
 };
 use kairos::logic::{ValueId, VarId};
+use kairos::plant::monitor::MonitorEvent;
 use kairos::plant::{Plant, describe_modes};
 use kairos::report::trace::BELIEF_RESOLUTION;
 use serde_json::{Map, Value, json};
@@ -95,6 +96,7 @@ pub fn run(args: &EstimateArgs) -> Result<(), Failure> {
             || i == 0
             || i + 1 == records.len()
             || !update.events.is_empty()
+            || !record.monitored.is_empty()
             || record.commands.issued(&plant).next().is_some()
             || records[i - 1].commands.issued(&plant).next().is_some()
             || records[i - 1].observation != record.observation
@@ -164,6 +166,31 @@ fn event_text(event: &EstimationEvent) -> String {
     }
 }
 
+/// What a numeric observable's monitor did: `bus.voltage = 26.2 V -> low (was nominal)`.
+fn monitor_text(plant: &Plant, var: VarId, event: &MonitorEvent) -> String {
+    let variable = plant.table().variable(var);
+    let unit = (plant.monitor_of(var)).map_or("", |m| plant.monitors()[m].unit.as_str());
+    match *event {
+        MonitorEvent::Changed { reading, from, to } => format!(
+            "{} = {reading} {unit} -> {}{}",
+            variable.name(),
+            variable.value_name(to),
+            from.map_or(String::new(), |v| format!(
+                " (was {})",
+                variable.value_name(v)
+            ))
+        ),
+        MonitorEvent::OutOfRange { reading } => format!(
+            "{} = {reading} {unit}: outside the valid range, set aside",
+            variable.name()
+        ),
+        MonitorEvent::Stale { last } => format!(
+            "{}: no reading since {last:.3} s: unknown until the next",
+            variable.name()
+        ),
+    }
+}
+
 fn as_text(plant: &Plant, record: &LogRecord, update: &Update, top: usize) -> String {
     let mut out = format!(
         "t = {:.3} s  observed {}\n",
@@ -176,6 +203,9 @@ fn as_text(plant: &Plant, record: &LogRecord, update: &Update, top: usize) -> St
             estimate.probability,
             describe_modes(plant, &estimate.modes)
         );
+    }
+    for (var, event) in &record.monitored {
+        out += &format!("  ~ {}\n", monitor_text(plant, *var, event));
     }
     for event in &update.events {
         out += &format!("  ! {}\n", event_text(event));
@@ -217,6 +247,9 @@ fn as_json(plant: &Plant, record: &LogRecord, update: &Update, top: usize) -> Va
         "observations": object(plant, record.observation.values().iter().copied()),
         "estimates": estimates,
         "events": update.events.iter().map(event_text).collect::<Vec<_>>(),
+        "monitored": (record.monitored.iter())
+            .map(|(var, event)| monitor_text(plant, *var, event))
+            .collect::<Vec<_>>(),
         "commands": object(plant, record.commands.issued(plant)),
         "system_states": update.stats.states,
         "sat_calls": update.stats.sat_calls,

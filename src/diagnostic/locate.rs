@@ -11,13 +11,13 @@
 //! does not understand ends the outline early and lookups fall back to a coarser location.
 //!
 //! [`Entries`] reads a RON map in file order and keeps repeated keys, so that loaders can report
-//! a duplicate where it is written.
+//! a duplicate where it is written; [`NumberOrName`] reads a value that may be either.
 
 use std::fmt;
 use std::marker::PhantomData;
 
 use serde::Deserialize;
-use serde::de::{Deserializer, MapAccess, Visitor};
+use serde::de::{self, Deserializer, MapAccess, Visitor};
 
 use crate::diagnostic::Span;
 
@@ -154,6 +154,47 @@ impl<'de, V: Deserialize<'de>> Deserialize<'de> for Entries<V> {
             }
         }
         deserializer.deserialize_map(EntriesVisitor(PhantomData))
+    }
+}
+
+/// A number or a name, where a file may write either: a number or a component type's
+/// parameter in a plant file, a value or a reading of a numeric observable in a script.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum NumberOrName {
+    /// Written as a number.
+    Number(f64),
+    /// Written as a name (a string).
+    Name(String),
+}
+
+impl<'de> Deserialize<'de> for NumberOrName {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct NumberVisitor;
+        impl Visitor<'_> for NumberVisitor {
+            type Value = NumberOrName;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or a name")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<NumberOrName, E> {
+                Ok(NumberOrName::Number(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<NumberOrName, E> {
+                Ok(NumberOrName::Number(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<NumberOrName, E> {
+                Ok(NumberOrName::Number(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<NumberOrName, E> {
+                Ok(NumberOrName::Name(v.to_string()))
+            }
+        }
+        // RON says what it holds; a format that does not (the reference pages' tracer) is
+        // asked for the number.
+        if deserializer.is_human_readable() {
+            deserializer.deserialize_any(NumberVisitor)
+        } else {
+            deserializer.deserialize_f64(NumberVisitor)
+        }
     }
 }
 

@@ -79,6 +79,8 @@ impl ModeEstimator for BeliefUpdate {
         time: f64,
     ) -> Result<Update, EstimationError> {
         check_step(plant, belief, commands, observation, time)?;
+        // The step as the acknowledgements say it happened (`plant::acknowledgement`).
+        let commands = &*commands.acknowledged(plant, observation);
         let sat_before = theory.stats().sat_calls;
         let mut sources = Vec::with_capacity(belief.states().len());
         let mut targets = Targets::default();

@@ -48,7 +48,7 @@ use super::{EstimationError, WeightedState};
 use crate::logic::ValueId;
 use crate::opsat::{Cut, Ocsp, SearchOptions, Theory};
 use crate::plant::{
-    Commands, Component, Observation, Plant, SystemState, component_distribution,
+    Commands, Component, Enabled, Observation, Plant, SystemState, component_distribution,
     enabled_transitions, successor,
 };
 
@@ -152,7 +152,7 @@ pub(crate) struct Limits {
 /// The expansion machinery and its caches (one per estimator, per plant).
 #[derive(Default)]
 pub(crate) struct Expander {
-    enabled: FxHashMap<Vec<u32>, Arc<Vec<Vec<usize>>>>,
+    enabled: FxHashMap<Vec<u32>, Arc<Vec<Enabled>>>,
     memo: StepMemo,
     /// The sources of the last step and of this one, with their choices ([`Recents`]).
     recent: Recents,
@@ -196,7 +196,7 @@ struct Memo {
     mode: ValueId,
     /// The source's enabled transitions (all components'; this one's at its index), shared
     /// with the cache of enabled transitions rather than copied.
-    enabled: Arc<Vec<Vec<usize>>>,
+    enabled: Arc<Vec<Enabled>>,
     clock: Option<u64>,
     next: Arc<[NextMode]>,
 }
@@ -204,7 +204,7 @@ struct Memo {
 /// The clockless distributions of one (modes, μ) and step length.
 struct Untimed {
     /// The enabled transitions whose address is the key, held so that it stays unique.
-    _enabled: Arc<Vec<Vec<usize>>>,
+    _enabled: Arc<Vec<Enabled>>,
     /// Per component.
     next: Vec<Option<Arc<[NextMode]>>>,
 }
@@ -232,7 +232,7 @@ fn timed(
     component: &Component,
     c: usize,
     mode: ValueId,
-    enabled: &Arc<Vec<Vec<usize>>>,
+    enabled: &Arc<Vec<Enabled>>,
     reading: f64,
     step: f64,
 ) -> Arc<[NextMode]> {
@@ -314,7 +314,7 @@ struct Recent {
     /// [`Recents::steps`] when it was last used.
     used: u64,
     /// The enabled transitions of `state` under `commands`.
-    enabled: Arc<Vec<Vec<usize>>>,
+    enabled: Arc<Vec<Enabled>>,
     choices: Arc<Choices>,
 }
 
@@ -464,11 +464,18 @@ impl Expander {
         theory: &mut Theory,
         state: &SystemState,
         commands: &Commands,
-    ) -> Result<Arc<Vec<Vec<usize>>>, EstimationError> {
+    ) -> Result<Arc<Vec<Enabled>>, EstimationError> {
         self.scratch.clear();
         self.scratch.extend(state.modes.iter().map(|m| m.0));
         self.scratch
             .extend(commands.values().iter().map(|(_, v)| v.0));
+        // Delivered commands change the distributions: a separator, then them (nothing
+        // without acknowledgements, so the key is the same then).
+        if !commands.delivered().is_empty() {
+            self.scratch.push(u32::MAX);
+            self.scratch
+                .extend(commands.delivered().iter().map(|v| v.0));
+        }
         if let Some(enabled) = self.enabled.get(self.scratch.as_slice()) {
             return Ok(Arc::clone(enabled));
         }

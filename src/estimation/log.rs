@@ -10,7 +10,10 @@
 //! ```
 //! - `time`: t(i), seconds, increasing from line to line (a repeated time is an error).
 //! - `observations`: o(i), the observables read at t(i) by name; an observable not listed is
-//!   unknown that cycle.
+//!   unknown that cycle. A numeric observable (the plant model monitors it) may be given a
+//!   number, `{"bus.voltage": 28.1}`: its monitor, run over the log in order, turns it into the
+//!   value estimation reads (`plant::monitor`; a reading out of range is set aside, noted in
+//!   [`LogRecord::monitored`]).
 //! - `commands`: μ(i), the controls commanded at t(i), after that cycle's estimate (the
 //!   executive's order: observe, estimate, decide, command); a control not listed is idle.
 //!
@@ -24,10 +27,15 @@ use std::time::{Duration, Instant};
 use serde::Deserialize;
 
 use super::{EstimationError, ModeEstimator, Update};
+use crate::diagnostic::locate::NumberOrName;
 use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean};
 use crate::logic::{ValueId, VarId};
 use crate::opsat::Theory;
+use crate::plant::monitor::{MonitorEvent, MonitorState, Sample};
 use crate::plant::{Commands, Observation, Plant};
+
+/// What the monitors did with a line's readings, by observable.
+type MonitorEvents = Vec<(VarId, MonitorEvent)>;
 
 /// One cycle of a log.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,6 +46,9 @@ pub struct LogRecord {
     pub observation: Observation,
     /// μ(i), issued after the estimate at t(i).
     pub commands: Commands,
+    /// What the monitors of numeric observables did with this line's readings (a value
+    /// changed, a reading out of range, a reading gone stale).
+    pub monitored: Vec<(VarId, MonitorEvent)>,
     /// The line it was read from (1-based).
     pub line: usize,
 }
@@ -47,7 +58,7 @@ pub struct LogRecord {
 struct RecordLine {
     time: f64,
     #[serde(default)]
-    observations: BTreeMap<String, String>,
+    observations: BTreeMap<String, NumberOrName>,
     #[serde(default)]
     commands: BTreeMap<String, String>,
 }
@@ -59,6 +70,7 @@ pub fn parse_log(source: &Source, plant: &Plant) -> Result<Vec<LogRecord>, Sourc
     // The last time read, and its line, even from a line with other errors.
     let mut last: Option<(f64, usize)> = None;
     let mut line_start = 0;
+    let mut monitors = vec![MonitorState::new(); plant.monitors().len()];
     for (number, line) in source.text.split_inclusive('\n').enumerate() {
         let start = line_start;
         line_start += line.len();
@@ -71,6 +83,7 @@ pub fn parse_log(source: &Source, plant: &Plant) -> Result<Vec<LogRecord>, Sourc
             line,
             start,
             errors: &mut errors,
+            monitors: &mut monitors,
         };
         let Some(parsed) = reader.parse() else {
             continue;
@@ -111,6 +124,8 @@ struct LineReader<'a> {
     line: &'a str,
     start: usize,
     errors: &'a mut Vec<Diagnostic>,
+    /// The monitors' states, carried from line to line.
+    monitors: &'a mut [MonitorState],
 }
 
 impl LineReader<'_> {
@@ -148,14 +163,23 @@ impl LineReader<'_> {
 
     /// The record of a parsed line, its names checked against the plant.
     fn record(&mut self, parsed: &RecordLine, number: usize) -> Option<LogRecord> {
-        let observed = self.assignments(
-            &parsed.observations,
-            self.plant.observables(),
-            "an observable",
-        );
+        let mut named = BTreeMap::new();
+        let mut readings = Vec::new();
+        for (name, value) in &parsed.observations {
+            match value {
+                NumberOrName::Name(value) => _ = named.insert(name.clone(), value.clone()),
+                NumberOrName::Number(x) => readings.push((name.as_str(), *x)),
+            }
+        }
+        let reported: Vec<VarId> = (self.plant.observables().iter().copied())
+            .chain(self.plant.acknowledgements().iter().map(|a| a.observable))
+            .collect();
+        let observed = self.assignments(&named, &reported, "an observable");
+        let readings = self.readings(&readings);
         let controls: Vec<VarId> = self.plant.controls().iter().map(|c| c.var).collect();
         let commanded = self.assignments(&parsed.commands, &controls, "a control");
-        let (observed, commanded) = (observed?, commanded?);
+        let (observed, commanded, readings) = (observed?, commanded?, readings?);
+        let (observed, monitored) = self.monitor(parsed.time, observed, &readings);
         // Both are checked against the plant above, so neither can fail here.
         let observation = Observation::new(self.plant, &observed).ok()?;
         let commands = Commands::new(self.plant, &commanded).ok()?;
@@ -163,8 +187,67 @@ impl LineReader<'_> {
             time: parsed.time,
             observation,
             commands,
+            monitored,
             line: number,
         })
+    }
+
+    /// Resolves `name: number` pairs: each must name an observable the plant monitors.
+    fn readings(&mut self, pairs: &[(&str, f64)]) -> Option<Vec<(usize, f64)>> {
+        let mut out = Vec::with_capacity(pairs.len());
+        let mut ok = true;
+        for &(name, x) in pairs {
+            let monitor =
+                (self.plant.table().variable_id(name)).and_then(|var| self.plant.monitor_of(var));
+            match monitor {
+                Some(m) => out.push((m, x)),
+                None => {
+                    let span = self.find(name, 0).unwrap_or(self.start..self.start);
+                    self.errors.push(
+                        Diagnostic::new(format!("`{name}` = {x}: `{name}` is not numeric"), span)
+                            .expected("a value's name: only observables the plant model monitors take numbers"),
+                    );
+                    ok = false;
+                }
+            }
+        }
+        ok.then_some(out)
+    }
+
+    /// The line's observation through the monitors: readings fed to theirs, a value given for a
+    /// monitored observable taken as it is, every monitored observable then its monitor's
+    /// value (absent while it has none).
+    fn monitor(
+        &mut self,
+        time: f64,
+        mut observed: Vec<(VarId, ValueId)>,
+        readings: &[(usize, f64)],
+    ) -> (Vec<(VarId, ValueId)>, MonitorEvents) {
+        let monitors = self.plant.monitors();
+        if monitors.is_empty() {
+            return (observed, Vec::new());
+        }
+        let mut sampled = vec![false; monitors.len()];
+        let mut events = Vec::new();
+        for (m, monitor) in monitors.iter().enumerate() {
+            let given = observed.iter().position(|(x, _)| *x == monitor.observable);
+            if let Some(i) = given {
+                let (_, value) = observed.remove(i);
+                self.monitors[m].sample(monitor, time, Sample::Value(value));
+                sampled[m] = true;
+            }
+        }
+        for &(m, x) in readings {
+            sampled[m] = true;
+            let event = self.monitors[m].sample(&monitors[m], time, Sample::Reading(x));
+            events.extend(event.map(|e| (monitors[m].observable, e)));
+        }
+        for (m, monitor) in monitors.iter().enumerate() {
+            let (output, event) = self.monitors[m].close(monitor, time, sampled[m]);
+            events.extend(event.map(|e| (monitor.observable, e)));
+            observed.extend(output.map(|v| (monitor.observable, v)));
+        }
+        (observed, events)
     }
 
     /// Resolves `name: value` pairs against the allowed variables.

@@ -186,6 +186,9 @@ impl ModeEstimator for TimedMe {
         time: f64,
     ) -> Result<Update, EstimationError> {
         check_step(plant, belief, commands, observation, time)?;
+        // The step as the acknowledgements say it happened (`plant::acknowledgement`); the
+        // history keeps it so, for a re-run to see the same step.
+        let commands = &*commands.acknowledged(plant, observation);
         let sat_before = theory.stats().sat_calls;
         let limits = self.options.limits();
         let step = Step {

@@ -298,6 +298,29 @@ fn describe(names: &dyn Names, event: &EventKind) -> (&'static str, String) {
             value,
             reason,
         } => ("rejected", format!("{variable} = \"{value}\": {reason}")),
+        E::Monitored {
+            variable,
+            reading,
+            unit,
+            from,
+            to,
+        } => (
+            "monitor",
+            format!(
+                "{variable} = {reading}{} -> {to}{}",
+                unit_suffix(unit),
+                from.as_ref()
+                    .map_or(String::new(), |from| format!(" (was {from})"))
+            ),
+        ),
+        E::Stale {
+            variable,
+            last,
+            limit,
+        } => (
+            "STALE",
+            format!("{variable}: no reading since {last:.3} s (more than {limit} s): unknown"),
+        ),
         E::ObservationsMissing { variables } if variables.is_empty() => {
             ("observed", "every observable is reported again".to_string())
         }
@@ -473,4 +496,13 @@ fn window_text((lb, ub): (f64, f64)) -> String {
         crate::goalnet::mission::seconds(lb),
         crate::goalnet::mission::seconds(ub)
     )
+}
+
+/// A unit after a number (` V`, ` °C`), nothing for none.
+fn unit_suffix(unit: &str) -> String {
+    if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
 }

@@ -164,6 +164,30 @@ pub enum EventKind {
         /// Why it was ignored.
         reason: String,
     },
+    /// A numeric observable's monitor changed its value on a reading (the plant model's
+    /// `monitors`; `plant::monitor`).
+    Monitored {
+        /// The observable.
+        variable: String,
+        /// The reading that changed it.
+        reading: f64,
+        /// The reading's unit.
+        unit: String,
+        /// The value before (`None`: none yet, or stale).
+        from: Option<String>,
+        /// The value now.
+        to: String,
+    },
+    /// A numeric observable had no reading for longer than its monitor's staleness: it is
+    /// unknown until the next one.
+    Stale {
+        /// The observable.
+        variable: String,
+        /// The time of its last reading, seconds.
+        last: f64,
+        /// The staleness, seconds.
+        limit: f64,
+    },
     /// Observables that were not reported (they count as unknown); reported when the set of
     /// missing observables changes.
     ObservationsMissing {

@@ -47,7 +47,8 @@ pub(super) fn discrepant(
             let Some(state) = (belief.states().iter()).find(|s| s.state.modes == modes) else {
                 return Ok(Vec::new());
             };
-            stepped(plant, theory, &state.state, commands, belief.time(), now)?.modes
+            let commands = commands.acknowledged(plant, observation);
+            stepped(plant, theory, &state.state, &commands, belief.time(), now)?.modes
         }
     };
     Ok(unexplained(plant, theory, &expected, observation))

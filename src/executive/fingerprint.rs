@@ -7,7 +7,7 @@
 //! state (the sequencer's marking, clock references and open half-cycle, or the mission's
 //! firing times, active XGoals and failed goals), the intended configuration, the helpers still
 //! to bring back and the recent commanded moves (`faithful.rs`), the last command
-//! μ (estimation's next step reads it), and what has been reported already (which decides the
+//! μ (estimation's next step reads it), the monitors' state, and what has been reported already (which decides the
 //! events of later cycles). What is not: caches that are pure functions of what is hashed
 //! (goal interpretation's last answer, the sequencer's entailment answers, the estimator's
 //! memo, the last observation's typed form) and history (the timelines), which no decision
@@ -51,6 +51,7 @@ impl Executive {
         // The helpers to bring back, the recent commanded moves (chatter) and the last
         // contradiction reported decide later commands and events.
         self.faithful.hash(state);
+        self.monitoring.fingerprint(state);
         let reported = &self.reported;
         reported.goal_locations.hash(state);
         reported.asserted.hash(state);

@@ -35,6 +35,7 @@ mod fingerprint;
 pub mod fprime;
 mod load;
 mod mission;
+mod monitoring;
 mod named;
 mod observations;
 mod oracle;
@@ -54,7 +55,7 @@ pub use fingerprint::PROBABILITY_RESOLUTION;
 pub use load::LoadError;
 pub use mission::ScheduledMission;
 pub use named::NamedEstimate;
-pub use observations::NamedValue;
+pub use observations::{NamedValue, Value};
 pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeline, Timelines};
 
 use crate::diagnostic::Source;
@@ -70,6 +71,7 @@ use crate::reconfiguration::{
 use crate::sequencer::{self, ConfigurationGoal, LocationId, Sense, SequencerError, Thca};
 use control::Program;
 use faithful::Faithful;
+use monitoring::Monitoring;
 use observations::LastObservation;
 use oracle::{AnswerCache, CachedOracle, VersionedEstimate};
 
@@ -193,6 +195,9 @@ pub struct Step {
     pub most_likely: Vec<ValueId>,
     /// The plant states of the belief with their probabilities, most likely first.
     pub estimates: Vec<PlantEstimate>,
+    /// What each monitor of a numeric observable made of its readings: the value estimation
+    /// read (`None`: absent). Empty for a plant without monitors.
+    pub monitored: Vec<(VarId, Option<ValueId>)>,
     /// The marked program locations after the sequencer's step.
     pub marking: Vec<LocationId>,
     /// What happened.
@@ -313,6 +318,7 @@ impl ExecutiveBuilder {
             estimates: Vec::new(),
             estimate: VersionedEstimate::default(),
             observed: LastObservation::default(),
+            monitoring: Monitoring::new(&plant),
             answers: AnswerCache::default(),
             interpretation: None,
             ambiguity: Ambiguity::default(),
@@ -429,7 +435,7 @@ struct Reported {
 ///     ];
 ///     let step = executive.step(f64::from(cycle) * 0.1, &observed)?;
 ///     for command in step.commands_named(executive.plant()) {
-///         match command.value.as_str() {
+///         match command.value.symbol().unwrap_or_default() {
 ///             "on" => driver_on = true,
 ///             "off" => driver_on = false,
 ///             "open" if driver_on => valve_open = true,
@@ -468,6 +474,8 @@ pub struct Executive {
     estimate: VersionedEstimate,
     /// The last report and its checked, typed form ([`LastObservation`]).
     observed: LastObservation,
+    /// The monitors of numeric observables, which read the report first.
+    monitoring: Monitoring,
     answers: AnswerCache,
     interpretation: Option<Interpretation>,
     /// The hypotheses other than ŝ acted on for the current goal.
@@ -619,6 +627,7 @@ impl Executive {
             action,
             most_likely: self.most_likely(),
             estimates: std::mem::take(&mut self.estimates),
+            monitored: self.monitoring.outputs().to_vec(),
             marking: self.control.marking(),
             events: log.events,
             completed: self.control.is_complete(),
@@ -644,6 +653,17 @@ impl Executive {
         observed: &[NamedValue],
         log: &mut EventLog,
     ) -> Result<(), StepError> {
+        let monitored;
+        let observed = if self.monitoring.is_empty() {
+            observed
+        } else {
+            let mut events = Vec::new();
+            monitored = self
+                .monitoring
+                .apply(&self.plant, now, observed, &mut events);
+            events.into_iter().for_each(|kind| log.push(kind));
+            &monitored
+        };
         let (checked, observation, repeated) = self
             .observed
             .check(&self.plant, observed)

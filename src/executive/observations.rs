@@ -2,9 +2,12 @@
 //!
 //! Monitors report `variable = value` by name; a name that is not an observable of the plant, or
 //! a value outside its domain, is reported as an event and ignored for that cycle — the cycle
-//! goes on (DESIGN.md §10, §13). Observables not reported are unknown for the cycle.
+//! goes on (DESIGN.md §10, §13). Observables not reported are unknown for the cycle. A numeric
+//! observable may be reported as a number ([`Value::Number`]): the plant model's monitor turns
+//! it into a value first (`super::monitoring`).
 
 use std::fmt;
+use std::hash::{Hash, Hasher};
 
 use serde::{Deserialize, Serialize};
 
@@ -12,18 +15,102 @@ use super::events::EventKind;
 use crate::logic::{ValueId, VarId};
 use crate::plant::{InputError, Observation, Plant};
 
+/// The value of a [`NamedValue`]: a value of the variable's domain, by name, or a reading of a
+/// numeric observable (written as a number in traces and logs).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Value {
+    /// A value of the variable's domain (`open`, `nominal`).
+    Symbol(String),
+    /// A reading (`28.1`) of a numeric observable, which its monitor maps to a value.
+    Number(f64),
+}
+
+impl Value {
+    /// The value's name, unless it is a number.
+    pub fn symbol(&self) -> Option<&str> {
+        match self {
+            Value::Symbol(name) => Some(name),
+            Value::Number(_) => None,
+        }
+    }
+}
+
+/// Numbers compare bit for bit (a reading equals the same reading, a NaN itself): what the
+/// executive's "same report as last cycle" test needs.
+impl PartialEq for Value {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Value::Symbol(a), Value::Symbol(b)) => a == b,
+            (Value::Number(a), Value::Number(b)) => a.to_bits() == b.to_bits(),
+            _ => false,
+        }
+    }
+}
+
+impl Eq for Value {}
+
+/// A value equals a name when it is that symbol (`command.value == "on"`).
+impl PartialEq<&str> for Value {
+    fn eq(&self, other: &&str) -> bool {
+        self.symbol() == Some(*other)
+    }
+}
+
+impl Hash for Value {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        match self {
+            Value::Symbol(name) => name.hash(state),
+            Value::Number(x) => x.to_bits().hash(state),
+        }
+    }
+}
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::Symbol(name) => f.write_str(name),
+            Value::Number(x) => write!(f, "{x}"),
+        }
+    }
+}
+
+impl From<&str> for Value {
+    fn from(name: &str) -> Self {
+        Value::Symbol(name.to_string())
+    }
+}
+
+impl From<String> for Value {
+    fn from(name: String) -> Self {
+        Value::Symbol(name)
+    }
+}
+
+impl From<&String> for Value {
+    fn from(name: &String) -> Self {
+        Value::Symbol(name.clone())
+    }
+}
+
+impl From<f64> for Value {
+    fn from(x: f64) -> Self {
+        Value::Number(x)
+    }
+}
+
 /// `variable = value` by name: an observation from a monitor or a command to a control adapter.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct NamedValue {
     /// The variable (`valve1.outlet`, `PDE.cmd`).
     pub variable: String,
-    /// Its value.
-    pub value: String,
+    /// Its value (a number only for a reading of a numeric observable).
+    pub value: Value,
 }
 
 impl NamedValue {
-    /// `variable = value`.
-    pub fn new(variable: impl Into<String>, value: impl Into<String>) -> Self {
+    /// `variable = value`; `value` is a value's name or a number (a reading).
+    pub fn new(variable: impl Into<String>, value: impl Into<Value>) -> Self {
         NamedValue {
             variable: variable.into(),
             value: value.into(),
@@ -43,7 +130,7 @@ impl fmt::Display for NamedValue {
     }
 }
 
-impl<A: Into<String>, B: Into<String>> From<(A, B)> for NamedValue {
+impl<A: Into<String>, B: Into<Value>> From<(A, B)> for NamedValue {
     fn from((variable, value): (A, B)) -> Self {
         NamedValue::new(variable, value)
     }
@@ -100,19 +187,27 @@ pub(crate) fn check_observation(plant: &Plant, observed: &[NamedValue]) -> Check
     for item in observed {
         let reject = |reason: String| EventKind::ObservationRejected {
             variable: item.variable.clone(),
-            value: item.value.clone(),
+            value: item.value.to_string(),
             reason,
         };
         let Some(var) = table.variable_id(&item.variable) else {
             rejected.push(reject("no such variable in the plant model".to_string()));
             continue;
         };
-        if !plant.observables().contains(&var) {
+        if !plant.is_reported(var) {
             rejected.push(reject("not an observable of the plant model".to_string()));
             continue;
         }
         let variable = table.variable(var);
-        let Some(value) = variable.value(&item.value) else {
+        let Value::Symbol(name) = &item.value else {
+            rejected.push(reject(format!(
+                "a reading, but {} has no monitor in the plant model (one of: {})",
+                item.variable,
+                variable.values().join(", ")
+            )));
+            continue;
+        };
+        let Some(value) = variable.value(name) else {
             rejected.push(reject(format!(
                 "not a value of {} (one of: {})",
                 item.variable,

@@ -38,26 +38,74 @@
 //!     connections: [],
 //! )
 //! ```
+//! A component that repeats is written once as a **type** and instantiated by name
+//! (`src/plant/file/types.rs` has the rules): in a type, `self` is the instance and a number may be the name of
+//! one of the type's parameters; an instance gives parameter values or takes the defaults; an
+//! indexed name (`b[0..14]`) writes several instances, controls, observables or connections at
+//! once. Loading expands them: the plant is the one the components written out would give.
+//! ```ron
+//! Plant(
+//!     name: "two_switches",
+//!     types: [
+//!         Type(
+//!             name: "switch",
+//!             parameters: { "stuck": 0.00001 },      // name: default value
+//!             attributes: { "cmd": ["none", "open", "close"], "heat": ["off", "on"] },
+//!             modes: [
+//!                 Mode(name: "open", constraint: "self.heat = off"),
+//!                 Mode(name: "closed", constraint: "self.heat = on"),
+//!                 Mode(name: "stuck-open", kind: Fault, constraint: "self.heat = off", reward: -20),
+//!             ],
+//!             initial: { "open": 1.0 },
+//!             transitions: [
+//!                 (from: "open", to: "closed", guard: "self.cmd = close", probability: 1.0),
+//!                 (from: "closed", to: "open", guard: "self.cmd = open", probability: 1.0),
+//!                 (from: "*", to: "stuck-open", rate: "stuck"),   // the parameter
+//!             ],
+//!         ),
+//!     ],
+//!     components: [
+//!         Component(name: "switch1", type: "switch"),
+//!         Component(name: "switch2", type: "switch", parameters: { "stuck": 0.00002 }),
+//!     ],
+//!     controls: { "switch[1..2].cmd": "none" },
+//!     observables: ["switch[1..2].heat"],
+//! )
+//! ```
+//! An error in a type's body points at the type's text and at the instance it was expanded for.
+//!
+//! An observable may be **numeric**: `monitors: { "bus.voltage": Monitor(...) }` says how its
+//! readings become qualitative values (`src/plant/file/monitors.rs` has the
+//! format, [`monitor`](super::monitor) the semantics).
+//!
+//! A control may name the observable that reports flight software's answer to its last command:
+//! `acknowledgements: { "PDE.cmd": "PDE.ack" }` (`src/plant/file/acknowledgements.rs` has the
+//! rules, [`acknowledgement`](super::acknowledgement) the semantics).
+//!
 //! Semantics (thesis §6.1, DESIGN.md §6.2): a transition is enabled when the constraint store
 //! (the current modes' constraints, the interconnections and the commands) entails its guard;
 //! a mode stays with the probability its enabled transitions leave (no explicit self-loops); a
 //! component takes at most one transition per cycle and its clock restarts when it changes mode.
-//! See [`TransitionLaw`] for how per-cycle, rate and timed laws combine.
+//! See [`TransitionLaw`](super::TransitionLaw) for how per-cycle, rate and timed laws combine.
 //!
 //! Every error names the file, line and column, shows the text, says what was expected and which
 //! component and mode it concerns. Formulas are the constraint language of DESIGN.md §4.
 
-use std::collections::HashSet;
+mod acknowledgements;
+mod component;
+mod monitors;
+pub(crate) mod types;
+
+use std::collections::{HashMap, HashSet};
 
 use serde::Deserialize;
 
-use super::{
-    Component, ComponentId, Control, Mode, ModeKind, Plant, Timing, Transition, TransitionLaw,
-    TransitionSource, validate,
-};
+use super::{ComponentId, Control, Plant, validate};
+use crate::diagnostic::locate::NumberOrName as Number;
 use crate::diagnostic::locate::{Entries, Locator, Step};
-use crate::diagnostic::{Diagnostic, Source, SourceErrors, did_you_mean, ron_error};
-use crate::logic::{self, DeclarationError, Formula, ValueId, VarId, VarTable, is_value_name};
+use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean, ron_error};
+use crate::logic::{self, DeclarationError, Formula, VarId, VarTable, is_value_name};
+use types::{expand_indexed, rename_self};
 
 /// Initial probabilities and outgoing sums are compared with this tolerance.
 pub(crate) const TOLERANCE: f64 = 1e-9;
@@ -66,6 +114,8 @@ pub(crate) const TOLERANCE: f64 = 1e-9;
 #[serde(rename = "Plant", deny_unknown_fields)]
 struct PlantFile {
     name: String,
+    #[serde(default)]
+    types: Vec<TypeFile>,
     components: Vec<ComponentFile>,
     #[serde(default)]
     controls: Entries<String>,
@@ -73,22 +123,51 @@ struct PlantFile {
     observables: Vec<String>,
     #[serde(default)]
     connections: Vec<String>,
+    #[serde(default)]
+    monitors: Entries<monitors::MonitorFile>,
+    #[serde(default)]
+    acknowledgements: Entries<String>,
+}
+
+/// `Type(...)`: a component written once, instantiated by `Component(name, type)`.
+#[derive(Deserialize)]
+#[serde(rename = "Type", deny_unknown_fields)]
+struct TypeFile {
+    name: String,
+    #[serde(default)]
+    parameters: Entries<f64>,
+    #[serde(default)]
+    attributes: Entries<Vec<String>>,
+    modes: Vec<ModeFile>,
+    initial: Entries<Number>,
+    #[serde(default)]
+    transitions: Vec<TransitionFile>,
 }
 
 #[derive(Deserialize)]
 #[serde(rename = "Component", deny_unknown_fields)]
 struct ComponentFile {
     name: String,
+    #[serde(default, rename = "type")]
+    type_name: Option<String>,
+    #[serde(default)]
+    parameters: Entries<f64>,
     #[serde(default)]
     attributes: Entries<Vec<String>>,
+    #[serde(default)]
     modes: Vec<ModeFile>,
-    initial: Entries<f64>,
+    #[serde(default)]
+    initial: Entries<Number>,
     #[serde(default)]
     transitions: Vec<TransitionFile>,
 }
 
 fn always() -> String {
     "true".to_string()
+}
+
+fn zero() -> Number {
+    Number::Number(0.0)
 }
 
 #[derive(Deserialize)]
@@ -99,8 +178,8 @@ struct ModeFile {
     kind: KindFile,
     #[serde(default = "always")]
     constraint: String,
-    #[serde(default)]
-    reward: f64,
+    #[serde(default = "zero")]
+    reward: Number,
 }
 
 #[derive(Deserialize, Default, Clone, Copy)]
@@ -117,39 +196,111 @@ struct TransitionFile {
     to: String,
     #[serde(default = "always")]
     guard: String,
-    probability: Option<f64>,
-    rate: Option<f64>,
+    probability: Option<Number>,
+    rate: Option<Number>,
     after: Option<TimingFile>,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, Clone)]
 enum TimingFile {
-    Uniform(f64, f64),
-    Gaussian(f64, f64),
-    Exponential(f64),
-    Fixed(f64),
+    Uniform(Number, Number),
+    Gaussian(Number, Number),
+    Exponential(Number),
+    Fixed(Number),
 }
 
-/// Path to component `c`, then `rest`.
-pub(crate) fn component_path<'a>(c: usize, rest: &[Step<'a>]) -> Vec<Step<'a>> {
-    let mut path = vec![Step::Field("components"), Step::Index(c)];
-    path.extend_from_slice(rest);
-    path
+/// What a component is made of: the body of a component written out, or of its type.
+#[derive(Clone, Copy)]
+struct Body<'f> {
+    attributes: &'f Entries<Vec<String>>,
+    modes: &'f [ModeFile],
+    initial: &'f Entries<Number>,
+    transitions: &'f [TransitionFile],
 }
 
-/// Path to mode `m` of component `c`, then `field`.
-pub(crate) fn mode_path(c: usize, m: usize, field: &str) -> Vec<Step<'_>> {
-    component_path(
-        c,
-        &[Step::Field("modes"), Step::Index(m), Step::Field(field)],
-    )
+/// One component of the plant, after types and indexed names are expanded.
+struct Spec<'f> {
+    name: String,
+    body: Body<'f>,
+    /// For an instance of a type: each parameter's value (the instance's, else the type's).
+    parameters: Option<Vec<(&'f str, f64)>>,
 }
 
-/// Path to transition `t` of component `c`, then `rest`.
-pub(crate) fn transition_path<'a>(c: usize, t: usize, rest: &[Step<'a>]) -> Vec<Step<'a>> {
-    let mut path = component_path(c, &[Step::Field("transitions"), Step::Index(t)]);
-    path.extend_from_slice(rest);
-    path
+/// Where a component of the expanded plant is written: its entry in `components` (its name)
+/// and, for an instance, the type that holds its body.
+#[derive(Debug, Clone)]
+struct Place {
+    entry: usize,
+    of_type: Option<usize>,
+    /// For an instance: the instance's name span and how to name it beside an error in its type.
+    instance: Option<(Span, String)>,
+}
+
+/// Locates what belongs to each component of the expanded plant in the file: its body in the
+/// component's own entry or in its type, its name in its entry. An error in a type's body is
+/// also labelled with the instance it was expanded for.
+pub(crate) struct Places {
+    locate: Locator,
+    places: Vec<Place>,
+}
+
+impl Places {
+    /// The path to `rest` inside component `c`'s body.
+    fn path<'a>(&self, c: usize, rest: &[Step<'a>]) -> Vec<Step<'a>> {
+        let mut path = match self.places.get(c) {
+            Some(Place {
+                of_type: Some(t), ..
+            }) => vec![Step::Field("types"), Step::Index(*t)],
+            Some(place) => vec![Step::Field("components"), Step::Index(place.entry)],
+            None => vec![Step::Field("components")],
+        };
+        path.extend_from_slice(rest);
+        path
+    }
+
+    /// A problem at `rest` in component `c`'s body, labelled with its instance if it has one.
+    pub(crate) fn diagnostic(&self, c: usize, rest: &[Step], message: String) -> Diagnostic {
+        let span = self.locate.at(&self.path(c, rest));
+        self.label(c, Diagnostic::new(message, span))
+    }
+
+    /// Labels a diagnostic in component `c`'s body with its instance, if it has one.
+    fn label(&self, c: usize, diagnostic: Diagnostic) -> Diagnostic {
+        match self.places.get(c).and_then(|p| p.instance.clone()) {
+            Some((span, label)) => diagnostic.related(span, label),
+            None => diagnostic,
+        }
+    }
+
+    /// The path to component `c`'s name (its entry's, for an instance).
+    fn name_path(&self, c: usize) -> Vec<Step<'static>> {
+        let entry = self.places.get(c).map_or(0, |p| p.entry);
+        vec![
+            Step::Field("components"),
+            Step::Index(entry),
+            Step::Field("name"),
+        ]
+    }
+
+    /// Path to mode `m` of component `c`, then `field`.
+    pub(crate) fn mode<'a>(&self, c: usize, m: usize, field: &'a str) -> Vec<Step<'a>> {
+        self.path(
+            c,
+            &[Step::Field("modes"), Step::Index(m), Step::Field(field)],
+        )
+    }
+
+    /// Path to transition `t` of component `c`, then `rest`.
+    pub(crate) fn transition<'a>(&self, c: usize, t: usize, rest: &[Step<'a>]) -> Vec<Step<'a>> {
+        let mut path = self.path(c, &[Step::Field("transitions"), Step::Index(t)]);
+        path.extend_from_slice(rest);
+        path
+    }
+
+    /// The span of a path.
+    pub(crate) fn at(&self, path: &[Step]) -> Span {
+        self.locate.at(path)
+    }
 }
 
 /// Reads a plant model, reporting every problem found with its location.
@@ -161,59 +312,92 @@ pub fn load(source: &Source) -> Result<Plant, SourceErrors> {
         .from_str(&source.text)
         .map_err(|e| fail(vec![ron_error(source, &e)]))?;
     let mut loader = Loader {
-        locate: Locator::new(&source.text),
+        places: Places {
+            locate: Locator::new(&source.text),
+            places: Vec::new(),
+        },
         errors: Vec::new(),
         table: VarTable::new(),
     };
     let plant = loader.plant(&file);
     if !loader.errors.is_empty() {
-        return Err(fail(loader.errors));
+        return Err(fail(once_per_type(loader.errors)));
     }
-    let errors = validate::check(&plant, &loader.locate);
+    let errors = validate::check(&plant, &loader.places);
     if errors.is_empty() {
         Ok(plant)
     } else {
-        Err(fail(errors))
+        Err(fail(once_per_type(errors)))
     }
 }
 
+/// An error in a type's body is found once per instance, at the same place: it is reported
+/// for the first instance, with a note counting the others (fifteen breakers, one mistake).
+fn once_per_type(errors: Vec<Diagnostic>) -> Vec<Diagnostic> {
+    let mut kept: Vec<Diagnostic> = Vec::with_capacity(errors.len());
+    let mut repeats: Vec<usize> = Vec::new();
+    let mut first_at: HashMap<(usize, usize), usize> = HashMap::new();
+    for diagnostic in errors {
+        if !diagnostic.related.is_empty() {
+            let key = (diagnostic.span.start, diagnostic.span.end);
+            if let Some(&k) = first_at.get(&key) {
+                repeats[k] += 1;
+                continue;
+            }
+            first_at.insert(key, kept.len());
+        }
+        kept.push(diagnostic);
+        repeats.push(0);
+    }
+    kept.into_iter()
+        .zip(repeats)
+        .map(|(d, n)| match n {
+            0 => d,
+            1 => d.note("the same in 1 other instance"),
+            n => d.note(format!("the same in {n} other instances")),
+        })
+        .collect()
+}
+
 struct Loader {
-    locate: Locator,
+    places: Places,
     errors: Vec<Diagnostic>,
     table: VarTable,
 }
 
 impl Loader {
     fn error(&mut self, path: &[Step], message: String, expected: impl Into<String>) {
-        let span = self.locate.at(path);
+        let span = self.places.at(path);
         self.errors
             .push(Diagnostic::new(message, span).expected(expected));
     }
 
+    /// A problem at `rest` in component `c`'s body (in its type, for an instance).
+    fn error_in(&mut self, c: usize, rest: &[Step], message: String, expected: impl Into<String>) {
+        let diagnostic = self.places.diagnostic(c, rest, message).expected(expected);
+        self.errors.push(diagnostic);
+    }
+
     fn plant(&mut self, file: &PlantFile) -> Plant {
+        let specs = self.expand(file);
         // Variables first, so that formulas anywhere may mention any component.
-        let declared: Vec<bool> = (0..file.components.len())
-            .map(|c| self.declare_component(file, c))
+        let mut seen = HashSet::new();
+        let declared: Vec<bool> = (0..specs.len())
+            .map(|c| self.declare_component(&specs, c, &mut seen))
             .collect();
         let mut components = Vec::new();
-        for (c, spec) in file.components.iter().enumerate() {
+        for (c, spec) in specs.iter().enumerate() {
             if declared[c] {
                 components.push(self.component(c, spec));
             }
         }
         let controls = self.controls(file);
         let observables = self.observables(file, &controls);
-        let connections = file
-            .connections
-            .iter()
-            .enumerate()
-            .filter_map(|(i, text)| {
-                let path = [Step::Field("connections"), Step::Index(i)];
-                let formula = self.formula(&path, text, "connection")?;
-                self.refuse_mode_variables(&path, &formula);
-                Some(formula)
-            })
-            .collect();
+        let connections = self.connections(file);
+        let monitors = self.monitors(&file.monitors, &observables);
+        let acknowledgements =
+            self.acknowledgements(&file.acknowledgements, &controls, &observables);
+        self.refuse_acknowledgements_in_constraints(&acknowledgements, &components, &connections);
         let mut component_of = vec![None; self.table.len()];
         for (i, component) in components.iter().enumerate() {
             component_of[component.mode_var.index()] = Some(ComponentId(i as u32));
@@ -225,15 +409,273 @@ impl Loader {
             controls,
             observables,
             connections,
+            monitors,
+            acknowledgements,
             component_of,
+        }
+    }
+
+    /// The plant's components with every instance of a type expanded, in file order; records
+    /// where each is written ([`Places`]).
+    fn expand<'f>(&mut self, file: &'f PlantFile) -> Vec<Spec<'f>> {
+        let types = self.types(file);
+        let mut specs = Vec::with_capacity(file.components.len());
+        for (entry, component) in file.components.iter().enumerate() {
+            let name_path = [
+                Step::Field("components"),
+                Step::Index(entry),
+                Step::Field("name"),
+            ];
+            let Some(type_name) = &component.type_name else {
+                self.written(entry, component, &mut specs);
+                continue;
+            };
+            let Some(t) = self.type_named(&types, file, entry, type_name) else {
+                continue;
+            };
+            let ty = &file.types[t];
+            let parameters = self.instance_parameters(file, entry, t);
+            self.refuse_own_body(entry, component);
+            let names = match expand_indexed(&component.name) {
+                Ok(names) => names,
+                Err(e) => {
+                    self.error(&name_path, e.message, e.expected);
+                    continue;
+                }
+            };
+            let name_span = self.places.at(&name_path);
+            for name in names {
+                self.places.places.push(Place {
+                    entry,
+                    of_type: Some(t),
+                    instance: Some((
+                        name_span.clone(),
+                        format!("in `{name}`, an instance of type `{}`", ty.name),
+                    )),
+                });
+                specs.push(Spec {
+                    name,
+                    body: Body {
+                        attributes: &ty.attributes,
+                        modes: &ty.modes,
+                        initial: &ty.initial,
+                        transitions: &ty.transitions,
+                    },
+                    parameters: Some(parameters.clone()),
+                });
+            }
+        }
+        specs
+    }
+
+    /// A component written out in full.
+    fn written<'f>(
+        &mut self,
+        entry: usize,
+        component: &'f ComponentFile,
+        specs: &mut Vec<Spec<'f>>,
+    ) {
+        let at = |field| {
+            [
+                Step::Field("components"),
+                Step::Index(entry),
+                Step::Field(field),
+            ]
+        };
+        if component.name.contains('[') {
+            let message = format!(
+                "`{}`: only instances of a type have indexed names",
+                component.name
+            );
+            self.error(
+                &at("name"),
+                message,
+                "a `type: \"...\"` to instantiate, or one name",
+            );
+            return;
+        }
+        if !component.parameters.0.is_empty() {
+            let message = format!("component `{}` has parameters but no type", component.name);
+            self.error(
+                &at("parameters"),
+                message,
+                "`type: \"...\"`: parameters are a type's",
+            );
+        }
+        self.places.places.push(Place {
+            entry,
+            of_type: None,
+            instance: None,
+        });
+        specs.push(Spec {
+            name: component.name.clone(),
+            body: Body {
+                attributes: &component.attributes,
+                modes: &component.modes,
+                initial: &component.initial,
+                transitions: &component.transitions,
+            },
+            parameters: None,
+        });
+    }
+
+    /// The types by name, checked: valid, unique names; parameters with valid names and finite
+    /// defaults.
+    fn types<'f>(&mut self, file: &'f PlantFile) -> HashMap<&'f str, usize> {
+        let mut types = HashMap::new();
+        for (t, ty) in file.types.iter().enumerate() {
+            let at = |field| [Step::Field("types"), Step::Index(t), Step::Field(field)];
+            if !is_value_name(&ty.name) {
+                let message = format!("`{}` is not a valid type name", ty.name);
+                self.error(
+                    &at("name"),
+                    message,
+                    "an identifier (letters, digits, `_`, `-`)",
+                );
+            } else if types.insert(ty.name.as_str(), t).is_some() {
+                let message = format!("type `{}` is declared twice", ty.name);
+                self.error(&at("name"), message, "a type name not used before");
+            }
+            for (i, (name, value)) in ty.parameters.0.iter().enumerate() {
+                let path = [
+                    Step::Field("types"),
+                    Step::Index(t),
+                    Step::Field("parameters"),
+                    Step::Key(name),
+                ];
+                if !is_value_name(name) {
+                    let message =
+                        format!("type `{}`: `{name}` is not a valid parameter name", ty.name);
+                    self.error(&path, message, "an identifier (letters, digits, `_`, `-`)");
+                } else if ty.parameters.0[..i].iter().any(|(other, _)| other == name) {
+                    let message =
+                        format!("type `{}`: parameter `{name}` is declared twice", ty.name);
+                    self.error(&at("parameters"), message, "each parameter once");
+                } else if !value.is_finite() {
+                    let message = format!("type `{}`: parameter `{name}` is {value}", ty.name);
+                    self.error(&path, message, "a finite number");
+                }
+            }
+        }
+        types
+    }
+
+    /// The type an instance names, or an error naming the types there are.
+    fn type_named(
+        &mut self,
+        types: &HashMap<&str, usize>,
+        file: &PlantFile,
+        entry: usize,
+        name: &str,
+    ) -> Option<usize> {
+        if let Some(&t) = types.get(name) {
+            return Some(t);
+        }
+        let path = [
+            Step::Field("components"),
+            Step::Index(entry),
+            Step::Field("type"),
+        ];
+        let names: Vec<&str> = file.types.iter().map(|t| t.name.as_str()).collect();
+        let mut diagnostic = Diagnostic::new(format!("no type `{name}`"), self.places.at(&path))
+            .expected("the name of a `Type(...)` of this file")
+            .note(if names.is_empty() {
+                "the file declares no type (`types: [Type(...)]`)".to_string()
+            } else {
+                format!("the types: {}", names.join(", "))
+            });
+        if let Some(close) = did_you_mean(name, names.iter().copied()) {
+            diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+        }
+        self.errors.push(diagnostic);
+        None
+    }
+
+    /// An instance's parameter values: the type's defaults, overridden by the instance's own;
+    /// a parameter the type does not declare is an error.
+    fn instance_parameters<'f>(
+        &mut self,
+        file: &'f PlantFile,
+        entry: usize,
+        t: usize,
+    ) -> Vec<(&'f str, f64)> {
+        let ty = &file.types[t];
+        let mut values: Vec<(&str, f64)> = ty
+            .parameters
+            .0
+            .iter()
+            .map(|(n, v)| (n.as_str(), *v))
+            .collect();
+        for (name, value) in &file.components[entry].parameters.0 {
+            let path = [
+                Step::Field("components"),
+                Step::Index(entry),
+                Step::Field("parameters"),
+                Step::Key(name),
+            ];
+            match values.iter_mut().find(|(n, _)| n == name) {
+                Some(slot) if value.is_finite() => slot.1 = *value,
+                Some(_) => {
+                    let message = format!("parameter `{name}` is {value}");
+                    self.error(&path, message, "a finite number");
+                }
+                None => {
+                    let declared: Vec<&str> =
+                        ty.parameters.0.iter().map(|(n, _)| n.as_str()).collect();
+                    let mut diagnostic = Diagnostic::new(
+                        format!("type `{}` has no parameter `{name}`", ty.name),
+                        self.places.at(&path),
+                    )
+                    .expected(format!("a parameter of `{}`", ty.name))
+                    .note(if declared.is_empty() {
+                        format!("`{}` declares no parameter", ty.name)
+                    } else {
+                        format!("`{}` has parameters: {}", ty.name, declared.join(", "))
+                    });
+                    if let Some(close) = did_you_mean(name, declared.iter().copied()) {
+                        diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
+                    }
+                    self.errors.push(diagnostic);
+                }
+            }
+        }
+        values
+    }
+
+    /// An instance takes its body from its type: a body of its own is an error.
+    fn refuse_own_body(&mut self, entry: usize, component: &ComponentFile) {
+        let own = [
+            ("attributes", !component.attributes.0.is_empty()),
+            ("modes", !component.modes.is_empty()),
+            ("initial", !component.initial.0.is_empty()),
+            ("transitions", !component.transitions.is_empty()),
+        ];
+        for (field, written) in own {
+            if written {
+                let path = [
+                    Step::Field("components"),
+                    Step::Index(entry),
+                    Step::Field(field),
+                ];
+                let message = format!(
+                    "`{}` is an instance of a type and has `{field}` of its own",
+                    component.name
+                );
+                self.error(&path, message, "no body: an instance has its type's (change the type, or write the component out)");
+            }
         }
     }
 
     /// Declares a component's mode variable and attributes; false when its name is unusable
     /// (then it is left out, so that one bad name does not cascade into many errors).
-    fn declare_component(&mut self, file: &PlantFile, c: usize) -> bool {
-        let spec = &file.components[c];
-        let name_path = component_path(c, &[Step::Field("name")]);
+    fn declare_component<'s>(
+        &mut self,
+        specs: &'s [Spec],
+        c: usize,
+        seen: &mut HashSet<&'s str>,
+    ) -> bool {
+        let spec = &specs[c];
+        let name_path = self.places.name_path(c);
         if !is_value_name(&spec.name) {
             self.error(
                 &name_path,
@@ -242,7 +684,7 @@ impl Loader {
             );
             return false;
         }
-        if file.components[..c].iter().any(|o| o.name == spec.name) {
+        if !seen.insert(spec.name.as_str()) {
             self.error(
                 &name_path,
                 format!("component `{}` is declared twice", spec.name),
@@ -250,8 +692,8 @@ impl Loader {
             );
             return false;
         }
-        let modes: Vec<&str> = spec.modes.iter().map(|m| m.name.as_str()).collect();
-        let mut usable = self.names_are_fresh(c, &modes, |m| mode_path(c, m, "name"), "mode");
+        let modes: Vec<&str> = spec.body.modes.iter().map(|m| m.name.as_str()).collect();
+        let mut usable = self.names_are_fresh(c, &modes);
         if usable {
             if let Err(e) = self.table.add_variable(spec.name.clone(), modes) {
                 let message = format!("component `{}`: {e}", spec.name);
@@ -259,42 +701,40 @@ impl Loader {
                 usable = false;
             }
         }
-        for (a, (attribute, values)) in spec.attributes.0.iter().enumerate() {
-            self.declare_attribute(file, c, a, attribute, values);
+        for (a, (attribute, values)) in spec.body.attributes.0.iter().enumerate() {
+            self.declare_attribute(spec, c, a, attribute, values);
         }
         usable
     }
 
     /// Checks a component's list of mode names: valid, non-empty, no repeats.
-    fn names_are_fresh<'p>(
-        &mut self,
-        c: usize,
-        names: &[&str],
-        path: impl Fn(usize) -> Vec<Step<'p>>,
-        what: &str,
-    ) -> bool {
+    fn names_are_fresh(&mut self, c: usize, names: &[&str]) -> bool {
         let mut ok = true;
         if names.is_empty() {
-            self.error(
-                &component_path(c, &[Step::Field("modes")]),
+            self.error_in(
+                c,
+                &[Step::Field("modes")],
                 "a component needs at least one mode".into(),
                 "at least one `Mode(...)`",
             );
             return false;
         }
         for (i, name) in names.iter().enumerate() {
+            let path = [Step::Field("modes"), Step::Index(i), Step::Field("name")];
             if !is_value_name(name) {
-                self.error(
-                    &path(i),
-                    format!("`{name}` is not a valid {what} name"),
+                self.error_in(
+                    c,
+                    &path,
+                    format!("`{name}` is not a valid mode name"),
                     "an identifier (letters, digits, `_`, `-`)",
                 );
                 ok = false;
             } else if names[..i].contains(name) {
-                self.error(
-                    &path(i),
-                    format!("{what} `{name}` is declared twice"),
-                    format!("a {what} name not used before"),
+                self.error_in(
+                    c,
+                    &path,
+                    format!("mode `{name}` is declared twice"),
+                    "a mode name not used before",
                 );
                 ok = false;
             }
@@ -304,19 +744,20 @@ impl Loader {
 
     fn declare_attribute(
         &mut self,
-        file: &PlantFile,
+        spec: &Spec,
         c: usize,
         a: usize,
         attribute: &str,
         values: &[String],
     ) {
-        let component = &file.components[c].name;
-        let attributes = &file.components[c].attributes.0;
-        let key_path = component_path(c, &[Step::Field("attributes"), Step::Key(attribute)]);
+        let component = &spec.name;
+        let attributes = &spec.body.attributes.0;
+        let key_path = [Step::Field("attributes"), Step::Key(attribute)];
         if !is_value_name(attribute) {
             let message =
                 format!("component `{component}`: `{attribute}` is not a valid attribute name");
-            self.error(
+            self.error_in(
+                c,
                 &key_path,
                 message,
                 "an identifier (letters, digits, `_`, `-`; no dots)",
@@ -326,15 +767,19 @@ impl Loader {
         if attributes[..a].iter().any(|(other, _)| other == attribute) {
             // The second occurrence is the offending one; the outline finds the first, so point
             // at the attribute map as a whole.
-            let path = component_path(c, &[Step::Field("attributes")]);
             let message =
                 format!("component `{component}`: attribute `{attribute}` is declared twice");
-            self.error(&path, message, "each attribute once");
+            self.error_in(
+                c,
+                &[Step::Field("attributes")],
+                message,
+                "each attribute once",
+            );
             return;
         }
         let name = format!("{component}.{attribute}");
         if let Err(e) = self.table.add_variable(name, values.iter().cloned()) {
-            let mut path = component_path(c, &[Step::Field("attributes"), Step::Value(attribute)]);
+            let mut path = vec![Step::Field("attributes"), Step::Value(attribute)];
             let expected = match &e {
                 DeclarationError::DuplicateValue { value, .. }
                 | DeclarationError::BadName(value) => {
@@ -345,34 +790,54 @@ impl Loader {
                 DeclarationError::EmptyDomain(_) => "at least one value",
                 DeclarationError::Duplicate(_) => "a name not used before",
             };
-            self.error(&path, format!("component `{component}`: {e}"), expected);
+            self.error_in(c, &path, format!("component `{component}`: {e}"), expected);
         }
     }
 
-    /// Parses and resolves a formula found at `path`; `None` (with errors recorded) on failure.
-    fn formula(&mut self, path: &[Step], text: &str, what: &str) -> Option<Formula> {
-        let offset = self.locate.at(path).start;
+    /// Parses and resolves a formula found at `path`, reading `self` as the component `this`
+    /// names (a type's formula); `None` (with errors recorded) on failure. `c` labels the
+    /// errors with the instance.
+    fn formula(
+        &mut self,
+        path: &[Step],
+        text: &str,
+        what: &str,
+        this: Option<(usize, &str)>,
+    ) -> Option<Formula> {
+        let offset = self.places.at(path).start;
         let resolved = logic::syntax::parse_at(text, offset)
             .map_err(|d| vec![d])
-            .and_then(|expr| logic::resolve(&expr, &self.table));
+            .and_then(|mut expr| {
+                if let Some((_, name)) = this {
+                    rename_self(&mut expr, name);
+                }
+                logic::resolve(&expr, &self.table)
+            });
+        let label = |places: &Places, d: Diagnostic| match this {
+            Some((c, _)) => places.label(c, d),
+            None => d,
+        };
         match resolved {
             Ok(formula) => {
                 if formula.has_external_atoms() {
                     let span = offset..offset + text.len();
-                    self.errors.push(
-                        Diagnostic::new(
-                            format!("a {what} cannot mention a confidence `P(...)` or a clock"),
-                            span,
-                        )
-                        .expected("a constraint over the plant's modes and attributes")
-                        .note("timing belongs in a transition's `after:`"),
-                    );
+                    let diagnostic = Diagnostic::new(
+                        format!("a {what} cannot mention a confidence `P(...)` or a clock"),
+                        span,
+                    )
+                    .expected("a constraint over the plant's modes and attributes")
+                    .note("timing belongs in a transition's `after:`");
+                    self.errors.push(label(&self.places, diagnostic));
                     return None;
                 }
                 Some(formula)
             }
             Err(diagnostics) => {
-                self.errors.extend(diagnostics);
+                let labelled: Vec<Diagnostic> = diagnostics
+                    .into_iter()
+                    .map(|d| label(&self.places, d))
+                    .collect();
+                self.errors.extend(labelled);
                 None
             }
         }
@@ -396,322 +861,67 @@ impl Loader {
         }
     }
 
-    fn component(&mut self, c: usize, spec: &ComponentFile) -> Component {
-        let mode_var = self.table.variable_id(&spec.name).unwrap_or(VarId(0));
-        let attributes = spec
-            .attributes
-            .0
-            .iter()
-            .filter_map(|(a, _)| self.table.variable_id(&format!("{}.{a}", spec.name)))
-            .collect();
-        let modes: Vec<Mode> = spec
-            .modes
-            .iter()
-            .enumerate()
-            .map(|(m, mode)| {
-                let path = mode_path(c, m, "constraint");
-                let constraint = self
-                    .formula(
-                        &path,
-                        &mode.constraint,
-                        &format!("constraint of `{}`", spec.name),
-                    )
-                    .unwrap_or(Formula::True);
-                Mode {
-                    name: mode.name.clone(),
-                    kind: match mode.kind {
-                        KindFile::Nominal => ModeKind::Nominal,
-                        KindFile::Fault => ModeKind::Fault,
-                    },
-                    constraint,
-                    reward: mode.reward,
-                }
-            })
-            .collect();
-        let initial = self.initial(c, spec);
-        let transitions: Vec<Transition> = spec
-            .transitions
-            .iter()
-            .enumerate()
-            .filter_map(|(t, transition)| self.transition(c, t, spec, transition))
-            .collect();
-        let outgoing: Vec<Vec<usize>> = (0..modes.len())
-            .map(|m| {
-                let m = ValueId(m as u32);
-                transitions
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, t)| match t.source {
-                        TransitionSource::Mode(source) => source == m,
-                        TransitionSource::AnyNominal => {
-                            t.target != m && modes[m.index()].kind == ModeKind::Nominal
-                        }
-                    })
-                    .map(|(i, _)| i)
-                    .collect()
-            })
-            .collect();
-        let timed = outgoing
-            .iter()
-            .map(|leaving| {
-                leaving
-                    .iter()
-                    .any(|&t| transitions[t].law.timing().is_some_and(Timing::needs_clock))
-            })
-            .collect();
-        Component {
-            name: spec.name.clone(),
-            mode_var,
-            attributes,
-            modes,
-            initial,
-            transitions,
-            outgoing,
-            timed,
-        }
-    }
-
-    /// A mode of `spec` named `name`, or an error at `path` naming the component's modes.
-    fn mode_named(&mut self, spec: &ComponentFile, path: &[Step], name: &str) -> Option<ValueId> {
-        if let Some(m) = spec.modes.iter().position(|m| m.name == name) {
-            return Some(ValueId(m as u32));
-        }
-        let modes: Vec<&str> = spec.modes.iter().map(|m| m.name.as_str()).collect();
-        let mut diagnostic = Diagnostic::new(
-            format!("component `{}` has no mode `{name}`", spec.name),
-            self.locate.at(path),
-        )
-        .expected(format!("a mode of `{}`", spec.name))
-        .note(format!("`{}` has modes: {}", spec.name, modes.join(", ")));
-        if let Some(close) = did_you_mean(name, modes.iter().copied()) {
-            diagnostic = diagnostic.note(format!("did you mean `{close}`?"));
-        }
-        self.errors.push(diagnostic);
-        None
-    }
-
-    fn initial(&mut self, c: usize, spec: &ComponentFile) -> Vec<f64> {
-        let mut initial = vec![0.0; spec.modes.len()];
-        let mut seen: Vec<&str> = Vec::new();
-        for (name, p) in &spec.initial.0 {
-            let key = component_path(c, &[Step::Field("initial"), Step::Key(name)]);
-            let Some(mode) = self.mode_named(spec, &key, name) else {
+    /// The interconnections, indexed ones expanded.
+    fn connections(&mut self, file: &PlantFile) -> Vec<Formula> {
+        let mut connections = Vec::new();
+        for (i, text) in file.connections.iter().enumerate() {
+            let path = [Step::Field("connections"), Step::Index(i)];
+            let Some(texts) = self.indexed(&path, text) else {
                 continue;
             };
-            if seen.contains(&name.as_str()) {
-                let path = component_path(c, &[Step::Field("initial")]);
-                let message = format!(
-                    "component `{}`: mode `{name}` has two initial probabilities",
-                    spec.name
-                );
-                self.error(&path, message, "each mode once");
-            }
-            seen.push(name);
-            if !(0.0..=1.0).contains(p) {
-                let path = component_path(c, &[Step::Field("initial"), Step::Value(name)]);
-                let message = format!(
-                    "component `{}`, mode `{name}`: initial probability {p} is outside [0, 1]",
-                    spec.name
-                );
-                self.error(&path, message, "a probability between 0 and 1");
-            }
-            initial[mode.index()] = *p;
-        }
-        let total: f64 = spec.initial.0.iter().map(|(_, p)| p).sum();
-        if (total - 1.0).abs() > TOLERANCE && total.is_finite() {
-            let path = component_path(c, &[Step::Field("initial")]);
-            let message = format!(
-                "component `{}`: initial probabilities sum to {total}, not 1",
-                spec.name
-            );
-            self.error(&path, message, "probabilities that sum to 1");
-        }
-        initial
-    }
-
-    fn transition(
-        &mut self,
-        c: usize,
-        t: usize,
-        spec: &ComponentFile,
-        file: &TransitionFile,
-    ) -> Option<Transition> {
-        let from_path = transition_path(c, t, &[Step::Field("from")]);
-        let to_path = transition_path(c, t, &[Step::Field("to")]);
-        let source = if file.from == "*" {
-            Some(TransitionSource::AnyNominal)
-        } else {
-            self.mode_named(spec, &from_path, &file.from)
-                .map(TransitionSource::Mode)
-        };
-        let target = self.mode_named(spec, &to_path, &file.to);
-        let guard_path = transition_path(c, t, &[Step::Field("guard")]);
-        let guard = self.formula(
-            &guard_path,
-            &file.guard,
-            &format!("guard of `{}`", spec.name),
-        );
-        let law = self.law(c, t, spec, file);
-        let (source, target, guard, law) = (source?, target?, guard?, law?);
-        let describe = format!(
-            "component `{}`, transition `{}` -> `{}`",
-            spec.name, file.from, file.to
-        );
-        match source {
-            TransitionSource::Mode(m) if m == target => {
-                self.error(
-                    &to_path,
-                    format!("{describe}: a transition to its own source"),
-                    "another mode: a mode stays with the probability its transitions leave",
-                );
-                return None;
-            }
-            TransitionSource::AnyNominal
-                if !spec.modes.iter().enumerate().any(|(m, mode)| {
-                    matches!(mode.kind, KindFile::Nominal) && m != target.index()
-                }) =>
-            {
-                self.error(
-                    &from_path,
-                    format!("{describe}: `*` stands for no mode here"),
-                    "a nominal mode other than the target",
-                );
-                return None;
-            }
-            _ => {}
-        }
-        Some(Transition {
-            source,
-            target,
-            guard,
-            law,
-        })
-    }
-
-    fn law(
-        &mut self,
-        c: usize,
-        t: usize,
-        spec: &ComponentFile,
-        file: &TransitionFile,
-    ) -> Option<TransitionLaw> {
-        let describe = format!(
-            "component `{}`, transition `{}` -> `{}`",
-            spec.name, file.from, file.to
-        );
-        let at = |field| transition_path(c, t, &[Step::Field(field)]);
-        let probability_ok = |loader: &mut Self, p: f64| {
-            let ok = (0.0..=1.0).contains(&p);
-            if !ok {
-                let message = format!("{describe}: probability {p} is outside [0, 1]");
-                loader.error(&at("probability"), message, "a probability between 0 and 1");
-            }
-            ok
-        };
-        match (file.probability, file.rate, file.after) {
-            (Some(_), Some(_), _) => {
-                let message = format!("{describe}: both a probability and a rate");
-                self.error(
-                    &at("rate"),
-                    message,
-                    "either `probability` (per cycle) or `rate` (per second)",
-                );
-                None
-            }
-            (_, Some(_), Some(_)) => {
-                let message = format!("{describe}: a timed transition has no rate");
-                self.error(
-                    &at("rate"),
-                    message,
-                    "a nominal factor `probability` (default 1) with `after`",
-                );
-                None
-            }
-            (Some(p), None, None) => {
-                probability_ok(self, p).then_some(TransitionLaw::PerCycle { probability: p })
-            }
-            (None, Some(r), None) => {
-                if r.is_finite() && r >= 0.0 {
-                    Some(TransitionLaw::Rate { per_second: r })
+            let indexed = texts.len() > 1 || texts[0] != *text;
+            for expanded in texts {
+                let formula = if indexed {
+                    // Spans inside an expanded text are not the file's: report at the whole.
+                    self.expanded_formula(&path, text, &expanded)
                 } else {
-                    let message = format!("{describe}: rate {r} is not a finite rate");
-                    self.error(&at("rate"), message, "a rate per second, 0 or more");
-                    None
+                    self.formula(&path, text, "connection", None)
+                };
+                if let Some(formula) = formula {
+                    self.refuse_mode_variables(&path, &formula);
+                    connections.push(formula);
                 }
             }
-            (p, None, Some(after)) => {
-                let probability = p.unwrap_or(1.0);
-                let p_ok = probability_ok(self, probability);
-                let timing = self.timing(c, t, &describe, after)?;
-                p_ok.then_some(TransitionLaw::Timed {
-                    probability,
-                    timing,
-                })
+        }
+        connections
+    }
+
+    /// A formula expanded from the indexed text at `path`, its errors reported at that text.
+    fn expanded_formula(&mut self, path: &[Step], written: &str, text: &str) -> Option<Formula> {
+        match logic::parse_formula(text, &self.table) {
+            Ok(formula) if !formula.has_external_atoms() => Some(formula),
+            Ok(_) => {
+                let message = "a connection cannot mention a confidence `P(...)` or a clock";
+                self.error(path, message.into(), "a constraint between attributes");
+                None
             }
-            (None, None, None) => {
-                let path = transition_path(c, t, &[]);
-                let message = format!("{describe}: no probability");
-                self.error(
-                    &path,
-                    message,
-                    "`probability: p`, `rate: r` or `after: Uniform(l, u)`",
-                );
+            Err(diagnostics) => {
+                let span = self.places.at(path);
+                for d in diagnostics {
+                    let problem = text.get(d.span.clone()).unwrap_or(text);
+                    self.errors.push(
+                        Diagnostic::new(
+                            format!("`{text}` (from `{written}`): {}", d.message),
+                            span.clone(),
+                        )
+                        .expected(d.expected)
+                        .note(format!("at `{problem}` in the expansion")),
+                    );
+                }
                 None
             }
         }
     }
 
-    fn timing(&mut self, c: usize, t: usize, describe: &str, after: TimingFile) -> Option<Timing> {
-        let arg = |i| transition_path(c, t, &[Step::Field("after"), Step::Index(i)]);
-        let finite = |xs: &[f64]| xs.iter().all(|x| x.is_finite());
-        let problem: Option<(usize, String, &str)> = match after {
-            TimingFile::Uniform(l, u) if !finite(&[l, u]) => Some((
-                0,
-                format!("window [{l}, {u}] is not finite"),
-                "finite bounds, seconds",
-            )),
-            TimingFile::Uniform(l, _) if l < 0.0 => Some((
-                0,
-                format!("window starts at {l} s, before the mode is entered"),
-                "a lower bound of 0 or more",
-            )),
-            TimingFile::Uniform(l, u) if l > u => Some((
-                1,
-                format!("window [{l}, {u}] is inverted"),
-                "an upper bound above the lower bound",
-            )),
-            TimingFile::Uniform(l, u) if l == u => Some((
-                1,
-                format!("window [{l}, {u}] is empty"),
-                "an upper bound above the lower bound (or `Fixed(d)`)",
-            )),
-            TimingFile::Gaussian(m, sd) if !finite(&[m, sd]) || sd <= 0.0 => Some((
-                1,
-                format!("Gaussian({m}, {sd}) has no spread"),
-                "a finite mean and a standard deviation above 0",
-            )),
-            TimingFile::Exponential(r) if !r.is_finite() || r <= 0.0 => Some((
-                0,
-                format!("Exponential({r}) never fires"),
-                "a rate above 0, per second",
-            )),
-            TimingFile::Fixed(d) if !d.is_finite() || d < 0.0 => Some((
-                0,
-                format!("Fixed({d}) is not a delay"),
-                "a delay of 0 or more, seconds",
-            )),
-            _ => None,
-        };
-        if let Some((i, message, expected)) = problem {
-            self.error(&arg(i), format!("{describe}: {message}"), expected);
-            return None;
+    /// The texts an indexed text at `path` expands to, or an error.
+    fn indexed(&mut self, path: &[Step], text: &str) -> Option<Vec<String>> {
+        match expand_indexed(text) {
+            Ok(texts) => Some(texts),
+            Err(e) => {
+                self.error(path, e.message, e.expected);
+                None
+            }
         }
-        Some(match after {
-            TimingFile::Uniform(lower, upper) => Timing::Uniform { lower, upper },
-            TimingFile::Gaussian(mean, sd) => Timing::Gaussian { mean, sd },
-            TimingFile::Exponential(rate) => Timing::Exponential { rate },
-            TimingFile::Fixed(delay) => Timing::Fixed { delay },
-        })
     }
 
     /// An attribute variable named at `path` (a control or an observable), or an error.
@@ -721,7 +931,7 @@ impl Loader {
             Some(_) => format!("`{name}` is a component's mode variable; {role} is an attribute"),
             None => format!("`{name}` is not an attribute, so it cannot be {role}"),
         };
-        let mut diagnostic = Diagnostic::new(problem, self.locate.at(path))
+        let mut diagnostic = Diagnostic::new(problem, self.places.at(path))
             .expected("`component.attribute`, an attribute declared by a component");
         // Listed only on an error: per name, it made a plant of 10,000 attributes quadratic.
         let attributes = self
@@ -739,32 +949,38 @@ impl Loader {
     fn controls(&mut self, file: &PlantFile) -> Vec<Control> {
         let mut controls: Vec<Control> = Vec::new();
         let mut listed = HashSet::new();
-        for (name, idle) in &file.controls.0 {
-            let key = [Step::Field("controls"), Step::Key(name)];
-            let Some(var) = self.attribute(&key, name, "a control") else {
+        for (written, idle) in &file.controls.0 {
+            let key = [Step::Field("controls"), Step::Key(written)];
+            let Some(names) = self.indexed(&key, written) else {
                 continue;
             };
-            if !listed.insert(var) {
-                self.error(
-                    &[Step::Field("controls")],
-                    format!("control `{name}` is listed twice"),
-                    "each control once",
-                );
-                continue;
-            }
-            let variable = self.table.variable(var);
-            match variable.value(idle) {
-                Some(idle) => controls.push(Control { var, idle }),
-                None => {
-                    let note = format!("`{name}` takes one of: {}", variable.values().join(", "));
-                    let span = self
-                        .locate
-                        .at(&[Step::Field("controls"), Step::Value(name)]);
-                    self.errors.push(
-                        Diagnostic::new(format!("`{idle}` is not a value of `{name}`"), span)
-                            .expected(format!("the value `{name}` holds when not commanded"))
-                            .note(note),
+            for name in &names {
+                let Some(var) = self.attribute(&key, name, "a control") else {
+                    continue;
+                };
+                if !listed.insert(var) {
+                    self.error(
+                        &[Step::Field("controls")],
+                        format!("control `{name}` is listed twice"),
+                        "each control once",
                     );
+                    continue;
+                }
+                let variable = self.table.variable(var);
+                match variable.value(idle) {
+                    Some(idle) => controls.push(Control { var, idle }),
+                    None => {
+                        let note =
+                            format!("`{name}` takes one of: {}", variable.values().join(", "));
+                        let span = self
+                            .places
+                            .at(&[Step::Field("controls"), Step::Value(written)]);
+                        self.errors.push(
+                            Diagnostic::new(format!("`{idle}` is not a value of `{name}`"), span)
+                                .expected(format!("the value `{name}` holds when not commanded"))
+                                .note(note),
+                        );
+                    }
                 }
             }
         }
@@ -775,25 +991,30 @@ impl Loader {
         let mut observables = Vec::new();
         let mut listed = HashSet::new();
         let controlled: HashSet<VarId> = controls.iter().map(|c| c.var).collect();
-        for (i, name) in file.observables.iter().enumerate() {
+        for (i, written) in file.observables.iter().enumerate() {
             let path = [Step::Field("observables"), Step::Index(i)];
-            let Some(var) = self.attribute(&path, name, "an observable") else {
+            let Some(names) = self.indexed(&path, written) else {
                 continue;
             };
-            if !listed.insert(var) {
-                self.error(
-                    &path,
-                    format!("observable `{name}` is listed twice"),
-                    "each observable once",
-                );
-            } else if controlled.contains(&var) {
-                self.error(
-                    &path,
-                    format!("`{name}` is both a control and an observable"),
-                    "a sensed attribute that is not commanded",
-                );
-            } else {
-                observables.push(var);
+            for name in &names {
+                let Some(var) = self.attribute(&path, name, "an observable") else {
+                    continue;
+                };
+                if !listed.insert(var) {
+                    self.error(
+                        &path,
+                        format!("observable `{name}` is listed twice"),
+                        "each observable once",
+                    );
+                } else if controlled.contains(&var) {
+                    self.error(
+                        &path,
+                        format!("`{name}` is both a control and an observable"),
+                        "a sensed attribute that is not commanded",
+                    );
+                } else {
+                    observables.push(var);
+                }
             }
         }
         observables
@@ -812,6 +1033,7 @@ mod tests {
         let mut tracer = reference::tracer();
         reference::add::<KindFile>(&mut tracer);
         reference::add::<TimingFile>(&mut tracer);
+        monitors::trace_reading(&mut tracer);
         reference::add::<PlantFile>(&mut tracer);
         reference::assert_documented(
             &reference::registry(tracer),
@@ -822,6 +1044,10 @@ mod tests {
                 ("KindFile", "plant.md", "Mode kinds"),
                 ("Transition", "plant.md", "Transitions:"),
                 ("TimingFile", "plant.md", "Timing laws"),
+                ("Type", "plant.md", "`Type(...)`"),
+                ("Monitor", "plant.md", "`Monitor(...)`"),
+                ("Threshold", "plant.md", "Thresholds:"),
+                ("ReadingFile", "plant.md", "Laws of readings"),
             ],
         );
     }

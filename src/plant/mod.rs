@@ -13,22 +13,28 @@
 //! - [`Plant::theory`] encodes the plant once into the [`Theory`] that estimation, the sequencer
 //!   and goal interpretation all query: `component = mode => constraint` for every mode, plus the
 //!   interconnections.
+//! - A control may declare an acknowledgement observable ([`acknowledgement`]): flight
+//!   software's answer to its last command, which estimation takes as evidence that the command
+//!   was or was not carried out ([`Commands::acknowledged`], [`Enabled::delivered`]).
 //! - [`timing`](TransitionLaw) turns a transition's law into a per-step probability (§6.2).
 //! - [`step_tcca`] and [`consistent_state`] are Figures 6-6 and 6-7; [`transition_choices`] is
 //!   their common core (enabled transitions and each component's distribution over next modes),
 //!   shared with mode estimation.
 
+pub mod acknowledgement;
 pub mod file;
+pub mod monitor;
 mod step;
 mod timing;
 mod validate;
 
 use std::hash::{Hash, Hasher};
 
+pub use acknowledgement::{Acknowledgement, Answer};
 pub use step::{
-    Commands, InputError, Observation, StepError, chosen_successor, component_distribution,
-    component_distributions, consistent_state, enabled_transitions, step_tcca, successor,
-    transition_choices,
+    Commands, Enabled, InputError, Observation, StepError, chosen_successor,
+    component_distribution, component_distributions, consistent_state, enabled_transitions,
+    step_tcca, successor, transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{BOUND_TOLERANCE, Timing, TransitionLaw, mode_distribution};
@@ -36,6 +42,7 @@ pub use timing::{BOUND_TOLERANCE, Timing, TransitionLaw, mode_distribution};
 use crate::diagnostic::{Source, SourceErrors};
 use crate::logic::{Formula, ValueId, VarId, VarTable};
 use crate::opsat::{Theory, TheoryError, TheoryOptions};
+use monitor::Monitor;
 
 /// A component, by position in [`Plant::components`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -192,6 +199,10 @@ pub struct Plant {
     controls: Vec<Control>,
     observables: Vec<VarId>,
     connections: Vec<Formula>,
+    /// The monitors of numeric observables.
+    monitors: Vec<Monitor>,
+    /// The controls' acknowledgement observables.
+    acknowledgements: Vec<Acknowledgement>,
     /// For each variable of the table, the component whose mode variable it is.
     component_of: Vec<Option<ComponentId>>,
 }
@@ -285,6 +296,33 @@ impl Plant {
     /// The observable variables (`Π^o`).
     pub fn observables(&self) -> &[VarId] {
         &self.observables
+    }
+
+    /// The monitors of the numeric observables, in declaration order
+    /// ([`monitor`]).
+    pub fn monitors(&self) -> &[Monitor] {
+        &self.monitors
+    }
+
+    /// The position in [`Plant::monitors`] of the monitor of `var`, if it is numeric.
+    pub fn monitor_of(&self, var: VarId) -> Option<usize> {
+        self.monitors.iter().position(|m| m.observable == var)
+    }
+
+    /// The controls' acknowledgement observables ([`acknowledgement`]), in declaration order.
+    pub fn acknowledgements(&self) -> &[Acknowledgement] {
+        &self.acknowledgements
+    }
+
+    /// The acknowledgement `var` reports, if it is an acknowledgement observable.
+    pub fn acknowledgement_of(&self, var: VarId) -> Option<&Acknowledgement> {
+        self.acknowledgements.iter().find(|a| a.observable == var)
+    }
+
+    /// True for the variables a plant reports: its observables and its acknowledgement
+    /// observables.
+    pub fn is_reported(&self, var: VarId) -> bool {
+        self.observables.contains(&var) || self.acknowledgement_of(var).is_some()
     }
 
     /// The interconnection constraints (`Q`).

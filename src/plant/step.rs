@@ -2,6 +2,8 @@
 //! common core — which transitions are enabled in a system state under a control action, and
 //! each component's distribution over its next mode — which mode estimation shares.
 
+use std::borrow::Cow;
+
 use super::{ComponentId, Plant, SystemState, mode_distribution};
 use crate::logic::{Formula, ValueId, VarId};
 use crate::opsat::{Literal, Ocsp, Theory, TheoryError};
@@ -89,11 +91,15 @@ fn check_value(plant: &Plant, var: VarId, value: ValueId) -> Result<(), InputErr
     Ok(())
 }
 
-/// A control action μ: a value for every control of the plant, commanded or idle.
+/// A control action μ: a value for every control of the plant, commanded or idle, and which
+/// commands flight software acknowledged as carried out ([`Commands::acknowledged`]).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct Commands {
     /// One value per control, in the order of [`Plant::controls`].
     values: Vec<(VarId, ValueId)>,
+    /// The commanded controls whose command is known to have reached the hardware, sorted
+    /// (empty without acknowledgements, so that they cost nothing then).
+    delivered: Vec<VarId>,
 }
 
 impl Commands {
@@ -101,6 +107,7 @@ impl Commands {
     pub fn idle(plant: &Plant) -> Commands {
         Commands {
             values: plant.controls().iter().map(|c| (c.var, c.idle)).collect(),
+            delivered: Vec::new(),
         }
     }
 
@@ -128,6 +135,60 @@ impl Commands {
         &self.values
     }
 
+    /// The controls whose command is known to have reached the hardware (sorted).
+    pub fn delivered(&self) -> &[VarId] {
+        &self.delivered
+    }
+
+    /// The control action as `observation`'s acknowledgements say it happened
+    /// ([`acknowledgement`](super::acknowledgement)): a command answered `rejected` or `failed`
+    /// is taken back (its control idle), one answered `accepted` or `completed` is marked
+    /// delivered. An answer on a control not commanded, or `none`, changes nothing. Borrowed
+    /// when the observation has no acknowledgement.
+    pub fn acknowledged(&self, plant: &Plant, observation: &Observation) -> Cow<'_, Commands> {
+        if observation.acknowledgements.is_empty() {
+            return Cow::Borrowed(self);
+        }
+        let mut commands = self.clone();
+        for &(var, value) in &observation.acknowledgements {
+            let Some(acknowledgement) = plant.acknowledgement_of(var) else {
+                continue;
+            };
+            let control = acknowledgement.control;
+            let position = plant.controls().iter().position(|c| c.var == control);
+            let Some((slot, idle)) = position.map(|i| (i, plant.controls()[i].idle)) else {
+                continue;
+            };
+            if commands.values[slot].1 == idle {
+                continue;
+            }
+            match acknowledgement.answer(value).carried_out() {
+                Some(false) => commands.values[slot].1 = idle,
+                Some(true) => {
+                    if let Err(at) = commands.delivered.binary_search(&control) {
+                        commands.delivered.insert(at, control);
+                    }
+                }
+                None => {}
+            }
+        }
+        Cow::Owned(commands)
+    }
+
+    /// The same action with the delivered commands not sent: what is enabled without them.
+    fn without_delivered(&self, plant: &Plant) -> Commands {
+        let values = (self.values.iter().zip(plant.controls()))
+            .map(|(&(var, value), control)| {
+                let delivered = self.delivered.binary_search(&var).is_ok();
+                (var, if delivered { control.idle } else { value })
+            })
+            .collect();
+        Commands {
+            values,
+            delivered: Vec::new(),
+        }
+    }
+
     /// The controls that are not idle, for display.
     pub fn issued<'a>(&'a self, plant: &'a Plant) -> impl Iterator<Item = (VarId, ValueId)> + 'a {
         self.values
@@ -142,11 +203,15 @@ impl Commands {
     }
 }
 
-/// An observation o: values of some observables; those absent are unknown this cycle.
+/// An observation o: values of some observables; those absent are unknown this cycle. It
+/// also carries the acknowledgements reported with it, which are evidence about the last
+/// command rather than about the plant's modes ([`Commands::acknowledged`]).
 #[derive(Debug, Clone, Default, PartialEq, Eq, Hash)]
 pub struct Observation {
     /// Observed values, sorted by variable.
     values: Vec<(VarId, ValueId)>,
+    /// Reported acknowledgements, sorted by variable.
+    acknowledgements: Vec<(VarId, ValueId)>,
 }
 
 impl Observation {
@@ -155,27 +220,41 @@ impl Observation {
         Observation::default()
     }
 
-    /// The observables read in a cycle.
+    /// The observables (and acknowledgement observables) read in a cycle.
     pub fn new(plant: &Plant, observed: &[(VarId, ValueId)]) -> Result<Observation, InputError> {
         let mut values = Vec::with_capacity(observed.len());
+        let mut acknowledgements = Vec::new();
         for &(var, value) in observed {
             check_value(plant, var, value)?;
             let name = || plant.table().variable(var).name().to_string();
-            if !plant.observables().contains(&var) {
+            let list = if plant.observables().contains(&var) {
+                &mut values
+            } else if plant.acknowledgement_of(var).is_some() {
+                &mut acknowledgements
+            } else {
                 return Err(InputError::NotObservable(name()));
-            }
-            if values.iter().any(|(x, _)| *x == var) {
+            };
+            if list.iter().any(|(x, _)| *x == var) {
                 return Err(InputError::Repeated(name()));
             }
-            values.push((var, value));
+            list.push((var, value));
         }
         values.sort_unstable();
-        Ok(Observation { values })
+        acknowledgements.sort_unstable();
+        Ok(Observation {
+            values,
+            acknowledgements,
+        })
     }
 
-    /// The observed values, sorted by variable.
+    /// The observed values, sorted by variable (acknowledgements not included).
     pub fn values(&self) -> &[(VarId, ValueId)] {
         &self.values
+    }
+
+    /// The reported acknowledgements, sorted by variable.
+    pub fn acknowledgements(&self) -> &[(VarId, ValueId)] {
+        &self.acknowledgements
     }
 
     /// The observation as assumptions.
@@ -194,19 +273,61 @@ pub(crate) fn mode_literals(plant: &Plant, modes: &[ValueId]) -> Vec<Literal> {
         .collect()
 }
 
+/// A component's enabled transitions in a system state under a control action.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Enabled {
+    /// The enabled transitions, by index into
+    /// [`Component::transitions`](super::Component::transitions).
+    pub transitions: Vec<usize>,
+    /// Some of them are enabled only by a command acknowledged as carried out
+    /// ([`Commands::delivered`]): the component does not stay in its mode for want of the
+    /// command (`acknowledgement` has why).
+    pub delivered: bool,
+}
+
 /// Figure 6-6, steps 3–4 (and Figure 6-10's "identify enabled transitions"): per component,
 /// the transitions out of its mode whose guard the constraint store `C_M` (the modes' constraints
-/// and the interconnections) and the control action μ entail, by index into
-/// [`Component::transitions`](super::Component::transitions). When the modes and μ contradict
+/// and the interconnections) and the control action μ entail. When the modes and μ contradict
 /// each other nothing is entailed but by vacuity, so only unguarded transitions count as enabled.
+/// With delivered commands, a component is marked [`Enabled::delivered`] when one of its
+/// enabled transitions is not enabled without them (a second pass, only then).
 pub fn enabled_transitions(
     plant: &Plant,
     theory: &mut Theory,
     modes: &[ValueId],
     commands: &Commands,
-) -> Result<Vec<Vec<usize>>, StepError> {
+) -> Result<Vec<Enabled>, StepError> {
     check_modes(plant, modes)?;
     check_inputs(plant, commands, &Observation::none())?;
+    let enabled = entailed_guards(plant, theory, modes, commands)?;
+    let without = if commands.delivered.is_empty() {
+        None
+    } else {
+        let idle = commands.without_delivered(plant);
+        Some(entailed_guards(plant, theory, modes, &idle)?)
+    };
+    Ok(enabled
+        .into_iter()
+        .enumerate()
+        .map(|(c, transitions)| {
+            let delivered = without
+                .as_ref()
+                .is_some_and(|without| transitions.iter().any(|t| !without[c].contains(t)));
+            Enabled {
+                transitions,
+                delivered,
+            }
+        })
+        .collect())
+}
+
+/// Per component, the transitions whose guard the store of `modes` and μ entails.
+fn entailed_guards(
+    plant: &Plant,
+    theory: &mut Theory,
+    modes: &[ValueId],
+    commands: &Commands,
+) -> Result<Vec<Vec<usize>>, StepError> {
     let mut store = mode_literals(plant, modes);
     store.extend(commands.literals());
     let guarded = |t: &usize, c: &super::Component| c.transitions()[*t].guard != Formula::True;
@@ -241,7 +362,7 @@ pub fn enabled_transitions(
 pub fn component_distributions(
     plant: &Plant,
     state: &SystemState,
-    enabled: &[Vec<usize>],
+    enabled: &[Enabled],
     from: f64,
     to: f64,
 ) -> Vec<Vec<(ValueId, f64)>> {
@@ -256,21 +377,27 @@ pub fn component_distributions(
 }
 
 /// One component's distribution over its next mode from `mode`, given its enabled transitions
-/// (indices into [`Component::transitions`](super::Component::transitions)), its clock at the
-/// step's start and the step's length: a pure function of these, which estimation relies on
-/// to share it between system states.
+/// ([`Enabled`]), its clock at the step's start and the step's length: a pure function of
+/// these, which estimation relies on to share it between system states. When a delivered
+/// command enables a transition, staying has likelihood 0 and is left out (not renormalised:
+/// the evidence weighs the source state as a whole).
 pub fn component_distribution(
     component: &super::Component,
     mode: ValueId,
-    enabled: &[usize],
+    enabled: &Enabled,
     clock: Option<f64>,
     step: f64,
 ) -> Vec<(ValueId, f64)> {
-    let laws = enabled.iter().filter_map(|&t| {
+    let laws = enabled.transitions.iter().filter_map(|&t| {
         let transition = component.transitions().get(t)?;
         Some((transition.target, transition.law))
     });
-    mode_distribution(mode, laws, clock, step)
+    let mut distribution = mode_distribution(mode, laws, clock, step);
+    let moves = |d: &[(ValueId, f64)]| d.iter().any(|&(m, p)| m != mode && p > 0.0);
+    if enabled.delivered && moves(&distribution) {
+        distribution.retain(|&(m, _)| m != mode);
+    }
+    distribution
 }
 
 /// The common core of Figures 6-6, 6-7, 6-10 and 6-11: in `state` at time `from`, under control

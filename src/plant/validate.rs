@@ -6,16 +6,15 @@
 
 use std::collections::HashSet;
 
-use super::file::{TOLERANCE, mode_path, transition_path};
+use super::file::{Places, TOLERANCE};
 use super::{Component, Plant, TransitionSource};
 use crate::diagnostic::Diagnostic;
-use crate::diagnostic::locate::Locator;
 use crate::diagnostic::locate::Step;
 use crate::logic::{Formula, ValueId};
 use crate::opsat::{Consistency, Literal, Theory};
 
 /// Every problem found, located in the file.
-pub(super) fn check(plant: &Plant, locate: &Locator) -> Vec<Diagnostic> {
+pub(super) fn check(plant: &Plant, places: &Places) -> Vec<Diagnostic> {
     let mut theory = match plant.theory() {
         Ok(theory) => theory,
         Err(e) => return vec![Diagnostic::new(e.to_string(), 0..0)],
@@ -26,16 +25,16 @@ pub(super) fn check(plant: &Plant, locate: &Locator) -> Vec<Diagnostic> {
     for (c, component) in plant.components().iter().enumerate() {
         for (m, &holds) in modes_hold[c].iter().enumerate() {
             if !holds {
-                errors.push(unsatisfiable_mode(component, c, m, locate));
+                errors.push(unsatisfiable_mode(component, c, m, places));
                 continue;
             }
             let mode = ValueId(m as u32);
             for &(t, holds) in &guards_hold[c] {
                 if !holds && component.transitions()[t].source == TransitionSource::Mode(mode) {
-                    errors.push(never_enabled(component, c, t, locate));
+                    errors.push(never_enabled(component, c, t, places));
                 }
             }
-            if let Some(error) = overfull_mode(&mut theory, component, c, mode, locate) {
+            if let Some(error) = overfull_mode(&mut theory, component, c, mode, places) {
                 errors.push(error);
             }
         }
@@ -136,37 +135,49 @@ fn consistent_each(theory: &mut Theory, checks: &[Vec<Vec<Literal>>]) -> Vec<Vec
 }
 
 /// A transition declared from a mode whose guard contradicts the mode and the model.
-fn never_enabled(component: &Component, c: usize, t: usize, locate: &Locator) -> Diagnostic {
+fn never_enabled(component: &Component, c: usize, t: usize, places: &Places) -> Diagnostic {
     let transition = &component.transitions()[t];
     let mode = match transition.source {
         TransitionSource::Mode(mode) => &component.mode(mode).name,
         TransitionSource::AnyNominal => "*",
     };
     let target = &component.mode(transition.target).name;
-    Diagnostic::new(
-        format!(
-            "component `{}`, transition `{mode}` -> `{target}` can never be enabled",
+    places
+        .diagnostic(
+            c,
+            &[
+                Step::Field("transitions"),
+                Step::Index(t),
+                Step::Field("guard"),
+            ],
+            format!(
+                "component `{}`, transition `{mode}` -> `{target}` can never be enabled",
+                component.name(),
+            ),
+        )
+        .expected(format!(
+            "a guard that can hold while `{}` is `{mode}`",
             component.name(),
-        ),
-        locate.at(&transition_path(c, t, &[Step::Field("guard")])),
-    )
-    .expected(format!(
-        "a guard that can hold while `{}` is `{mode}`",
-        component.name(),
-    ))
+        ))
 }
 
-fn unsatisfiable_mode(component: &Component, c: usize, m: usize, locate: &Locator) -> Diagnostic {
-    Diagnostic::new(
-        format!(
-            "component `{}`, mode `{}` can never hold: its constraint contradicts the model",
-            component.name(),
-            component.modes()[m].name
-        ),
-        locate.at(&mode_path(c, m, "constraint")),
-    )
-    .expected("a constraint consistent with the interconnections and the other modes")
-    .note("the component would have no way to stay in this mode or to leave it")
+fn unsatisfiable_mode(component: &Component, c: usize, m: usize, places: &Places) -> Diagnostic {
+    places
+        .diagnostic(
+            c,
+            &[
+                Step::Field("modes"),
+                Step::Index(m),
+                Step::Field("constraint"),
+            ],
+            format!(
+                "component `{}`, mode `{}` can never hold: its constraint contradicts the model",
+                component.name(),
+                component.modes()[m].name
+            ),
+        )
+        .expected("a constraint consistent with the interconnections and the other modes")
+        .note("the component would have no way to stay in this mode or to leave it")
 }
 
 /// A transition out of a mode that may fire together with others, with its largest per-step
@@ -184,7 +195,7 @@ fn overfull_mode(
     component: &Component,
     c: usize,
     mode: ValueId,
-    locate: &Locator,
+    places: &Places,
 ) -> Option<Diagnostic> {
     let mut outgoing: Vec<Outgoing> = Vec::new();
     for &t in component.outgoing(mode) {
@@ -221,19 +232,25 @@ fn overfull_mode(
         })
         .collect();
     Some(
-        Diagnostic::new(
-            format!(
-                "component `{}`, mode `{}`: outgoing probabilities can add up to {total}",
-                component.name(),
-                component.mode(mode).name
-            ),
-            locate.at(&mode_path(c, mode.index(), "name")),
-        )
-        .expected("at most 1: the mode stays with what its enabled transitions leave")
-        .note(format!(
-            "transitions to {} can be enabled together",
-            listed.join(", ")
-        )),
+        places
+            .diagnostic(
+                c,
+                &[
+                    Step::Field("modes"),
+                    Step::Index(mode.index()),
+                    Step::Field("name"),
+                ],
+                format!(
+                    "component `{}`, mode `{}`: outgoing probabilities can add up to {total}",
+                    component.name(),
+                    component.mode(mode).name
+                ),
+            )
+            .expected("at most 1: the mode stays with what its enabled transitions leave")
+            .note(format!(
+                "transitions to {} can be enabled together",
+                listed.join(", ")
+            )),
     )
 }
 

@@ -145,7 +145,7 @@ fn cycle(
     };
     let mut moves = Vec::new();
     for ((id, component), enabled) in plant.component_ids().zip(&enabled) {
-        let nominal = enabled.iter().copied().filter(|&t| {
+        let nominal = enabled.transitions.iter().copied().filter(|&t| {
             let transition = &component.transitions()[t];
             let immediate = matches!(transition.law, TransitionLaw::PerCycle { .. });
             component.mode(transition.target).kind == ModeKind::Nominal

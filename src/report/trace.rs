@@ -11,7 +11,11 @@
 //! every field on every line ([`Trace::full`]). Fields:
 //!
 //! - `cycle`, `time`: the cycle number (from 0) and its time in seconds;
-//! - `observation`: what the plant reported, `[{"variable": .., "value": ..}]`, verbatim;
+//! - `observation`: what the plant reported, `[{"variable": .., "value": ..}]`, verbatim (a
+//!   numeric observable's reading as a number);
+//! - `monitored`: what the plant model's monitors made of the readings, the value estimation read
+//!   for each numeric observable (`null`: none, or stale), `{"sensor.reading": "warm", ..}`;
+//!   only for a plant with monitors, written like `estimate`;
 //! - `command`: μ, the non-idle control assignments, as `"PDE.cmd = on"`;
 //! - `estimate`: ŝ, the most likely mode of each component, `{"engine": "heating", ..}`;
 //! - `belief`: the tracked plant states, most likely first, `[{"p": .., "modes": {..}}]`;
@@ -42,6 +46,8 @@ struct Line<'a> {
     time: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     observation: Option<&'a [NamedValue]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    monitored: Option<Modes>,
     #[serde(skip_serializing_if = "Option::is_none")]
     command: Option<Vec<String>>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -146,6 +152,7 @@ struct Micros {
 pub struct Trace {
     full: bool,
     observation: Option<Vec<NamedValue>>,
+    monitored: Option<Modes>,
     estimate: Option<Modes>,
     belief: Option<Vec<Belief>>,
 }
@@ -173,6 +180,9 @@ impl Trace {
             observation: all
                 .observation
                 .filter(|o| !repeats(full, &mut self.observation, *o, |a, b| a == b)),
+            monitored: all
+                .monitored
+                .filter(|m| !repeats(full, &mut self.monitored, m, |a, b| a == b)),
             estimate: all
                 .estimate
                 .filter(|e| !repeats(full, &mut self.estimate, e, |a, b| a == b)),
@@ -238,6 +248,16 @@ fn line<'a>(scenario: &'a Scenario, record: &CycleRecord<'a>) -> Line<'a> {
         cycle: step.cycle,
         time: step.time,
         observation: Some(record.observation),
+        monitored: (!step.monitored.is_empty()).then(|| {
+            let table = plant.table();
+            (step.monitored.iter())
+                .map(|&(x, v)| {
+                    let variable = table.variable(x);
+                    let value = v.map(|v| variable.value_name(v).into());
+                    (variable.name().to_string(), value.unwrap_or_default())
+                })
+                .collect()
+        }),
         command: Some(
             step.command
                 .iter()

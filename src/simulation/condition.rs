@@ -165,6 +165,7 @@ mod tests {
             estimates: Vec::new(),
             marking: Vec::new(),
             events: Vec::new(),
+            monitored: Vec::new(),
             completed: false,
             times: Default::default(),
         };

@@ -5,7 +5,7 @@
 
 use serde::Deserialize;
 
-use crate::diagnostic::locate::Entries;
+use crate::diagnostic::locate::{Entries, NumberOrName};
 use crate::executive::EventKind;
 
 /// `Scenario(...)`: a whole run.
@@ -38,7 +38,7 @@ pub(super) struct ScenarioFile {
     #[serde(default)]
     pub(super) hidden: Entries<Vec<String>>,
     #[serde(default)]
-    pub(super) initial: Entries<String>,
+    pub(super) initial: Entries<NumberOrName>,
     #[serde(default)]
     pub(super) rules: Vec<RuleFile>,
     #[serde(default)]
@@ -83,7 +83,7 @@ pub(super) struct ScriptFile {
     #[serde(default)]
     pub(super) hidden: Entries<Vec<String>>,
     #[serde(default)]
-    pub(super) initial: Entries<String>,
+    pub(super) initial: Entries<NumberOrName>,
     #[serde(default)]
     pub(super) rules: Vec<RuleFile>,
 }
@@ -99,7 +99,7 @@ pub(super) struct RuleFile {
     #[serde(default)]
     pub(super) after: Option<DelayFile>,
     #[serde(default)]
-    pub(super) set: Entries<String>,
+    pub(super) set: Entries<NumberOrName>,
     #[serde(default)]
     pub(super) drop: Vec<String>,
     #[serde(default)]
@@ -341,6 +341,10 @@ pub enum EventName {
     SearchCut,
     /// An observation was ignored (unknown name or value).
     ObservationRejected,
+    /// A numeric observable's monitor changed its value.
+    Monitored,
+    /// A numeric observable's readings went stale.
+    Stale,
     /// The set of unreported observables changed.
     ObservationsMissing,
     /// A cycle overran its deadline.
@@ -414,6 +418,8 @@ impl EventName {
             E::EstimatorInconsistency { .. } => EventName::EstimatorInconsistency,
             E::SearchCut(_) => EventName::SearchCut,
             E::ObservationRejected { .. } => EventName::ObservationRejected,
+            E::Monitored { .. } => EventName::Monitored,
+            E::Stale { .. } => EventName::Stale,
             E::ObservationsMissing { .. } => EventName::ObservationsMissing,
             E::DeadlineOverrun { .. } => EventName::DeadlineOverrun,
             E::ProgramCompleted => EventName::ProgramCompleted,
@@ -446,7 +452,7 @@ impl EventName {
 /// The script parts of a scenario or script file.
 pub(super) struct ScriptParts<'a> {
     pub(super) hidden: &'a Entries<Vec<String>>,
-    pub(super) initial: &'a Entries<String>,
+    pub(super) initial: &'a Entries<NumberOrName>,
     pub(super) rules: &'a [RuleFile],
 }
 

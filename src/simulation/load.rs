@@ -596,6 +596,8 @@ pub(super) struct VarClasses {
     controls: Vec<VarId>,
     modes: Vec<VarId>,
     observables: Vec<VarId>,
+    /// The observables the plant model monitors (they may hold readings).
+    numeric: Vec<VarId>,
     hidden: Vec<VarId>,
     plant_vars: usize,
 }
@@ -605,7 +607,8 @@ impl VarClasses {
         VarClasses {
             controls: plant.controls().iter().map(|c| c.var).collect(),
             modes: plant.components().iter().map(|c| c.mode_var()).collect(),
-            observables: plant.observables().to_vec(),
+            observables: reported(plant),
+            numeric: plant.monitors().iter().map(|m| m.observable).collect(),
             hidden,
             plant_vars: plant.table().len(),
         }
@@ -647,17 +650,29 @@ impl VarClasses {
         self.observables.contains(&var)
     }
 
+    /// True for the observables the plant model monitors.
+    pub(super) fn is_numeric(&self, var: VarId) -> bool {
+        self.numeric.contains(&var)
+    }
+
     /// True for hidden variables.
     pub(super) fn is_hidden(&self, var: VarId) -> bool {
         self.hidden.contains(&var)
     }
 }
 
+/// What a scripted plant may report: the observables, then the acknowledgement observables.
+fn reported(plant: &Plant) -> Vec<VarId> {
+    (plant.observables().iter().copied())
+        .chain(plant.acknowledgements().iter().map(|a| a.observable))
+        .collect()
+}
+
 /// Makes an empty script for a plant (used before anything is declared).
 pub(super) fn empty_script(plant: &Plant) -> Script {
     Script {
         world: plant.table().clone(),
-        observables: plant.observables().to_vec(),
+        observables: reported(plant),
         controls: plant.controls().iter().map(|c| (c.var, c.idle)).collect(),
         modes: plant.components().iter().map(|c| c.mode_var()).collect(),
         hidden: Vec::new(),
@@ -672,6 +687,7 @@ pub(super) fn empty_script(plant: &Plant) -> Script {
 mod tests {
     use super::*;
     use crate::logic::ValueId;
+    use crate::simulation::Held;
     use crate::simulation::testing::engine_camera;
 
     #[test]
@@ -701,7 +717,10 @@ mod tests {
         assert_eq!(scenario.chatter_cycles, CHATTER_CYCLES);
         assert_eq!(scenario.deadline, None);
         let weather = scenario.script.hidden()[0];
-        assert_eq!(scenario.script.initial(), [(weather, ValueId(0))]);
+        assert_eq!(
+            scenario.script.initial(),
+            [(weather, Held::Value(ValueId(0)))]
+        );
     }
 
     /// Numbers out of range are located errors, all of them reported together.

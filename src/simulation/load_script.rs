@@ -3,8 +3,8 @@
 
 use super::format::{DelayFile, RuleFile, ScriptParts, TriggerFile};
 use super::load::{FileCtx, VarClasses, Vars, empty_script, formula};
-use super::script::{Delay, Effect, Rule, Script, TIME_EPSILON, Trigger};
-use crate::diagnostic::locate::{Entries, Step};
+use super::script::{Delay, Effect, Held, Rule, Script, TIME_EPSILON, Trigger};
+use crate::diagnostic::locate::{Entries, NumberOrName, Step};
 use crate::diagnostic::{Diagnostic, did_you_mean};
 use crate::executive::{NamedValue, Submission};
 use crate::goalnet::Mission;
@@ -26,7 +26,9 @@ pub(super) fn script(
         declare_hidden(ctx, part, &mut script);
     }
     let classes = VarClasses::new(plant, script.hidden.clone());
-    script.initial = script.hidden.iter().map(|&v| (v, ValueId(0))).collect();
+    script.initial = (script.hidden.iter())
+        .map(|&v| (v, Held::Value(ValueId(0))))
+        .collect();
     for (ctx, part) in parts.iter_mut() {
         initial_values(ctx, part, &classes, &mut script);
     }
@@ -103,7 +105,8 @@ fn initial_values(
     }
 }
 
-/// Resolves `name: value` where `name` must be an observable or a hidden variable.
+/// Resolves `name: value` where `name` must be an observable or a hidden variable, and a
+/// number (a reading) only for an observable the plant model monitors.
 fn held_value(
     ctx: &mut FileCtx,
     key: &[Step],
@@ -111,8 +114,8 @@ fn held_value(
     world: &VarTable,
     classes: &VarClasses,
     name: &str,
-    value: &str,
-) -> Option<(VarId, ValueId)> {
+    value: &NumberOrName,
+) -> Option<(VarId, Held)> {
     let Some(var) = world
         .variable_id(name)
         .filter(|&v| classes.is_observable(v) || classes.is_hidden(v))
@@ -137,6 +140,25 @@ fn held_value(
         return None;
     };
     let variable = world.variable(var);
+    let value = match value {
+        NumberOrName::Number(x) if classes.is_numeric(var) => {
+            return Some((var, Held::Reading(*x)));
+        }
+        NumberOrName::Number(x) => {
+            ctx.push(
+                Diagnostic::new(
+                    format!("`{name}` is not numeric: the plant model has no monitor for it"),
+                    ctx.span(value_path),
+                )
+                .expected(format!("one of: {}", variable.values().join(", ")))
+                .note(format!(
+                    "{x} is a reading; a model's `monitors` make an observable numeric"
+                )),
+            );
+            return None;
+        }
+        NumberOrName::Name(value) => value,
+    };
     let Some(id) = variable.value(value) else {
         let mut diagnostic = Diagnostic::new(
             format!("`{value}` is not a value of `{name}`"),
@@ -149,7 +171,7 @@ fn held_value(
         ctx.push(diagnostic);
         return None;
     };
-    Some((var, id))
+    Some((var, Held::Value(id)))
 }
 
 struct RuleLoader<'a> {

@@ -327,7 +327,8 @@ pub(crate) use run::build as build_executive;
 pub use run::{CycleRecord, RunError, RunOptions, RunOutcome, StopReason, run};
 pub(crate) use run::{report_refusals, submit_due};
 pub use script::{
-    Delay, Effect, OpenLanding, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant, Trigger,
+    Delay, Effect, Held, OpenLanding, PlantEvent, PlantEventKind, Rule, Script, ScriptedPlant,
+    Trigger,
 };
 
 use crate::diagnostic::Source;

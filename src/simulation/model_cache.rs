@@ -22,7 +22,7 @@ use rustc_hash::FxHashMap;
 
 use crate::logic::{ValueId, VarId};
 use crate::opsat::{Consistency, Literal, Theory};
-use crate::plant::{Commands, Plant, enabled_transitions, mode_literals};
+use crate::plant::{Commands, Enabled, Plant, enabled_transitions, mode_literals};
 
 /// The most complete observation assignments kept for one key: beyond, enumerating them once
 /// would cost more SAT calls than the cycles that reuse them save.
@@ -37,7 +37,7 @@ pub(super) struct ModelCache {
     /// Are these modes consistent together (the rejection test of a step's draw)?
     modes: FxHashMap<Vec<ValueId>, bool>,
     /// The enabled transitions of each component ([`enabled_transitions`]).
-    enabled: FxHashMap<Key, Vec<Vec<usize>>>,
+    enabled: FxHashMap<Key, Vec<Enabled>>,
     /// The observation's assumptions and consistent assignments.
     observations: FxHashMap<Key, Observations>,
 }
@@ -75,7 +75,7 @@ impl ModelCache {
         theory: &mut Theory,
         modes: &[ValueId],
         commands: &Commands,
-    ) -> Result<&[Vec<usize>], String> {
+    ) -> Result<&[Enabled], String> {
         let key = (modes.to_vec(), commands.clone());
         if !self.enabled.contains_key(&key) {
             let enabled =

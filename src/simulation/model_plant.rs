@@ -11,7 +11,17 @@
 //! 3. the observation is drawn among the assignments of the observables that the modes, the
 //!    interconnections and the command allow: observables in random order, each given a value
 //!    drawn among those keeping the partial assignment consistent with the plant's [`Theory`];
-//! 4. with probability `noise`, an observation is replaced by a value drawn from its domain.
+//! 4. with probability `noise`, an observation is replaced by a value drawn from its domain;
+//! 5. a numeric observable (the model monitors it) whose value has a law of readings is reported
+//!    as readings drawn from that law — a Gaussian around the value's nominal reading, say —
+//!    so that the monitor, not the model, turns them back into a value. It is reported as twice
+//!    as many readings a cycle as its monitor's persistence (a sensor sampled faster than the
+//!    executive cycles): a value that holds through a cycle is confirmed in that cycle even when
+//!    one of its readings strays or falls inside a hysteresis band (which reads as the old
+//!    value), so the monitor adds no delay the model's timing would have to allow for — a
+//!    change confirmed a cycle late can land past a timed transition's window and be diagnosed
+//!    as the transition that did not happen — while a lone stray reading is still a glitch. Step 4's noise applies to each reading on its own (with probability
+//!    `noise` a reading is of a value drawn among those with a law: an outlier).
 //!
 //! The theory's answers in steps 1 and 3 depend only on the modes and the command; they are
 //! asked once per pair and kept ([`super::model_cache`]), which changes no draw.
@@ -22,6 +32,7 @@
 use chacha20::ChaCha8Rng;
 use rand::seq::SliceRandom;
 use rand::{RngExt, SeedableRng};
+use rand_distr::{Distribution, Normal};
 
 use super::latent::{self, Latent};
 use super::model_cache::ModelCache;
@@ -29,6 +40,7 @@ use crate::executive::NamedValue;
 use crate::executive::adapters::{ControlAdapter, MonitorAdapter};
 use crate::logic::{ValueId, VarId};
 use crate::opsat::{Consistency, Literal, Theory, TheoryError};
+use crate::plant::monitor::Reading;
 use crate::plant::{
     Commands, ComponentId, ModeKind, Plant, SystemState, chosen_successor, component_distributions,
 };
@@ -412,6 +424,9 @@ impl<'p> ModelPlant<'p> {
             return;
         }
         for (var, value) in observation {
+            if self.is_read(*var) {
+                continue; // noise per reading (step 5)
+            }
             if self.rng.random_bool(self.noise.min(1.0)) {
                 let size = self.plant.table().variable(*var).domain_size() as u32;
                 *value = ValueId(self.rng.random_range(0..size));
@@ -483,10 +498,56 @@ impl MonitorAdapter for ModelPlant<'_> {
         self.state = Some(state);
         self.last_time = time;
         observation.sort_unstable();
-        observation
-            .into_iter()
-            .map(|(x, v)| NamedValue::of(self.plant, x, v))
-            .collect()
+        let mut report = Vec::with_capacity(observation.len());
+        for (x, v) in observation {
+            self.report(x, v, &mut report);
+        }
+        report
+    }
+}
+
+impl ModelPlant<'_> {
+    /// True when `x` is reported as readings (its monitor gives laws of readings).
+    fn is_read(&self, x: VarId) -> bool {
+        (self.plant.monitor_of(x)).is_some_and(|m| !self.plant.monitors()[m].readings.is_empty())
+    }
+
+    /// Step 5: `x = v` as reported — as readings when `x` is read: twice as many as its
+    /// monitor's persistence, each of `v` or, with probability `noise`, of a value drawn among those
+    /// with a law of readings (a noisy sensor reads wrong numbers, not a validity flag), and
+    /// drawn from that value's law (`v` without one is reported as itself).
+    fn report(&mut self, x: VarId, v: ValueId, report: &mut Vec<NamedValue>) {
+        let monitor = match self.plant.monitor_of(x) {
+            Some(m) if self.is_read(x) => &self.plant.monitors()[m],
+            _ => {
+                report.push(NamedValue::of(self.plant, x, v));
+                return;
+            }
+        };
+        let read = monitor.readings.len();
+        for _ in 0..monitor.persistence.saturating_mul(2) {
+            let value = if self.noise > 0.0 && self.rng.random_bool(self.noise.min(1.0)) {
+                monitor.readings[self.rng.random_range(0..read)].0
+            } else {
+                v
+            };
+            let number = match monitor.reading_of(value) {
+                Some(Reading::Gaussian { mean, sd }) => match Normal::new(mean, sd) {
+                    Ok(normal) => normal.sample(&mut self.rng),
+                    // The loader refuses a spread that is not finite and positive.
+                    Err(_) => mean,
+                },
+                Some(Reading::Uniform { lower, upper }) => self.rng.random_range(lower..upper),
+                None => {
+                    report.push(NamedValue::of(self.plant, x, value));
+                    continue;
+                }
+            };
+            report.push(NamedValue::new(
+                self.plant.table().variable(x).name(),
+                number,
+            ));
+        }
     }
 }
 
@@ -502,9 +563,8 @@ impl ControlAdapter for ModelPlant<'_> {
                 let var = table
                     .variable_id(&c.variable)
                     .ok_or_else(|| format!("`{}` is not a variable of the plant", c.variable))?;
-                let value = table
-                    .variable(var)
-                    .value(&c.value)
+                let value = (c.value.symbol())
+                    .and_then(|name| table.variable(var).value(name))
                     .ok_or_else(|| format!("`{c}`: no such value"))?;
                 Ok((var, value))
             })

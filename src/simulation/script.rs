@@ -51,7 +51,7 @@ pub struct Script {
     /// The hidden variables.
     pub(crate) hidden: Vec<VarId>,
     /// Values at the start.
-    pub(crate) initial: Vec<(VarId, ValueId)>,
+    pub(crate) initial: Vec<(VarId, Held)>,
     /// The rules, included files' first, in declaration order.
     pub(crate) rules: Vec<Rule>,
     /// Optional rules a run fires, at the first cycle at or after the time (rule index, time):
@@ -79,7 +79,7 @@ impl Script {
     }
 
     /// The initial values (observables and hidden variables).
-    pub fn initial(&self) -> &[(VarId, ValueId)] {
+    pub fn initial(&self) -> &[(VarId, Held)] {
         &self.initial
     }
 
@@ -191,11 +191,38 @@ pub enum Delay {
     Seconds(f64),
 }
 
+/// What the scripted plant holds for an observable or a hidden variable.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Held {
+    /// A value of its domain.
+    Value(ValueId),
+    /// A reading of a numeric observable (the plant model monitors it), reported as a number.
+    Reading(f64),
+}
+
+impl Held {
+    /// The value, unless it is a reading.
+    pub fn value(self) -> Option<ValueId> {
+        match self {
+            Held::Value(value) => Some(value),
+            Held::Reading(_) => None,
+        }
+    }
+
+    /// `name = value` or `name = 28.1` for a reading.
+    pub fn describe(self, world: &VarTable, var: VarId) -> String {
+        match self {
+            Held::Value(value) => world.assignment(var, value).to_string(),
+            Held::Reading(x) => format!("{} = {x}", world.variable(var).name()),
+        }
+    }
+}
+
 /// What a rule does to the plant.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Effect {
     /// Values to hold from now on (observables are reported with them).
-    pub set: Vec<(VarId, ValueId)>,
+    pub set: Vec<(VarId, Held)>,
     /// Observables to stop reporting (a sensor drop-out).
     pub drop: Vec<VarId>,
     /// Garbled names (not observables) to stop reporting: the end of a garbled telemetry word.
@@ -214,7 +241,7 @@ impl Effect {
         let mut parts: Vec<String> = self
             .set
             .iter()
-            .map(|&(x, v)| world.assignment(x, v).to_string())
+            .map(|&(x, v)| v.describe(world, x))
             .collect();
         parts.extend(
             self.drop
@@ -283,6 +310,8 @@ pub struct PlantEvent {
 pub struct ScriptedPlant<'s> {
     script: &'s Script,
     values: Vec<Option<ValueId>>,
+    /// The readings numeric observables hold (in place of a value), by variable.
+    readings: Vec<Option<f64>>,
     garbled: Vec<NamedValue>,
     cycle: Option<u64>,
     time: f64,
@@ -319,13 +348,15 @@ impl<'s> ScriptedPlant<'s> {
     /// A plant in the script's initial state, before its first cycle.
     pub fn new(script: &'s Script) -> Self {
         let mut values = vec![None; script.world.len()];
-        for &(var, value) in &script.initial {
-            values[var.index()] = Some(value);
+        let mut readings = vec![None; script.world.len()];
+        for &(var, held) in &script.initial {
+            hold(&mut values, &mut readings, var, held);
         }
         let rules = script.rules.len();
         ScriptedPlant {
             script,
             values,
+            readings,
             garbled: Vec::new(),
             cycle: None,
             time: 0.0,
@@ -359,6 +390,9 @@ impl<'s> ScriptedPlant<'s> {
     pub fn fingerprint<H: std::hash::Hasher>(&self, state: &mut H) {
         use std::hash::Hash;
         self.values.hash(state);
+        for reading in &self.readings {
+            reading.map(f64::to_bits).hash(state);
+        }
         self.garbled.hash(state);
         self.cycle.hash(state);
         for pending in &self.pending {
@@ -384,7 +418,8 @@ impl<'s> ScriptedPlant<'s> {
         self.script
     }
 
-    /// The current value of an observable or hidden variable (`None`: not reported).
+    /// The current value of an observable or hidden variable (`None`: not reported, or a
+    /// reading).
     pub fn value(&self, var: VarId) -> Option<ValueId> {
         self.values.get(var.index()).copied().flatten()
     }
@@ -490,13 +525,14 @@ impl<'s> ScriptedPlant<'s> {
         let script = self.script;
         let effect = &script.rules[i].effect;
         self.report = None;
-        for &(var, value) in &effect.set {
-            self.values[var.index()] = Some(value);
+        for &(var, held) in &effect.set {
+            hold(&mut self.values, &mut self.readings, var, held);
             let name = script.world.variable(var).name();
             self.garbled.retain(|g| g.variable != name);
         }
         for &var in &effect.drop {
             self.values[var.index()] = None;
+            self.readings[var.index()] = None;
             let name = script.world.variable(var).name();
             self.garbled.retain(|g| g.variable != name);
         }
@@ -613,6 +649,8 @@ impl<'s> ScriptedPlant<'s> {
             let variable = world.variable(var);
             if let Some(garbled) = self.garbled.iter().find(|g| g.variable == variable.name()) {
                 observed.push(garbled.clone());
+            } else if let Some(reading) = self.readings[var.index()] {
+                observed.push(NamedValue::new(variable.name(), reading));
             } else if let Some(value) = self.value(var) {
                 observed.push(NamedValue::new(variable.name(), variable.value_name(value)));
             }
@@ -637,14 +675,23 @@ impl<'s> ScriptedPlant<'s> {
                 .variable_id(&assignment.variable)
                 .filter(|v| self.script.controls.iter().any(|(c, _)| c == v))
                 .ok_or_else(|| format!("no actuator for {assignment}: not a control"))?;
-            let value = world
-                .variable(var)
-                .value(&assignment.value)
+            let value = (assignment.value.symbol())
+                .and_then(|name| world.variable(var).value(name))
                 .ok_or_else(|| format!("no actuator for {assignment}: not a value"))?;
             values[var.index()] = Some(value);
         }
         Ok(values)
     }
+}
+
+/// Makes `var` hold `held`: a value, or a reading in place of one.
+fn hold(values: &mut [Option<ValueId>], readings: &mut [Option<f64>], var: VarId, held: Held) {
+    let (value, reading) = match held {
+        Held::Value(value) => (Some(value), None),
+        Held::Reading(x) => (None, Some(x)),
+    };
+    values[var.index()] = value;
+    readings[var.index()] = reading;
 }
 
 /// True when an effect due `due` applies at this cycle and time.
@@ -718,7 +765,7 @@ mod tests {
         report
             .iter()
             .find(|o| o.variable == name)
-            .map(|o| o.value.as_str())
+            .map(|o| o.value.symbol().unwrap_or_default())
     }
 
     fn fire(plant: &mut ScriptedPlant<'_>) {

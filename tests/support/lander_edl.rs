@@ -151,6 +151,7 @@ impl Timeline {
                     time: t as f64 / 1000.0,
                     observation: Observation::new(plant, &observed).expect("observables"),
                     commands: Commands::new(plant, &issued).expect("controls"),
+                    monitored: Vec::new(),
                     line: line + 1,
                 }
             })

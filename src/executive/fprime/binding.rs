@@ -25,8 +25,9 @@
 //! [`Binding::load`] checks a binding against the dictionary and the plant, every problem
 //! located in the file: each channel and command exists in the dictionary; each observable is
 //! one of the plant's, bound once, and every one is bound; the channel's type is an enumeration
-//! or `bool` (a numeric channel needs a *monitor* to turn numbers into the observable's values,
-//! and plant models do not declare monitors yet); every value map entry names a constant of the
+//! or `bool`, or a number when the plant model declares a *monitor* for the observable (the
+//! monitor turns the channel's numbers into the observable's values; a numeric channel for an
+//! observable without a monitor is refused); every value map entry names a constant of the
 //! channel and a value of the observable; every non-idle value of every control is bound to one
 //! command, whose arguments match its formal parameters in number and type (an integer within
 //! its type's range, a constant of its enumeration, a string within its size).
@@ -230,10 +231,14 @@ impl Binding {
                 }
             }
             (FprimeType::Bool, TelemetryValue::Bool(b)) => b.to_string(),
-            (FprimeType::Integer { .. }, TelemetryValue::Integer(_))
-            | (FprimeType::Float { .. }, TelemetryValue::Float(_) | TelemetryValue::Integer(_)) => {
-                // Numeric channels are never bound (they need a monitor): ignored.
-                return Ok(None);
+            (FprimeType::Integer { .. }, TelemetryValue::Integer(x))
+            | (FprimeType::Float { .. }, TelemetryValue::Integer(x)) => {
+                // A reading for the observable's monitor (a count as a number: an integer
+                // beyond 2^53 loses its last digits, far outside any monitor's range).
+                return Ok(self.reading(id, x as f64));
+            }
+            (FprimeType::Float { .. }, TelemetryValue::Float(x)) => {
+                return Ok(self.reading(id, x));
             }
             (ty, given) => {
                 return Err(TelemetryError::WrongType {
@@ -250,6 +255,12 @@ impl Binding {
             .find(|(s, _)| *s == symbol)
             .map_or(symbol, |(_, v)| v.clone());
         Ok(Some(NamedValue::new(bound.observable.clone(), value)))
+    }
+
+    /// A numeric channel's value as a reading of the monitored observable it is bound to
+    /// (`None` when it is not bound).
+    fn reading(&self, id: u32, x: f64) -> Option<NamedValue> {
+        (self.bound.get(&id)).map(|bound| NamedValue::new(bound.observable.clone(), x))
     }
 
     /// The command a control assignment is sent as (`None` for an idle value, or an assignment
@@ -403,19 +414,29 @@ impl Checker<'_> {
         None
     }
 
-    /// Only symbolic channels bind to an observable today.
+    /// A symbolic channel binds to any observable, a numeric one to an observable the plant
+    /// model monitors.
     fn symbolic(&mut self, channel: &Channel, observable: &str, at: &[Step]) -> bool {
         match &channel.ty {
             FprimeType::Enum { .. } | FprimeType::Bool => true,
             ty if ty.is_numeric() => {
-                let message = format!(
-                    "channel `{}` is numeric ({ty}): reporting `{observable}` from it needs a \
-                     monitor turning its numbers into `{observable}`'s values, and the plant model \
-                     declares no monitors",
-                    channel.name
-                );
-                self.error(at, message, "an enumeration or bool channel");
-                false
+                let table = self.plant.table();
+                let monitored = (table.variable_id(observable))
+                    .is_some_and(|var| self.plant.monitor_of(var).is_some());
+                if !monitored {
+                    let message = format!(
+                        "channel `{}` is numeric ({ty}): reporting `{observable}` from it needs a \
+                         monitor turning its numbers into `{observable}`'s values, and the plant \
+                         model declares none for `{observable}`",
+                        channel.name
+                    );
+                    self.error(
+                        at,
+                        message,
+                        "an enumeration or bool channel, or a monitored observable",
+                    );
+                }
+                monitored
             }
             ty => {
                 let message = format!(
@@ -730,6 +751,49 @@ mod tests {
         assert_eq!(
             observe(0x999, TelemetryValue::Enum(0)),
             Err(TelemetryError::UnknownChannel(0x999))
+        );
+    }
+
+    /// `plant::monitor` at the F´ boundary: a numeric channel binds to an observable the plant
+    /// model monitors (the thermostat's sensor, in °C), and its values reach the executive as
+    /// readings, integers as numbers too.
+    #[test]
+    fn a_numeric_channel_binds_to_a_monitored_observable_and_passes_readings() {
+        let dictionary = Source::new(
+            "PropulsionTopologyDictionary.json",
+            include_str!("../../../models/fprime/PropulsionTopologyDictionary.json"),
+        );
+        let dictionary = Dictionary::load(&dictionary).expect("the committed dictionary loads");
+        let plant = Source::new(
+            "thermostat.ron",
+            include_str!("../../../models/thermostat.ron"),
+        );
+        let plant = Plant::load(&plant).expect("the plant loads");
+        let commands: String = (1..=2)
+            .flat_map(|n| {
+                [("open", "VALVE_OPEN"), ("close", "VALVE_CLOSE")].map(|(value, command)| {
+                    format!(
+                        "Command(control: \"switch{n}.cmd = {value}\", command: \"Prop.prop.{command}\", args: [Int({n})]),"
+                    )
+                })
+            })
+            .collect();
+        let binding = Source::new(
+            "thermostat.binding.ron",
+            format!(
+                "Binding(telemetry: [Channel(channel: \"Prop.prop.Tank1Pressure\", \
+                 observable: \"sensor.reading\")], commands: [{commands}])"
+            ),
+        );
+        let binding = Binding::load(&binding, &dictionary, &plant)
+            .expect("a numeric channel binds to a monitored observable");
+        assert_eq!(
+            binding.observe(0x125, TelemetryValue::Float(21.4)),
+            Ok(Some(NamedValue::new("sensor.reading", 21.4)))
+        );
+        assert_eq!(
+            binding.observe(0x125, TelemetryValue::Integer(30)),
+            Ok(Some(NamedValue::new("sensor.reading", 30.0)))
         );
     }
 

@@ -9,11 +9,10 @@
 //! translates names and nothing else, so a cycle driven through it decides exactly what the same
 //! cycle driven by name decides.
 //!
-//! Numeric channels are not bound yet: turning a number into an observable's value is a
-//! *monitor*'s job (a threshold, a band), and plant models do not declare monitors yet. A
-//! binding that maps a numeric channel to an observable is refused with that reason; when the
-//! model gains monitors, a numeric channel binds to the monitored observable in
-//! [`binding`]'s `Checker::symbolic`, and [`Binding::observe`] hands the number to the monitor.
+//! A numeric channel binds only to an observable the plant model declares a *monitor* for:
+//! turning a number into an observable's value is the monitor's job (thresholds, hysteresis,
+//! persistence, staleness), and [`Binding::observe`] hands the number to it as a reading. A
+//! binding that maps a numeric channel to an unmonitored observable is refused, located.
 
 pub mod binding;
 pub mod dictionary;

@@ -286,6 +286,8 @@ impl Builder<'_, '_> {
                 &format!("commanded back into {mode} after {cycles} cycles"),
             ),
             EventKind::ObservationRejected { .. } => self.omit("rejected observations"),
+            EventKind::Monitored { .. } => self.omit("monitor changes"),
+            EventKind::Stale { .. } => self.omit("stale readings"),
             EventKind::ObservationsMissing { .. } => {
                 self.omit("changes in the missing observations")
             }

@@ -19,7 +19,8 @@
 //!   contending effects (the others keep their place), the fired order first. No contention:
 //!   one order, no branching.
 
-use super::{Delay, Due, Effect, Script, ScriptedPlant, TIME_EPSILON, due_at};
+use super::{Delay, Due, Effect, Held, Script, ScriptedPlant, TIME_EPSILON, due_at};
+use crate::executive::Value;
 use crate::logic::ValueId;
 
 /// At most this many contending effects of one cycle are permuted (6! = 720 orders); beyond
@@ -143,8 +144,10 @@ fn is_permutation(a: &[usize], b: &[usize]) -> bool {
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 enum Write {
     Set(ValueId),
+    /// A reading, by its bits (two effects that write the same number agree).
+    Read(u64),
     Dropped,
-    Garbled(String),
+    Garbled(Value),
     Ungarbled,
 }
 
@@ -152,7 +155,13 @@ enum Write {
 fn writes(script: &Script, effect: &Effect) -> Vec<(String, Write)> {
     let name = |var| script.world.variable(var).name().to_string();
     let mut out: Vec<(String, Write)> = Vec::new();
-    out.extend(effect.set.iter().map(|&(v, x)| (name(v), Write::Set(x))));
+    out.extend(effect.set.iter().map(|&(v, held)| {
+        let write = match held {
+            Held::Value(x) => Write::Set(x),
+            Held::Reading(x) => Write::Read(x.to_bits()),
+        };
+        (name(v), write)
+    }));
     out.extend(effect.drop.iter().map(|&v| (name(v), Write::Dropped)));
     out.extend(
         effect
