@@ -583,12 +583,12 @@ fn a_knowledge_goal_fails_in_each_drop_out_and_recovers() {
     assert_in_order(
         &log,
         &[
-            "[ 97.000 s 0:01:37.000] #97",
+            "[ 102.000 s 0:01:42.000] #102",
             failed,
             answered,
             "[ 105.000 s 0:01:45.000] #105",
             "recovered know-temperature holds again; ŝ has temperature = warm-low (p 1.00)",
-            "[ 122.000 s 0:02:02.000] #122",
+            "[ 127.000 s 0:02:07.000] #127",
             failed,
             answered,
             "[ 130.000 s 0:02:10.000] #130",
