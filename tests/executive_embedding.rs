@@ -4,6 +4,9 @@
 //! diagnosis names as evidence in cycle 0 and for observations discrepant only together, on a
 //! sensor pair written for the test.
 
+#[path = "support/example.rs"]
+mod example;
+
 use std::cell::RefCell;
 
 use kairos::diagnostic::Source;
@@ -483,28 +486,16 @@ fn a_maintained_goal_is_reported_achieved_once_while_it_holds() {
 /// to the settled valve: the documented embedding works as shipped.
 #[test]
 fn the_embedding_example_runs() {
-    let exe = std::env::current_exe().expect("the test knows where it is");
-    // target/<profile>/deps/<this test> → target/<profile>/examples/embed
-    let examples = exe
-        .parent()
-        .and_then(|deps| deps.parent())
-        .map(|profile| profile.join("examples"))
-        .expect("the test runs from target/<profile>/deps");
-    let example = examples.join(format!("embed{}", std::env::consts::EXE_SUFFIX));
-    let output = std::process::Command::new(&example)
-        .output()
-        .unwrap_or_else(|e| panic!("{}: {e}", example.display()));
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "{stdout}");
-    for line in [
-        "send driver.dcmd_in = on",
-        "send driver.dcmd_in = open",
-        "believed valve = open",
-        "settled",
-        "goal asserted valve = open  (",
-    ] {
-        assert!(stdout.contains(line), "missing `{line}` in\n{stdout}");
-    }
+    example::runs_and_prints(
+        "embed",
+        &[
+            "send driver.dcmd_in = on",
+            "send driver.dcmd_in = open",
+            "believed valve = open",
+            "settled",
+            "goal asserted valve = open  (",
+        ],
+    );
 }
 
 /// The commands sent and the events of a run of `Fire()` with valve 2 stuck closed, with the

@@ -8,6 +8,8 @@
 
 #[path = "support/cli.rs"]
 mod cli;
+#[path = "support/example.rs"]
+mod example;
 
 /// A fenced block of the tutorial: its info string and its lines.
 struct Block {
@@ -147,25 +149,13 @@ fn quoted_words_stay_together() {
 /// examples), runs the window to its end through regulator A's failure.
 #[test]
 fn the_tutorials_flight_loop_runs() {
-    let exe = std::env::current_exe().expect("the test knows where it is");
-    // target/<profile>/deps/<this test> → target/<profile>/examples/power
-    let example = exe
-        .parent()
-        .and_then(|deps| deps.parent())
-        .map(|profile| profile.join("examples"))
-        .expect("the test runs from target/<profile>/deps")
-        .join(format!("power{}", std::env::consts::EXE_SUFFIX));
-    let output = std::process::Command::new(&example)
-        .output()
-        .unwrap_or_else(|e| panic!("{}: {e}", example.display()));
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "{stdout}");
-    for line in [
-        "#100 DIAGNOSIS reg_a = failed",
-        "#100 command reg_b.cmd = on",
-        "goal achieved payload = unpowered",
-        "settled at 306 s",
-    ] {
-        assert!(stdout.contains(line), "missing `{line}` in\n{stdout}");
-    }
+    example::runs_and_prints(
+        "power",
+        &[
+            "#100 DIAGNOSIS reg_a = failed",
+            "#100 command reg_b.cmd = on",
+            "goal achieved payload = unpowered",
+            "settled at 306 s",
+        ],
+    );
 }
