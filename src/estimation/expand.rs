@@ -704,7 +704,7 @@ impl Serve for Live<'_, '_, '_> {
         theory: &mut Theory,
         (_, modes): &(usize, Vec<ValueId>),
     ) -> Result<f64, Self::Error> {
-        Ok(observe.factor(self.plant, theory, modes, self.observation)?)
+        Ok(observe.factor_of_solution(self.plant, theory, modes, self.observation)?)
     }
 
     fn merge(
