@@ -790,7 +790,7 @@ fn merge<S: Serve>(
         // Past κ states, with no single candidate able to displace the κ-th, only the
         // unseen mass keeps the expansion going: tighten the bounds of the sources holding
         // most of it, one at a time, only as far as it lets the expansion stop.
-        if merged.states.len() > limits.kappa && merged.kth_weight(limits.kappa) >= next_weight {
+        if merged.states.len() > limits.kappa && merged.kth_at_least(limits.kappa, next_weight) {
             let limit = MASS_TOLERANCE * merged.total * (-best).exp();
             unseen.bound(sources);
             while unseen.mass() > limit
@@ -914,7 +914,6 @@ pub(crate) struct Merged {
     states: Vec<WeightedState>,
     /// The sum of the weights.
     total: f64,
-    scratch: Vec<f64>,
 }
 
 impl Merged {
@@ -959,17 +958,25 @@ impl Merged {
         });
     }
 
-    /// The `k`-th largest weight, or 0 with fewer than `k` states.
-    fn kth_weight(&mut self, k: usize) -> f64 {
+    /// Whether the `k`-th largest weight (0 with fewer than `k` states) is at least `weight`
+    /// (a weight of a candidate, ≥ 0). Counted rather than selected: the `k`-th largest is at
+    /// least `weight` exactly when `k` weights are, and counting reads the weights once where a
+    /// selection copies and partitions them — asked after every candidate, a selection was a
+    /// tenth of a partially observed replay's instructions.
+    fn kth_at_least(&self, k: usize, weight: f64) -> bool {
         if k == 0 || self.states.len() < k {
-            return 0.0;
+            return 0.0 >= weight;
         }
-        self.scratch.clear();
-        self.scratch
-            .extend(self.states.iter().map(|w| w.probability));
-        self.scratch
-            .select_nth_unstable_by(k - 1, |a, b| b.total_cmp(a));
-        self.scratch[k - 1]
+        let mut at_least = 0;
+        for w in &self.states {
+            if w.probability >= weight {
+                at_least += 1;
+                if at_least == k {
+                    return true;
+                }
+            }
+        }
+        false
     }
 
     /// Empties it for a new merge (keeping the index's capacity).
