@@ -294,6 +294,12 @@ struct Recents {
     steps: u64,
     /// The entries, in the order they were made.
     pool: Vec<Recent>,
+    /// [`Recent::hash`] → the first entry of `pool` with that hash. An entry is made only when
+    /// none equal to it is found, so at most one entry matches a lookup, and the index finds
+    /// the one a scan of the pool would (a re-run of the history window at 8κ brings
+    /// hundreds of entries, and scanning them for each source was an eighth of a partially
+    /// observed replay's instructions).
+    index: FxHashMap<u64, usize>,
     /// Where [`Recents::find`] looks first.
     next: usize,
 }
@@ -303,6 +309,8 @@ const RECENT_STEPS: u64 = 8;
 
 /// One source state's choices, with what they are a function of.
 struct Recent {
+    /// [`Recents::hash`] of `state`, `commands` and `step`.
+    hash: u64,
     state: SystemState,
     /// The components whose clock `state` knows (runs), by index.
     running: Vec<usize>,
@@ -327,21 +335,57 @@ impl Recents {
             self.step = step;
             self.steps += 1;
             let now = self.steps;
+            let before = self.pool.len();
             self.pool.retain(|r| now - r.used <= RECENT_STEPS);
+            if self.pool.len() != before {
+                self.index.clear();
+                for (at, recent) in self.pool.iter().enumerate() {
+                    self.index.entry(recent.hash).or_insert(at);
+                }
+            }
             self.next = 0;
         }
+    }
+
+    /// The hash an entry for `state` under `commands` and a step of length `step` is indexed by.
+    fn hash(state: &SystemState, commands: &Commands, step: f64) -> u64 {
+        let mut hasher = FxHasher::default();
+        state.hash(&mut hasher);
+        commands.hash(&mut hasher);
+        step.to_bits().hash(&mut hasher);
+        hasher.finish()
+    }
+
+    /// Adds an entry (none equal to it is in the pool).
+    fn push(&mut self, recent: Recent) {
+        self.index.entry(recent.hash).or_insert(self.pool.len());
+        self.pool.push(recent);
     }
 
     /// The entry of a source equal to `state` under `commands` and a step of length `step`:
     /// the one after the entry found last first (a step's sources come in the order they came
     /// in when their entries were made), then every one.
-    fn find(&mut self, state: &SystemState, commands: &Commands, step: f64) -> Option<&mut Recent> {
+    /// `hash` is [`Recents::hash`] of the three.
+    fn find(
+        &mut self,
+        state: &SystemState,
+        commands: &Commands,
+        step: f64,
+        hash: u64,
+    ) -> Option<&mut Recent> {
         let bits = step.to_bits();
-        let matches = |r: &Recent| r.step == bits && r.state == *state && r.commands == *commands;
+        let matches = |r: &Recent| {
+            r.hash == hash && r.step == bits && r.state == *state && r.commands == *commands
+        };
         let found = if self.pool.get(self.next).is_some_and(matches) {
             Some(self.next)
         } else {
-            self.pool.iter().position(matches)
+            match self.index.get(&hash) {
+                Some(&at) if matches(&self.pool[at]) => Some(at),
+                // A collision: another entry holds the hash's slot.
+                Some(_) => self.pool.iter().position(matches),
+                None => None,
+            }
         };
         self.next = found.map_or(0, |at| at + 1);
         found.map(|at| &mut self.pool[at])
@@ -408,7 +452,8 @@ impl Expander {
         self.recent.start(from, to);
         let step = to - from;
         let now = self.recent.steps;
-        if let Some(source) = self.recent.find(state, commands, step) {
+        let hash = Recents::hash(state, commands, step);
+        if let Some(source) = self.recent.find(state, commands, step, hash) {
             source.advance(plant, &mut self.memo.timed, state, from, step);
             source.used = now;
             return Ok(Arc::clone(&source.choices));
@@ -442,7 +487,8 @@ impl Expander {
                 })
                 .collect(),
         );
-        self.recent.pool.push(Recent {
+        self.recent.push(Recent {
+            hash,
             state: state.clone(),
             running: (state.clock_starts.iter().enumerate())
                 .filter_map(|(c, start)| start.map(|_| c))
