@@ -32,6 +32,12 @@
 //! expansion ([`Expander::step`], `replay.rs`).
 //! Within a step, the κ sources mostly differ in one component's mode, so each component's
 //! next-mode distribution is computed once per distinct input and shared ([`StepMemo`]).
+//!
+//! What a step costs beyond its answer is kept out without changing the answer: a candidate's
+//! observation factor asks no consistency question (an OPSAT solution is consistent with the
+//! model and the observation by construction; `observe.rs`), the stopping test counts the
+//! weights that reach the next candidate's instead of selecting the κ-th largest (the same
+//! comparison), and a source's recent choices are found by hash ([`Recents`]), not by a scan.
 
 use std::cell::OnceCell;
 use std::cmp::Reverse;
