@@ -32,6 +32,12 @@
 //! expansion ([`Expander::step`], `replay.rs`).
 //! Within a step, the κ sources mostly differ in one component's mode, so each component's
 //! next-mode distribution is computed once per distinct input and shared ([`StepMemo`]).
+//!
+//! What a step costs beyond its answer is kept out without changing the answer: a candidate's
+//! observation factor asks no consistency question (an OPSAT solution is consistent with the
+//! model and the observation by construction; `observe.rs`), the stopping test counts the
+//! weights that reach the next candidate's instead of selecting the κ-th largest (the same
+//! comparison), and a source's recent choices are found by hash ([`Recents`]), not by a scan.
 
 use std::cell::OnceCell;
 use std::cmp::Reverse;
@@ -294,6 +300,12 @@ struct Recents {
     steps: u64,
     /// The entries, in the order they were made.
     pool: Vec<Recent>,
+    /// [`Recent::hash`] → the first entry of `pool` with that hash. An entry is made only when
+    /// none equal to it is found, so at most one entry matches a lookup, and the index finds
+    /// the one a scan of the pool would (a re-run of the history window at 8κ brings
+    /// hundreds of entries, and scanning them for each source was an eighth of a partially
+    /// observed replay's instructions).
+    index: FxHashMap<u64, usize>,
     /// Where [`Recents::find`] looks first.
     next: usize,
 }
@@ -303,6 +315,8 @@ const RECENT_STEPS: u64 = 8;
 
 /// One source state's choices, with what they are a function of.
 struct Recent {
+    /// [`Recents::hash`] of `state`, `commands` and `step`.
+    hash: u64,
     state: SystemState,
     /// The components whose clock `state` knows (runs), by index.
     running: Vec<usize>,
@@ -327,21 +341,57 @@ impl Recents {
             self.step = step;
             self.steps += 1;
             let now = self.steps;
+            let before = self.pool.len();
             self.pool.retain(|r| now - r.used <= RECENT_STEPS);
+            if self.pool.len() != before {
+                self.index.clear();
+                for (at, recent) in self.pool.iter().enumerate() {
+                    self.index.entry(recent.hash).or_insert(at);
+                }
+            }
             self.next = 0;
         }
+    }
+
+    /// The hash an entry for `state` under `commands` and a step of length `step` is indexed by.
+    fn hash(state: &SystemState, commands: &Commands, step: f64) -> u64 {
+        let mut hasher = FxHasher::default();
+        state.hash(&mut hasher);
+        commands.hash(&mut hasher);
+        step.to_bits().hash(&mut hasher);
+        hasher.finish()
+    }
+
+    /// Adds an entry (none equal to it is in the pool).
+    fn push(&mut self, recent: Recent) {
+        self.index.entry(recent.hash).or_insert(self.pool.len());
+        self.pool.push(recent);
     }
 
     /// The entry of a source equal to `state` under `commands` and a step of length `step`:
     /// the one after the entry found last first (a step's sources come in the order they came
     /// in when their entries were made), then every one.
-    fn find(&mut self, state: &SystemState, commands: &Commands, step: f64) -> Option<&mut Recent> {
+    /// `hash` is [`Recents::hash`] of the three.
+    fn find(
+        &mut self,
+        state: &SystemState,
+        commands: &Commands,
+        step: f64,
+        hash: u64,
+    ) -> Option<&mut Recent> {
         let bits = step.to_bits();
-        let matches = |r: &Recent| r.step == bits && r.state == *state && r.commands == *commands;
+        let matches = |r: &Recent| {
+            r.hash == hash && r.step == bits && r.state == *state && r.commands == *commands
+        };
         let found = if self.pool.get(self.next).is_some_and(matches) {
             Some(self.next)
         } else {
-            self.pool.iter().position(matches)
+            match self.index.get(&hash) {
+                Some(&at) if matches(&self.pool[at]) => Some(at),
+                // A collision: another entry holds the hash's slot.
+                Some(_) => self.pool.iter().position(matches),
+                None => None,
+            }
         };
         self.next = found.map_or(0, |at| at + 1);
         found.map(|at| &mut self.pool[at])
@@ -408,7 +458,8 @@ impl Expander {
         self.recent.start(from, to);
         let step = to - from;
         let now = self.recent.steps;
-        if let Some(source) = self.recent.find(state, commands, step) {
+        let hash = Recents::hash(state, commands, step);
+        if let Some(source) = self.recent.find(state, commands, step, hash) {
             source.advance(plant, &mut self.memo.timed, state, from, step);
             source.used = now;
             return Ok(Arc::clone(&source.choices));
@@ -442,7 +493,8 @@ impl Expander {
                 })
                 .collect(),
         );
-        self.recent.pool.push(Recent {
+        self.recent.push(Recent {
+            hash,
             state: state.clone(),
             running: (state.clock_starts.iter().enumerate())
                 .filter_map(|(c, start)| start.map(|_| c))
@@ -704,7 +756,7 @@ impl Serve for Live<'_, '_, '_> {
         theory: &mut Theory,
         (_, modes): &(usize, Vec<ValueId>),
     ) -> Result<f64, Self::Error> {
-        Ok(observe.factor(self.plant, theory, modes, self.observation)?)
+        Ok(observe.factor_of_solution(self.plant, theory, modes, self.observation)?)
     }
 
     fn merge(
@@ -790,7 +842,7 @@ fn merge<S: Serve>(
         // Past κ states, with no single candidate able to displace the κ-th, only the
         // unseen mass keeps the expansion going: tighten the bounds of the sources holding
         // most of it, one at a time, only as far as it lets the expansion stop.
-        if merged.states.len() > limits.kappa && merged.kth_weight(limits.kappa) >= next_weight {
+        if merged.states.len() > limits.kappa && merged.kth_at_least(limits.kappa, next_weight) {
             let limit = MASS_TOLERANCE * merged.total * (-best).exp();
             unseen.bound(sources);
             while unseen.mass() > limit
@@ -914,7 +966,6 @@ pub(crate) struct Merged {
     states: Vec<WeightedState>,
     /// The sum of the weights.
     total: f64,
-    scratch: Vec<f64>,
 }
 
 impl Merged {
@@ -959,17 +1010,25 @@ impl Merged {
         });
     }
 
-    /// The `k`-th largest weight, or 0 with fewer than `k` states.
-    fn kth_weight(&mut self, k: usize) -> f64 {
+    /// Whether the `k`-th largest weight (0 with fewer than `k` states) is at least `weight`
+    /// (a weight of a candidate, ≥ 0). Counted rather than selected: the `k`-th largest is at
+    /// least `weight` exactly when `k` weights are, and counting reads the weights once where a
+    /// selection copies and partitions them — asked after every candidate, a selection was a
+    /// tenth of a partially observed replay's instructions.
+    fn kth_at_least(&self, k: usize, weight: f64) -> bool {
         if k == 0 || self.states.len() < k {
-            return 0.0;
+            return 0.0 >= weight;
         }
-        self.scratch.clear();
-        self.scratch
-            .extend(self.states.iter().map(|w| w.probability));
-        self.scratch
-            .select_nth_unstable_by(k - 1, |a, b| b.total_cmp(a));
-        self.scratch[k - 1]
+        let mut at_least = 0;
+        for w in &self.states {
+            if w.probability >= weight {
+                at_least += 1;
+                if at_least == k {
+                    return true;
+                }
+            }
+        }
+        false
     }
 
     /// Empties it for a new merge (keeping the index's capacity).

@@ -10,6 +10,17 @@
 //!
 //! The factor depends on the modes only, never on clocks, so it is cached per (modes,
 //! observation): in a quiet cycle the same few states meet the same observation again.
+//!
+//! TimedME's candidates are OPSAT solutions of an OCSP that assumes the observation over the
+//! plant's theory ([`ObservationModel::factor_of_solution`]): each was found consistent with the
+//! model and the observation as a whole (OPSAT returns only consistent assignments, and the
+//! independent sub-problems it splits into share no variable, so their solutions are consistent
+//! together). The whole-observation check is then answered before it is asked — yes — and the
+//! factor is the product over the observed values alone; with nothing observed it is 1 without
+//! any question to the theory. The answer is the one [`ObservationModel::factor`] gives: only
+//! the satisfiability question whose answer is known is left out. (Leaving it out when nothing
+//! was observed is what a partially observed plant, one reading every few steps, spends most of
+//! its questions on otherwise: one per distinct combination of modes.)
 
 use rustc_hash::FxHashMap;
 
@@ -36,10 +47,34 @@ impl ObservationModel {
         modes: &[ValueId],
         observation: &Observation,
     ) -> Result<f64, TheoryError> {
+        self.factor_given(plant, theory, modes, observation, false)
+    }
+
+    /// [`ObservationModel::factor`] of `modes` that OPSAT found consistent with the theory and
+    /// `observation` (a solution of an OCSP assuming the observation; see the module
+    /// documentation): the same answer, without asking whether they are consistent.
+    pub(crate) fn factor_of_solution(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        modes: &[ValueId],
+        observation: &Observation,
+    ) -> Result<f64, TheoryError> {
+        self.factor_given(plant, theory, modes, observation, true)
+    }
+
+    fn factor_given(
+        &mut self,
+        plant: &Plant,
+        theory: &mut Theory,
+        modes: &[ValueId],
+        observation: &Observation,
+        consistent: bool,
+    ) -> Result<f64, TheoryError> {
         if let Some(factor) = self.cached(modes, observation) {
             return Ok(factor);
         }
-        let factor = compute(plant, theory, modes, observation)?;
+        let factor = compute(plant, theory, modes, observation, consistent)?;
         if self.cache.len() >= CACHE_LIMIT {
             self.cache.clear();
         }
@@ -59,16 +94,24 @@ impl ObservationModel {
     }
 }
 
+/// P_O(o | modes); `consistent` when the modes are known to be consistent with the theory and
+/// the observation (then that is not asked).
 fn compute(
     plant: &Plant,
     theory: &mut Theory,
     modes: &[ValueId],
     observation: &Observation,
+    consistent: bool,
 ) -> Result<f64, TheoryError> {
+    if consistent && observation.values().is_empty() {
+        return Ok(1.0);
+    }
     let store = mode_literals(plant, modes);
     let mut everything = store.clone();
     everything.extend(observation.literals());
-    if !theory.is_consistent(&everything) {
+    if consistent {
+        theory.known_consistent(&everything);
+    } else if !theory.is_consistent(&everything) {
         return Ok(0.0);
     }
     // Consistent as a whole, so no value is refuted: each is entailed (1) or left open (1/m).

@@ -347,6 +347,19 @@ impl Theory {
         consistent
     }
 
+    /// Records that the constraints and `assumptions` are consistent, which the caller knows
+    /// without asking (an OPSAT solution: every solution a search returns was found consistent
+    /// with the theory and its OCSP's assumptions, `search.rs`), so that the entailment
+    /// questions asked under them next ([`Theory::entails`]) may be answered by unit propagation
+    /// as after a [`Theory::is_consistent`] that said yes. No SAT call and no change of answer:
+    /// it only saves the check whose answer is known.
+    pub(crate) fn known_consistent(&mut self, assumptions: &[Literal]) {
+        let sat_assumptions = self.sat_literals(assumptions);
+        self.consistent_with.clear();
+        self.consistent_with.extend_from_slice(&sat_assumptions);
+        self.scratch = sat_assumptions;
+    }
+
     /// [`Theory::consistent`], with the conflict always minimal: dropping any member makes it
     /// consistent. For explanations a person reads ("engine = standby is unreachable: engine is
     /// failed"), where every member should be to blame.
