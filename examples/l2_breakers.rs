@@ -9,34 +9,17 @@
 #[path = "../tests/support/l2_breakers.rs"]
 mod l2_breakers;
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let n = args.first().and_then(|a| a.parse::<usize>().ok());
-    let cycles = args.get(1).map_or(Some(100), |a| a.parse::<usize>().ok());
-    let dir = PathBuf::from(args.get(2).map_or(".", String::as_str));
-    let (Some(n), Some(cycles)) = (n, cycles) else {
-        eprintln!("usage: cargo run --example l2_breakers -- N [CYCLES] [DIR]");
-        return ExitCode::from(2);
-    };
-    if l2_breakers::depth(n).is_none() {
-        eprintln!("error: N must be 2^d − 1 with d ≥ 3 (7, 15, 31, 63, 255, 1023, ...), not {n}");
-        return ExitCode::from(2);
+    l2_breakers::files::Generator {
+        name: "l2_breakers",
+        count: "CYCLES",
+        default_count: 100,
+        valid: |n| l2_breakers::depth(n).is_some(),
+        sizes: "2^d − 1 with d ≥ 3 (7, 15, 31, 63, 255, 1023, ...)",
+        model: l2_breakers::model_ron,
+        log: l2_breakers::log,
     }
-    let model = dir.join(format!("l2_breakers_{n}.ron"));
-    let log = dir.join(format!("l2_breakers_{n}.jsonl"));
-    let written = std::fs::write(&model, l2_breakers::model_ron(n))
-        .and_then(|()| std::fs::write(&log, l2_breakers::log(n, cycles)));
-    match written {
-        Ok(()) => {
-            println!("wrote {} and {}", model.display(), log.display());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    .main()
 }

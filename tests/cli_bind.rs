@@ -16,6 +16,20 @@ use kairos::plant::Plant;
 const DICT: &str = "models/fprime/PropulsionTopologyDictionary.json";
 const BINDING: &str = "models/fprime/propulsion.binding.ron";
 
+/// `kairos bind` of `dictionary` against the propulsion plant, with `binding` when given (a
+/// suggestion otherwise): exit code, stdout, stderr.
+fn bind(dictionary: &str, binding: Option<&str>) -> (i32, String, String) {
+    let mut args = vec![
+        "bind",
+        "--fprime-dict",
+        dictionary,
+        "--plant",
+        "models/propulsion.ron",
+    ];
+    args.extend(binding.iter().flat_map(|b| ["--binding", b]));
+    kairos(&args)
+}
+
 fn scratch(name: &str, text: &str) -> String {
     let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     std::fs::write(&path, text).expect("the scratch directory is writable");
@@ -24,15 +38,7 @@ fn scratch(name: &str, text: &str) -> String {
 
 #[test]
 fn the_committed_binding_checks() {
-    let (code, stdout, stderr) = kairos(&[
-        "bind",
-        "--fprime-dict",
-        DICT,
-        "--plant",
-        "models/propulsion.ron",
-        "--binding",
-        BINDING,
-    ]);
+    let (code, stdout, stderr) = bind(DICT, Some(BINDING));
     assert_eq!(code, 0, "{stderr}");
     assert_eq!(
         stdout.trim(),
@@ -66,15 +72,7 @@ fn every_mistake_in_a_binding_is_located() {
 )
 "#;
     let path = scratch("bad.binding.ron", text);
-    let (code, _, stderr) = kairos(&[
-        "bind",
-        "--fprime-dict",
-        DICT,
-        "--plant",
-        "models/propulsion.ron",
-        "--binding",
-        &path,
-    ]);
+    let (code, _, stderr) = bind(DICT, Some(&path));
     assert_eq!(code, 2, "{stderr}");
     insta::assert_snapshot!(stderr.replace(&path, "bad.binding.ron"));
 }
@@ -83,15 +81,7 @@ fn every_mistake_in_a_binding_is_located() {
 #[test]
 fn an_incomplete_binding_names_what_is_unbound() {
     let path = scratch("empty.binding.ron", "Binding()\n");
-    let (code, _, stderr) = kairos(&[
-        "bind",
-        "--fprime-dict",
-        DICT,
-        "--plant",
-        "models/propulsion.ron",
-        "--binding",
-        &path,
-    ]);
+    let (code, _, stderr) = bind(DICT, Some(&path));
     assert_eq!(code, 2, "{stderr}");
     assert!(
         stderr.contains("no channel reports valve1.outlet, valve2.outlet, engine.power, engine.temp, engine.thrust"),
@@ -110,13 +100,7 @@ fn a_file_that_is_not_a_dictionary_is_located() {
         "not-a-dictionary.json",
         "{ \"metadata\": { \"deploymentName\": 3 } }\n",
     );
-    let (code, _, stderr) = kairos(&[
-        "bind",
-        "--fprime-dict",
-        &path,
-        "--plant",
-        "models/propulsion.ron",
-    ]);
+    let (code, _, stderr) = bind(&path, None);
     assert_eq!(code, 2, "{stderr}");
     assert!(
         stderr.contains("not an F´ JSON dictionary") && stderr.contains(":1:"),
@@ -127,13 +111,7 @@ fn a_file_that_is_not_a_dictionary_is_located() {
 /// The suggestion checks, and binds exactly what the committed binding binds.
 #[test]
 fn the_suggested_binding_is_the_committed_one() {
-    let (code, suggested, stderr) = kairos(&[
-        "bind",
-        "--fprime-dict",
-        DICT,
-        "--plant",
-        "models/propulsion.ron",
-    ]);
+    let (code, suggested, stderr) = bind(DICT, None);
     assert_eq!(code, 0, "{stderr}");
     assert!(
         !suggested.contains("guessed") && !suggested.contains("// no "),

@@ -13,7 +13,7 @@ use kairos::executive::fprime::{Binding, Dictionary, FprimeArg, TelemetryError, 
 use crate::error::{Failure, KairosStatus};
 use crate::handle::{KairosExecutive, with_handle};
 use crate::raw::{self, c_string};
-use crate::step::{KairosStep, run};
+use crate::step::{KairosStep, step_with};
 
 /// A telemetry value of an enumeration channel: `integer` holds the constant's value.
 pub const KAIROS_TLM_ENUM: u32 = 0;
@@ -222,14 +222,8 @@ pub unsafe extern "C" fn kairos_executive_bind_fprime_text(
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
         with_handle(handle, |handle| {
-            let dictionary = Source::new(
-                raw::text(dictionary_name, "dictionary_name")?,
-                raw::text(dictionary_text, "dictionary_text")?,
-            );
-            let binding = Source::new(
-                raw::text(binding_name, "binding_name")?,
-                raw::text(binding_text, "binding_text")?,
-            );
+            let dictionary = raw::source(dictionary_name, dictionary_text, "dictionary")?;
+            let binding = raw::source(binding_name, binding_text, "binding")?;
             attach(handle, &dictionary, &binding)
         })
     }
@@ -304,14 +298,9 @@ pub unsafe extern "C" fn kairos_fprime_step(
     count: usize,
     out: *mut *mut KairosStep,
 ) -> KairosStatus {
-    if out.is_null() {
-        return KairosStatus::NullArgument;
-    }
-    // SAFETY: `out` is not NULL and valid for a write (the contract).
-    unsafe { out.write(std::ptr::null_mut()) };
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
-        with_handle(handle, |handle| {
+        step_with(handle, now, out, |handle| {
             let telemetry = raw::slice(telemetry, count, "telemetry")?;
             let Some(binding) = &handle.binding else {
                 return Err(Failure::new(
@@ -319,8 +308,7 @@ pub unsafe extern "C" fn kairos_fprime_step(
                     "the handle has no F´ binding: call kairos_executive_bind_fprime first",
                 ));
             };
-            let observed = observations(binding, telemetry)?;
-            run(handle, now, &observed, out)
+            observations(binding, telemetry)
         })
     }
 }

@@ -80,21 +80,26 @@ pub(crate) unsafe fn with_handle(
     }
 }
 
-/// Creates a handle with `make`, writing it to `out` and any error's message to `error`.
+/// Creates a handle from the executive `builder` makes and the options at `options` (NULL for
+/// the defaults), writing it to `out` and any error's message to `error`.
 ///
 /// # Safety
-/// `out` is valid for a write; `error` is NULL or valid for a write.
+/// `options` is NULL or points to a valid `KairosOptions`; `out` is valid for a write; `error`
+/// is NULL or valid for a write.
 unsafe fn create(
+    options: *const KairosOptions,
     out: *mut *mut KairosExecutive,
     error: *mut *mut c_char,
-    make: impl FnOnce() -> Result<KairosExecutive, Failure>,
+    builder: impl FnOnce() -> Result<ExecutiveBuilder, Failure>,
 ) -> KairosStatus {
     // SAFETY: `error` is NULL or valid for a write (the caller's contract).
     unsafe { raw::write(error, std::ptr::null_mut()) };
     if out.is_null() {
         return KairosStatus::NullArgument;
     }
-    match guard(make) {
+    // SAFETY: NULL or a valid `KairosOptions` (the contract).
+    let options = unsafe { options.as_ref() }.copied().unwrap_or_default();
+    match guard(|| KairosExecutive::new(builder()?, &options)) {
         Ok(handle) => {
             // SAFETY: `out` is not NULL (checked above) and valid for a write.
             unsafe { out.write(Box::into_raw(Box::new(handle))) };
@@ -109,15 +114,6 @@ unsafe fn create(
             failure.status
         }
     }
-}
-
-/// The options at `options`, or the defaults for NULL.
-///
-/// # Safety
-/// `options` is NULL or points to a valid `KairosOptions`.
-unsafe fn options_or_default(options: *const KairosOptions) -> KairosOptions {
-    // SAFETY: NULL or a valid `KairosOptions` (the contract).
-    unsafe { options.as_ref() }.copied().unwrap_or_default()
 }
 
 fn loaded<T>(result: Result<T, kairos::executive::LoadError>) -> Result<T, Failure> {
@@ -146,15 +142,12 @@ pub unsafe extern "C" fn kairos_executive_load(
     out: *mut *mut KairosExecutive,
     error: *mut *mut c_char,
 ) -> KairosStatus {
-    // SAFETY: NULL or valid (this function's contract).
-    let options = unsafe { options_or_default(options) };
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
-        create(out, error, || {
+        create(options, out, error, || {
             let plant = raw::text(plant_path, "plant_path")?;
             let program = raw::text(program_path, "program_path")?;
-            let builder = loaded(Executive::load(Path::new(plant), Path::new(program)))?;
-            KairosExecutive::new(builder, &options)
+            loaded(Executive::load(Path::new(plant), Path::new(program)))
         })
     }
 }
@@ -173,21 +166,12 @@ pub unsafe extern "C" fn kairos_executive_load_text(
     out: *mut *mut KairosExecutive,
     error: *mut *mut c_char,
 ) -> KairosStatus {
-    // SAFETY: NULL or valid (this function's contract).
-    let options = unsafe { options_or_default(options) };
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
-        create(out, error, || {
-            let plant = Source::new(
-                raw::text(plant_name, "plant_name")?,
-                raw::text(plant_text, "plant_text")?,
-            );
-            let program = Source::new(
-                raw::text(program_name, "program_name")?,
-                raw::text(program_text, "program_text")?,
-            );
-            let builder = loaded(Executive::load_source(plant, program))?;
-            KairosExecutive::new(builder, &options)
+        create(options, out, error, || {
+            let plant = raw::source(plant_name, plant_text, "plant")?;
+            let program = raw::source(program_name, program_text, "program")?;
+            loaded(Executive::load_source(plant, program))
         })
     }
 }
@@ -204,14 +188,11 @@ pub unsafe extern "C" fn kairos_executive_load_mission(
     out: *mut *mut KairosExecutive,
     error: *mut *mut c_char,
 ) -> KairosStatus {
-    // SAFETY: NULL or valid (this function's contract).
-    let options = unsafe { options_or_default(options) };
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
-        create(out, error, || {
+        create(options, out, error, || {
             let mission = raw::text(mission_path, "mission_path")?;
-            let builder = loaded(Executive::load_mission(Path::new(mission)))?;
-            KairosExecutive::new(builder, &options)
+            loaded(Executive::load_mission(Path::new(mission)))
         })
     }
 }
@@ -230,21 +211,15 @@ pub unsafe extern "C" fn kairos_executive_load_mission_text(
     out: *mut *mut KairosExecutive,
     error: *mut *mut c_char,
 ) -> KairosStatus {
-    // SAFETY: NULL or valid (this function's contract).
-    let options = unsafe { options_or_default(options) };
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
-        create(out, error, || {
-            let mission = Source::new(
-                raw::text(mission_name, "mission_name")?,
-                raw::text(mission_text, "mission_text")?,
-            );
+        create(options, out, error, || {
+            let mission = raw::source(mission_name, mission_text, "mission")?;
             let directory = raw::text(directory, "directory")?;
-            let builder = loaded(Executive::load_mission_source(
+            loaded(Executive::load_mission_source(
                 &mission,
                 Path::new(directory),
-            ))?;
-            KairosExecutive::new(builder, &options)
+            ))
         })
     }
 }
@@ -255,16 +230,8 @@ pub unsafe extern "C" fn kairos_executive_load_mission_text(
 /// `handle` is NULL or a live handle, not used again after this call.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn kairos_executive_free(handle: *mut KairosExecutive) {
-    if handle.is_null() {
-        return;
-    }
-    // SAFETY: a live handle made by `Box::into_raw` in `create`, given up by the caller.
-    let handle = unsafe { Box::from_raw(handle) };
-    // A panic while dropping cannot be reported (there is no handle left): it is contained.
-    let _ = guard(|| {
-        drop(handle);
-        Ok(())
-    });
+    // SAFETY: NULL or a live handle made by `Box::into_raw` in `create`, given up by the caller.
+    unsafe { raw::free(handle) }
 }
 
 /// The message of the handle's last failed call ("" after a success), owned by the handle:

@@ -4,7 +4,9 @@
 
 use std::ffi::{CStr, CString, c_char};
 
-use crate::error::{Failure, KairosStatus};
+use kairos::diagnostic::Source;
+
+use crate::error::{Failure, KairosStatus, guard};
 
 /// The string at `ptr`, borrowed for the call; `what` names it in the error.
 ///
@@ -27,6 +29,27 @@ pub(crate) unsafe fn text<'a>(ptr: *const c_char, what: &str) -> Result<&'a str,
             format!("{what} is not UTF-8 (at byte {})", e.valid_up_to()),
         )
     })
+}
+
+/// A named text in memory, `name` and `text` (what error locations show, and what is read), as
+/// the entry points that take texts receive it; `what` names the pair in errors
+/// (`what_name`, `what_text`).
+///
+/// # Safety
+/// As [`text`], for both pointers.
+pub(crate) unsafe fn source(
+    name: *const c_char,
+    text: *const c_char,
+    what: &str,
+) -> Result<Source, Failure> {
+    // SAFETY: the caller's contract.
+    let (name, text) = unsafe {
+        (
+            self::text(name, &format!("{what}_name"))?,
+            self::text(text, &format!("{what}_text"))?,
+        )
+    };
+    Ok(Source::new(name, text))
 }
 
 /// The `count` elements at `ptr`, borrowed for the call. NULL is an empty array when `count` is
@@ -69,4 +92,22 @@ pub(crate) unsafe fn write<T>(out: *mut T, value: T) {
         // value is C's (a pointer), never dropped.
         unsafe { out.write(value) };
     }
+}
+
+/// Frees a value this crate gave C as `Box::into_raw` (NULL is ignored). A panic while dropping
+/// cannot be reported (nothing is left to report it on): it is contained.
+///
+/// # Safety
+/// `ptr` is NULL or was made by `Box::into_raw` of a `T` in this crate, and is given up by the
+/// caller (not used again).
+pub(crate) unsafe fn free<T>(ptr: *mut T) {
+    if ptr.is_null() {
+        return;
+    }
+    // SAFETY: made by `Box::into_raw` and given up, by the caller's contract.
+    let value = unsafe { Box::from_raw(ptr) };
+    let _ = guard(|| {
+        drop(value);
+        Ok(())
+    });
 }

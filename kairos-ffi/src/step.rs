@@ -22,7 +22,7 @@ use kairos::executive::{EventKind, NamedValue, Step, StepError};
 use kairos::logic::{ValueId, VarId};
 use kairos::plant::Plant;
 
-use crate::error::{Failure, KairosStatus, guard};
+use crate::error::{Failure, KairosStatus};
 use crate::events::{KairosEvent, KairosEventKind, StoredEvent};
 use crate::fprime::{KairosFprimeCommand, StoredCommand};
 use crate::handle::{KairosExecutive, with_handle};
@@ -151,22 +151,38 @@ impl KairosStep {
     }
 }
 
-/// Runs one cycle of `handle` at `now` with `observed`, writing the step to `out`.
-pub(crate) fn run(
-    handle: &mut KairosExecutive,
+/// Runs one cycle of `handle` at `now` with the observations `observe` reads for it (from what
+/// C passed), writing the step to `*out`: the entry points' common part. `*out` is NULL unless
+/// the cycle ran; a failure reading the observations is the call's status and the cycle does not
+/// run.
+///
+/// # Safety
+/// `handle` is NULL or a live handle used by no other thread during the call; `out` is NULL or
+/// valid for a write.
+pub(crate) unsafe fn step_with(
+    handle: *mut KairosExecutive,
     now: f64,
-    observed: &[NamedValue],
     out: *mut *mut KairosStep,
-) -> Result<(), Failure> {
-    let step = handle.executive.step(now, observed).map_err(|e| match e {
-        StepError::TimeNotAfter { .. } => Failure::new(KairosStatus::Time, e.to_string()),
-        e => Failure::new(KairosStatus::Step, e.to_string()),
-    })?;
-    let step = KairosStep::new(handle, &step)?;
-    // SAFETY: `out` was checked not NULL by the entry point and is valid for a write by its
-    // contract.
-    unsafe { out.write(Box::into_raw(Box::new(step))) };
-    Ok(())
+    observe: impl FnOnce(&KairosExecutive) -> Result<Vec<NamedValue>, Failure>,
+) -> KairosStatus {
+    if out.is_null() {
+        return KairosStatus::NullArgument;
+    }
+    // SAFETY: `out` is not NULL and valid for a write (the contract).
+    unsafe { out.write(std::ptr::null_mut()) };
+    let work = |handle: &mut KairosExecutive| {
+        let observed = observe(handle)?;
+        let step = handle.executive.step(now, &observed).map_err(|e| match e {
+            StepError::TimeNotAfter { .. } => Failure::new(KairosStatus::Time, e.to_string()),
+            e => Failure::new(KairosStatus::Step, e.to_string()),
+        })?;
+        let step = KairosStep::new(handle, &step)?;
+        // SAFETY: `out` is not NULL (checked above) and valid for a write (the contract).
+        unsafe { out.write(Box::into_raw(Box::new(step))) };
+        Ok(())
+    };
+    // SAFETY: `handle`'s contract is the caller's.
+    unsafe { with_handle(handle, work) }
 }
 
 /// The observations as the executive takes them.
@@ -235,17 +251,11 @@ pub unsafe extern "C" fn kairos_step(
     count: usize,
     out: *mut *mut KairosStep,
 ) -> KairosStatus {
-    if out.is_null() {
-        return KairosStatus::NullArgument;
-    }
-    // SAFETY: `out` is not NULL and valid for a write (the contract).
-    unsafe { out.write(std::ptr::null_mut()) };
     // SAFETY: the pointers' contract is the caller's (this function's `# Safety`).
     unsafe {
-        with_handle(handle, |handle| {
+        step_with(handle, now, out, |handle| {
             let observations = raw::slice(observations, count, "observations")?;
-            let observed = named(handle.executive.plant(), observations)?;
-            run(handle, now, &observed, out)
+            named(handle.executive.plant(), observations)
         })
     }
 }
@@ -256,15 +266,8 @@ pub unsafe extern "C" fn kairos_step(
 /// `step` is NULL or a step from `kairos_step` / `kairos_fprime_step` not freed before.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn kairos_step_free(step: *mut KairosStep) {
-    if step.is_null() {
-        return;
-    }
-    // SAFETY: made by `Box::into_raw` in `run`, given up by the caller.
-    let step = unsafe { Box::from_raw(step) };
-    let _ = guard(|| {
-        drop(step);
-        Ok(())
-    });
+    // SAFETY: NULL or made by `Box::into_raw` in `step_with`, given up by the caller.
+    unsafe { raw::free(step) }
 }
 
 /// Borrows the step behind `step`.

@@ -59,6 +59,14 @@ fn at_most_one(solver: &mut dyn SatSolver, lits: &[SatLit]) {
     at_most_one(solver, &columns);
 }
 
+/// A variable's value literals, one per value of its `size`, exactly one of them true.
+fn domain_literals(solver: &mut dyn SatSolver, size: usize) -> Vec<SatLit> {
+    let lits: Vec<SatLit> = (0..size).map(|_| solver.new_var()).collect();
+    solver.add_clause(&lits);
+    at_most_one(solver, &lits);
+    lits
+}
+
 /// The assumptions (as given) whose solver literals make up `core`, a subset of
 /// `sat_assumptions` (their translation, position by position).
 fn conflict_of(
@@ -171,7 +179,8 @@ pub struct Theory {
     translated_from: Vec<Literal>,
     translated: Vec<SatLit>,
     options: TheoryOptions,
-    /// `value_lits[x][v]` is true exactly when `x = v`.
+    /// `value_lits[x][v]` is true exactly when `x = v`; empty for a variable left out of the
+    /// solver until first mentioned ([`Theory::with_unencoded`]).
     value_lits: Vec<Vec<SatLit>>,
     constant_true: SatLit,
     /// Definition literal of each defined formula, by [`Definition`] number.
@@ -197,17 +206,32 @@ impl Theory {
         constraints: &[Formula],
         options: TheoryOptions,
     ) -> Result<Theory, TheoryError> {
+        Theory::with_unencoded(table, constraints, options, &[])
+    }
+
+    /// [`Theory::with_options`], with the variables of `unencoded` left out of the solver until
+    /// a constraint, a defined formula or an assumption first mentions one (it is then encoded
+    /// as any other). The answers are the same: a variable nothing mentions is free, and adding
+    /// it with its "exactly one" clauses changes no question's satisfiability. The work is not:
+    /// every satisfiable question decides each encoded variable, so one that no constraint
+    /// mentions and that queries seldom name (a command's acknowledgement, evidence about the
+    /// command rather than about a mode) would cost every question a few decisions.
+    pub fn with_unencoded(
+        table: VarTable,
+        constraints: &[Formula],
+        options: TheoryOptions,
+        unencoded: &[VarId],
+    ) -> Result<Theory, TheoryError> {
         let mut solver = Solver::new(RecordedSolver::default());
         let constant_true = solver.new_var();
         solver.add_clause(&[constant_true]);
         let mut value_lits = Vec::with_capacity(table.len());
-        for (_, variable) in table.variables() {
-            let lits: Vec<SatLit> = (0..variable.domain_size())
-                .map(|_| solver.new_var())
-                .collect();
-            solver.add_clause(&lits);
-            at_most_one(&mut solver, &lits);
-            value_lits.push(lits);
+        for (x, variable) in table.variables() {
+            value_lits.push(if unencoded.contains(&x) {
+                Vec::new()
+            } else {
+                domain_literals(&mut solver, variable.domain_size())
+            });
         }
         let mut links = UnionFind::new(table.len());
         for constraint in constraints {
@@ -428,7 +452,7 @@ impl Theory {
         match formula {
             Formula::True => return Ok(true),
             Formula::Atom(Atom::Is(x, v)) => {
-                let lit = self.value_lits[x.index()][v.index()];
+                let lit = self.value_lit(*x, *v);
                 return Ok(self.refutes(assumptions, !lit));
             }
             _ => {}
@@ -531,10 +555,28 @@ impl Theory {
         core
     }
 
-    fn sat_lit(&self, literal: Literal) -> SatLit {
+    /// The literal of `x = v`, encoding `x` first if it was left out ([`Theory::with_unencoded`]).
+    /// Hot (every assumption of every question): the check is the bounds check indexing made.
+    #[inline]
+    fn value_lit(&mut self, x: VarId, v: ValueId) -> SatLit {
+        match self.value_lits[x.index()].get(v.index()) {
+            Some(&lit) => lit,
+            None => self.encode_late(x, v),
+        }
+    }
+
+    /// Encodes a variable left out until now and returns the literal of `x = v`.
+    #[cold]
+    fn encode_late(&mut self, x: VarId, v: ValueId) -> SatLit {
+        let size = self.table.variable(x).domain_size();
+        self.value_lits[x.index()] = domain_literals(&mut self.solver, size);
+        self.value_lits[x.index()][v.index()]
+    }
+
+    fn sat_lit(&mut self, literal: Literal) -> SatLit {
         match literal {
-            Literal::Is(x, v) => self.value_lits[x.index()][v.index()],
-            Literal::IsNot(x, v) => !self.value_lits[x.index()][v.index()],
+            Literal::Is(x, v) => self.value_lit(x, v),
+            Literal::IsNot(x, v) => !self.value_lit(x, v),
             Literal::Holds(d) => self.definitions[d.0 as usize],
             Literal::Fails(d) => !self.definitions[d.0 as usize],
         }
@@ -570,7 +612,7 @@ impl Theory {
         Ok(match formula {
             Formula::True => self.constant_true,
             Formula::False => !self.constant_true,
-            Formula::Atom(Atom::Is(x, v)) => self.value_lits[x.index()][v.index()],
+            Formula::Atom(Atom::Is(x, v)) => self.value_lit(*x, *v),
             Formula::Atom(Atom::Same(x, y)) => {
                 let same = self.same_value(*x, *y);
                 self.encode(&same)?
@@ -716,6 +758,49 @@ mod tests {
         assert!(!theory.consistent(&none).is_consistent());
         let all_but_one = &none[1..];
         assert!(theory.consistent(all_but_one).is_consistent());
+    }
+
+    /// A variable left unencoded is outside the solver until first mentioned, then a variable
+    /// like any other: the answers are those of the theory that encoded it from the start.
+    #[test]
+    fn an_unencoded_variable_is_encoded_when_first_mentioned() {
+        let encoded = driver();
+        let mut table = encoded.table().clone();
+        let ack = table
+            .add_variable("driver.ack", ["none", "accepted", "rejected"])
+            .unwrap();
+        let constraints: Vec<Formula> = [
+            "driver = off => driver.cmd_out = none",
+            "driver = on => driver.cmd_out = on",
+            "driver.cmd_out = valve.cmd_in",
+            "valve = open => valve.cmd_in = on",
+        ]
+        .iter()
+        .map(|c| parse_formula(c, &table).unwrap())
+        .collect();
+        let mut full = Theory::new(table.clone(), &constraints).unwrap();
+        let mut lazy =
+            Theory::with_unencoded(table, &constraints, TheoryOptions::default(), &[ack]).unwrap();
+        assert!(lazy.value_lits[ack.index()].is_empty());
+        let open = is(&lazy, "valve", "open");
+        let off = is(&lazy, "driver", "off");
+        let on = formula(&lazy, "valve.cmd_in = on");
+        for theory in [&mut full, &mut lazy] {
+            assert!(!theory.consistent(&[open, off]).is_consistent());
+            assert!(theory.entails(&[open], &on).unwrap());
+        }
+        assert!(lazy.value_lits[ack.index()].is_empty(), "not mentioned yet");
+        let answer = |v| Literal::Is(ack, ValueId(v));
+        let not = |v| Literal::IsNot(ack, ValueId(v));
+        let accepted = Formula::is(ack, ValueId(1));
+        for theory in [&mut full, &mut lazy] {
+            assert!(theory.consistent(&[answer(1), open]).is_consistent());
+            assert!(!theory.consistent(&[answer(1), answer(2)]).is_consistent());
+            assert!(!theory.consistent(&[not(0), not(1), not(2)]).is_consistent());
+            assert!(theory.entails(&[not(0), not(2)], &accepted).unwrap());
+            assert!(!theory.entails(&[open], &accepted).unwrap());
+        }
+        assert_eq!(lazy.value_lits[ack.index()].len(), 3);
     }
 
     #[test]

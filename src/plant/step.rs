@@ -144,35 +144,40 @@ impl Commands {
     /// ([`acknowledgement`](super::acknowledgement)): a command answered `rejected` or `failed`
     /// is taken back (its control idle), one answered `accepted` or `completed` is marked
     /// delivered. An answer on a control not commanded, or `none`, changes nothing. Borrowed
-    /// when the observation has no acknowledgement.
+    /// when no answer changes anything: flight software that holds its last answer reports it
+    /// every cycle, and most cycles command nothing.
     pub fn acknowledged(&self, plant: &Plant, observation: &Observation) -> Cow<'_, Commands> {
-        if observation.acknowledgements.is_empty() {
+        let mut answers = (observation.acknowledgements.iter())
+            .filter_map(|&(var, value)| self.answered(plant, var, value))
+            .peekable();
+        if answers.peek().is_none() {
             return Cow::Borrowed(self);
         }
         let mut commands = self.clone();
-        for &(var, value) in &observation.acknowledgements {
-            let Some(acknowledgement) = plant.acknowledgement_of(var) else {
-                continue;
-            };
-            let control = acknowledgement.control;
-            let position = plant.controls().iter().position(|c| c.var == control);
-            let Some((slot, idle)) = position.map(|i| (i, plant.controls()[i].idle)) else {
-                continue;
-            };
-            if commands.values[slot].1 == idle {
-                continue;
-            }
-            match acknowledgement.answer(value).carried_out() {
-                Some(false) => commands.values[slot].1 = idle,
-                Some(true) => {
-                    if let Err(at) = commands.delivered.binary_search(&control) {
-                        commands.delivered.insert(at, control);
-                    }
+        for (slot, control, carried_out) in answers {
+            if carried_out {
+                if let Err(at) = commands.delivered.binary_search(&control) {
+                    commands.delivered.insert(at, control);
                 }
-                None => {}
+            } else {
+                commands.values[slot].1 = plant.controls()[slot].idle;
             }
         }
         Cow::Owned(commands)
+    }
+
+    /// What the acknowledgement `var = value` says of this action: the slot of the control it
+    /// answers for, the control, and whether the command was carried out — `None` when it says
+    /// nothing (not an acknowledgement, its control not commanded, the answer `none`).
+    fn answered(&self, plant: &Plant, var: VarId, value: ValueId) -> Option<(usize, VarId, bool)> {
+        let acknowledgement = plant.acknowledgement_of(var)?;
+        let control = acknowledgement.control;
+        let slot = plant.controls().iter().position(|c| c.var == control)?;
+        if self.values[slot].1 == plant.controls()[slot].idle {
+            return None;
+        }
+        let carried_out = acknowledgement.answer(value).carried_out()?;
+        Some((slot, control, carried_out))
     }
 
     /// The same action with the delivered commands not sent: what is enabled without them.
