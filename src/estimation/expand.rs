@@ -129,8 +129,6 @@ pub(crate) struct Expansion {
     /// The probability one unit of `merged` stands for: weights are relative to the best
     /// candidate's trajectory probability, which is this.
     pub(crate) scale: f64,
-    /// The weight of the heaviest state merged but not kept (0 when every one was kept).
-    pub(crate) dropped: f64,
 }
 
 impl Expansion {
@@ -1028,30 +1026,26 @@ impl Merged {
         cut: Option<Cut>,
         replayed: bool,
     ) -> Expansion {
-        let (states, dropped) = self.heaviest(kappa);
         Expansion {
             merged: self.total,
-            states,
+            states: self.heaviest(kappa),
             candidates,
             cut,
             replayed,
             unseen: self.unseen,
             scale: self.scale,
-            dropped,
         }
     }
 
-    /// The `k` heaviest states, heaviest first (ties in order of appearance), and the weight of
-    /// the heaviest of the others (0 if none); leaves none.
-    fn heaviest(&mut self, k: usize) -> (Vec<WeightedState>, f64) {
+    /// The `k` heaviest states, heaviest first (ties in order of appearance); leaves none.
+    fn heaviest(&mut self, k: usize) -> Vec<WeightedState> {
         self.states
             .sort_by(|a, b| b.probability.total_cmp(&a.probability));
         // Drained rather than taken, so that the merge keeps its capacity for the next step.
         let kept = k.min(self.states.len());
         let mut heaviest = Vec::with_capacity(kept);
         heaviest.extend(self.states.drain(..kept));
-        let dropped = self.states.first().map_or(0.0, |w| w.probability);
         self.states.clear();
-        (heaviest, dropped)
+        heaviest
     }
 }

@@ -11,10 +11,7 @@
 //!   again with its true weight relative to the others;
 //! - when ŝ is in doubt because of truncation: the two heaviest plant states of the step differ
 //!   by less than a few times the weight truncated away within the window (the trigger is in
-//!   `timed_me.rs`; the weight lost per step is recorded here);
-//! - when a state dropped within the window may now outweigh a kept one: an observation that
-//!   refutes most of the kept belief lifts whatever was dropped by as much
-//!   ([`History::heaviest_dropped`]; the trigger is in `timed_me.rs`, "Which states are kept").
+//!   `timed_me.rs`; the weight lost per step is recorded here).
 //!
 //! The wide belief a re-run ends with is kept behind the belief returned from it: when the next
 //! update starts from that belief and needs a re-run too, the wide one is stepped once — the
@@ -55,20 +52,8 @@ pub(super) struct Input {
     commands: Arc<Commands>,
     observation: Arc<Observation>,
     time: f64,
-    /// What the step truncated away.
-    truncated: Truncated,
-}
-
-/// What one step's truncation dropped, as the history needs it.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Truncated {
-    /// The fraction of the merged weight truncated away.
-    pub(super) lost: f64,
-    /// The weight of the heaviest state dropped, over the weight kept.
-    pub(super) dropped: f64,
-    /// The probability of the states kept, before normalisation: the share of the step's
-    /// source belief that its kept successors, observation weighed in, stand for (at most 1).
-    pub(super) kept: f64,
+    /// The fraction of the merged weight the step truncated away.
+    lost: f64,
 }
 
 impl Input {
@@ -148,7 +133,7 @@ impl History {
         window: usize,
         from: &Belief,
         step: &Step,
-        truncated: Truncated,
+        lost: f64,
         to: &mut Belief,
     ) {
         if window == 0 {
@@ -171,7 +156,7 @@ impl History {
             commands: shared(previous.map(|p| &p.commands), step.commands),
             observation: shared(previous.map(|p| &p.observation), step.observation),
             time: step.time,
-            truncated,
+            lost,
         };
         if let Some(segment) = self.segments.back_mut() {
             segment.steps.push(input);
@@ -185,26 +170,8 @@ impl History {
             .segments
             .iter()
             .flat_map(|s| s.steps.iter())
-            .map(|i| 1.0 - i.truncated.lost)
+            .map(|i| 1.0 - i.lost)
             .product::<f64>()
-    }
-
-    /// A bound on the weight of any one state dropped within the window, over the weight of the
-    /// states kept now (before this step): a dropped state's weight can grow, relative to the
-    /// kept ones, by at most 1 / `kept` per step — the kept states' successors may keep only
-    /// that share of their sources' weight (truncation and the observation), a dropped state's
-    /// at most all of its own. Not a bound on dropped states that merge into one later (the
-    /// distance bound is the one for those, `timed_me.rs`).
-    pub(super) fn heaviest_dropped(&self) -> f64 {
-        (self.segments.iter().flat_map(|s| s.steps.iter())).fold(0.0, |heaviest: f64, i| {
-            let t = i.truncated;
-            let lifted = if t.kept > 0.0 {
-                heaviest / t.kept
-            } else {
-                f64::INFINITY
-            };
-            lifted.max(t.dropped)
-        })
     }
 
     /// Forgets every step and starts afresh from `belief`, the one just returned (an initial

@@ -17,26 +17,6 @@
 //! components jump into their unconstrained fault modes, which explain anything of theirs; if
 //! even that fails, it keeps the previous belief, clocks running on.
 //!
-//! # Which states are kept
-//!
-//! Each step keeps the κ heaviest states it merged — the κ most probable *as far as the states
-//! tracked can tell*. A state dropped earlier is missing from that ranking, and an observation
-//! can make it the better explanation: Livingstone 2's reference diagnosis drops unknown on
-//! two breakers when led8 is seen off (third in line there, behind trips and blown breakers),
-//! and once led8 is seen on again, refuting the trips, those unknowns weigh 0.021 each while
-//! the states kept in their place — other breakers tripping in the last step — weigh 0.0009.
-//! So the history window (`history.rs`) is re-run, tracking 8κ, also when a state dropped
-//! within the window may outweigh the lightest state kept: each step records the heaviest state
-//! it dropped, over the weight it kept, and the share K of its sources' weight its kept states
-//! stand for; a dropped state's weight relative to the kept ones grows by at most 1 / K a step
-//! (the kept states keep K of their sources' weight, a dropped one at most all of its own), so
-//! the heaviest dropped state, carried forward, bounds every one of them. Quiet steps keep
-//! K ≈ 1 and the bound below the states kept (fresh one-step faults are dropped where older
-//! ones, grown over several steps, are kept); an observation that refutes most of the kept
-//! belief divides by a small K and re-runs the window, whose wider run still holds the dropped
-//! states with their true weights. This is the re-run's trigger, not a new approximation:
-//! states are still kept by weight, the re-run's weights are the truer ones.
-//!
 //! # How far from exact
 //!
 //! Every update reports how much truncation cost, so that a user sees how far the κ-best belief
@@ -73,7 +53,7 @@ use std::sync::Arc;
 use super::expand::{
     Expander, Expansion, Limits, NextMode, SourceChoices, choices_from, successor_from,
 };
-use super::history::{History, Input, Step, Truncated, WIDEN};
+use super::history::{History, Input, Step, WIDEN};
 use super::{
     Belief, EstimationError, EstimationEvent, Fallback, ModeEstimator, Update, UpdateStats,
     WeightedState, check_step,
@@ -262,8 +242,7 @@ impl ModeEstimator for TimedMe {
             && self.history.continues_from(belief)
             && {
                 let window = 1.0 - (1.0 - self.history.lost()) * (1.0 - lost);
-                (window > MIN_LOSS && margin(&expansion.states) < AMBIGUITY * window)
-                    || displaced(&expansion, self.history.heaviest_dropped())
+                window > MIN_LOSS && margin(&expansion.states) < AMBIGUITY * window
             };
         let mut outcome = Outcome::new(expansion, belief.outside());
         let mut wide = None;
@@ -294,10 +273,6 @@ impl ModeEstimator for TimedMe {
                 jumped = true;
             }
         }
-        let truncated = Truncated {
-            lost,
-            ..outcome.truncated
-        };
         let mut update = outcome.into_update(plant, time, theory.stats().sat_calls - sat_before);
         if jumped && self.options.history > 0 {
             self.history.restart(&mut update.belief);
@@ -306,7 +281,7 @@ impl ModeEstimator for TimedMe {
                 self.options.history,
                 belief,
                 &step,
-                truncated,
+                lost,
                 &mut update.belief,
             );
             if let Some(wide) = wide {
@@ -360,9 +335,7 @@ impl TimedMe {
             // Only the last step's κ heaviest are the answer.
             let kept = std::ptr::eq(input, step).then(|| {
                 let kappa = self.options.kappa.min(expansion.states.len());
-                let dropped =
-                    (expansion.states.get(kappa)).map_or(expansion.dropped, |w| w.probability);
-                (expansion.states[..kappa].to_vec(), dropped)
+                expansion.states[..kappa].to_vec()
             });
             let outside = expansion.outside(&expansion.states, before);
             let Some(mut next) = Belief::new(plant, input.time, expansion.states) else {
@@ -370,10 +343,9 @@ impl TimedMe {
             };
             next.set_outside(outside);
             current = next;
-            last = kept.map(|(states, dropped)| {
+            last = kept.map(|states| {
                 let expansion = Expansion {
                     states,
-                    dropped,
                     ..expansion
                 };
                 (expansion, before)
@@ -398,18 +370,6 @@ struct Rerun {
     steps: usize,
     /// Every state it ended with (at most 8κ), normalised.
     wide: Belief,
-}
-
-/// Whether a state dropped within the history window may outweigh the lightest state kept in
-/// `expansion` (module documentation, "Which states are kept"): `heaviest`
-/// ([`History::heaviest_dropped`], a share of the source belief) against the lightest kept
-/// state's probability as a share of the source belief too — over the weight kept, both are
-/// lifted alike.
-fn displaced(expansion: &Expansion, heaviest: f64) -> bool {
-    expansion
-        .states
-        .last()
-        .is_some_and(|lightest| heaviest > lightest.probability * expansion.scale)
 }
 
 /// The difference between the two heaviest plant states' weights, over the total (`states`
@@ -549,8 +509,6 @@ pub(crate) struct Outcome {
     discarded: f64,
     /// The new belief's bound ([`Belief::outside`]).
     outside: f64,
-    /// What the truncation that gave the states dropped (for the history).
-    truncated: Truncated,
 }
 
 /// The bound a fallback from `belief` starts from: the exact update falls back the same way
@@ -582,21 +540,10 @@ impl Outcome {
             rerun: 0,
             discarded: 0.0,
             outside: 0.0,
-            truncated: Truncated::default(),
         }
     }
 
     fn absorb(&mut self, expansion: Expansion, before: f64) {
-        let kept: f64 = expansion.states.iter().map(|w| w.probability).sum();
-        self.truncated = Truncated {
-            lost: expansion.lost(),
-            dropped: if kept > 0.0 {
-                expansion.dropped / kept
-            } else {
-                0.0
-            },
-            kept: kept * expansion.scale,
-        };
         self.discarded = expansion.lost();
         self.outside = expansion.outside(&expansion.states, before);
         self.candidates += expansion.candidates;
