@@ -90,10 +90,10 @@ mod reference {
     use kairos::plant::Plant;
 
     fn run(kappa: usize) -> (Plant, Vec<Update>) {
-        let plant = Plant::load(&Source::new("l2_breakers_15", &l2_breakers::model_ron(15)))
+        let plant = Plant::load(&Source::new("l2_breakers_15", l2_breakers::model_ron(15)))
             .unwrap_or_else(|e| panic!("{e}"));
         let records = parse_log(
-            &Source::new("cb.jsonl", &l2_breakers::reference_log()),
+            &Source::new("cb.jsonl", l2_breakers::reference_log()),
             &plant,
         )
         .unwrap_or_else(|e| panic!("{e}"));
