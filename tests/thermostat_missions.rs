@@ -18,7 +18,7 @@ use scenario_run::{assert_every_file_is_tested, assert_in_order, run_passing};
 const DIR: &str = "scenarios/thermostat";
 
 /// The mission scenarios of the directory, one test each below.
-const MISSIONS: [&str; 20] = [
+const MISSIONS: [&str; 21] = [
     "backup_heater_after_a_stuck_switch.ron",
     "campaign.ron",
     "explore_a_stuck_switch.ron",
@@ -29,6 +29,7 @@ const MISSIONS: [&str; 20] = [
     "stay_warm_submitted.ron",
     "stay_warm_submitted_at_10s.ron",
     "submitted_into_the_past.ron",
+    "switch1_sticks_open_as_stay_warm_ends.ron",
     "switch1_sticks_open_mission.ron",
     "switch1_stuck_open_mission.ron",
     "switch1_stuck_open_promoted_tactic_2.ron",
@@ -246,6 +247,26 @@ fn a_point_never_ready_is_forced_and_its_unreached_transition_fails() {
             "[ 162.000 s 0:02:42.000] #162",
             "GOAL FAILED stay-warm: ŝ left the maintained set; ŝ has temperature = cold (p 1.00)",
             "PASS: 13 expectations hold",
+        ],
+    );
+}
+
+/// A goal that fails in the cycle its parent's interval ends (the goal controller's module doc,
+/// DESIGN.md §15.2): switch 1 sticks open at 360 s, the heater goal fails at 366 s when TP_E is
+/// due; StayWarm holds and has no time left for a tactic, so the failure is answered there —
+/// no re-elaboration, no safing, TP_E on time.
+#[test]
+fn a_failure_as_the_parent_s_interval_ends_is_answered_without_safing() {
+    let log = run_mission("switch1_sticks_open_as_stay_warm_ends.ron");
+    assert_in_order(
+        &log,
+        &[
+            "[ 366.000 s 0:06:06.000] #366",
+            "DIAGNOSIS switch1 = stuck-open (p 1.00)",
+            "GOAL FAILED stay-warm.heater1: ŝ left the maintained set; ŝ has switch1 = stuck-open (p 1.00)",
+            "RESPONSE stay-warm.heater1 failed: switch1 = stuck-open (p 1.00) → fail up → stay-warm's interval ends at TP_E: nothing left to re-elaborate",
+            "fired TP_E (window [366, 366])",
+            "PASS: 10 expectations hold",
         ],
     );
 }

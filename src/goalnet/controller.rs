@@ -8,6 +8,16 @@
 //!    tactic (or whose goal's interval is over) is a failure of that goal with no response
 //!    left: it fails up. Re-elaborations are done once per goal per cycle; if any failure leads
 //!    to safing, safing wins and the safe network is promoted once;
+//!
+//!    A goal's interval is *over* when its end point has fired or is due this cycle (its
+//!    latest time has come, [`Execution::ends_this_cycle`]): a tactic would have no time to
+//!    act in. A re-elaboration asked for such a goal because a goal *below* it failed — the goal
+//!    itself holds — ends the chain there (`IntervalEnds`): there is nothing left to repair,
+//!    and the goal is judged on its own at its end, like any other. Failing up instead would
+//!    climb to the root and safe a mission whose goal is met at the very cycle it ends (the
+//!    thermostat's switch 1 sticking open six seconds before StayWarm's end: its heater goal
+//!    fails in the cycle TP_E is due, while the temperature is still warm). A goal that failed
+//!    itself at its end still fails up: it was not met, and its parent may have time left;
 //! 3. fires points and dispatches (the Executive), on whatever network now runs; the failures
 //!    firing finds — a Transition goal whose end was forced unreached, the goals a contradicted
 //!    firing bounds — are answered in the same cycle, and the network then running fires again
@@ -611,12 +621,21 @@ impl GoalController {
         let (tactics, budget) = goal_type.map_or((0, 0), |t| (t.tactics.len(), t.budget));
         let in_use = self.state.elaborations.get(&goal).map_or(0, |e| e.tactic);
         let end = self.network().goal(goal).end;
+        let ends = self.execution.ends_this_cycle(end, now);
+        if ends && !self.execution.has_failed(goal) {
+            // Only a goal below it failed, and no time is left to repair it in.
+            let point = self.network().point(end).name.clone();
+            return (
+                vec![ResponseStep::IntervalEnds { goal: name, point }],
+                Outcome::Done,
+            );
+        }
         let attempt = if tactics == 0 {
             Err("its type has no tactic".to_string())
-        } else if self.execution.fired_at(end).is_some() {
+        } else if ends {
             let end = &self.network().point(end).name;
             Err(format!(
-                "its interval is over (its end point {end} has fired)"
+                "its interval is over (its end point {end} has fired or is due now)"
             ))
         } else if self.reelaborations[goal.index()] >= budget {
             Err(format!("its re-elaboration budget of {budget} is spent"))

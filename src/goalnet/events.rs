@@ -89,6 +89,15 @@ pub enum ResponseStep {
         /// Why.
         reason: String,
     },
+    /// The goal to re-elaborate has not failed itself and its interval ends this cycle (its end
+    /// point has fired or is due now): there is no time left that a tactic could serve, so the
+    /// failure below it needs no repair; the goal is judged on its own at its end.
+    IntervalEnds {
+        /// The goal.
+        goal: String,
+        /// Its end point.
+        point: String,
+    },
     /// The failure reached a goal with no parent.
     Root {
         /// The goal.
@@ -138,6 +147,12 @@ impl fmt::Display for ResponseStep {
             ResponseStep::Promoted => write!(f, "promoted"),
             ResponseStep::NoTacticLeft { goal, reason } => {
                 write!(f, "{goal}: no tactic left ({reason})")
+            }
+            ResponseStep::IntervalEnds { goal, point } => {
+                write!(
+                    f,
+                    "{goal}'s interval ends at {point}: nothing left to re-elaborate"
+                )
             }
             ResponseStep::Root { goal } => write!(f, "{goal} is a root"),
             ResponseStep::Safing => write!(f, "safing"),

@@ -347,6 +347,26 @@ impl Execution {
         self.ended.get(goal.index()).copied().unwrap_or(false)
     }
 
+    /// Whether `point` has fired or must fire this cycle at `now`: its latest time has come, or
+    /// the next cycle (one period on) would be past it — when [`Execution::advance`] forces it.
+    pub fn ends_this_cycle(&self, point: TimePointId, now: f64) -> bool {
+        if self.fired_at(point).is_some() {
+            return true;
+        }
+        let Some(window) = self.executable.network.stn().window(point) else {
+            return false;
+        };
+        at_latest(window.ub, now, self.next_cycle(now))
+    }
+
+    /// When the next cycle is expected after one at `now`: one period on (none is known before
+    /// a second cycle).
+    fn next_cycle(&self, now: f64) -> Option<f64> {
+        self.last_advance
+            .filter(|last| now > *last + TIME_EPSILON)
+            .map(|last| 2.0 * now - last)
+    }
+
     /// The active XGoal of a state variable.
     pub fn active(&self, sv: ComponentId) -> Option<&XGoal> {
         let t = self.executable.timelines.iter().position(|t| t.sv == sv)?;
@@ -393,11 +413,7 @@ impl Execution {
     /// what the promoted network makes due.
     pub fn advance(&mut self, now: f64, estimate: EstimateView) -> Vec<GoalEvent> {
         let mut events = Vec::new();
-        // The next cycle is expected one period on; none is known before a second cycle.
-        let next = self
-            .last_advance
-            .filter(|last| now > *last + TIME_EPSILON)
-            .map(|last| 2.0 * now - last);
+        let next = self.next_cycle(now);
         while self.fire_one(now, next, estimate, &mut events) {}
         if self
             .last_advance
@@ -530,8 +546,7 @@ impl Execution {
             if now < window.lb - TIME_EPSILON || !predecessors_fired {
                 continue;
             }
-            let latest = now >= window.ub - TIME_EPSILON
-                || next.is_some_and(|next| next > window.ub + TIME_EPSILON);
+            let latest = at_latest(window.ub, now, next);
             let ready = self.ready(point, estimate);
             if !ready && !latest {
                 continue;
@@ -746,4 +761,10 @@ impl Execution {
             .chain(delegated)
             .find(|&g| self.has_failed(g))
     }
+}
+
+/// Whether a point whose latest time is `latest` must fire in the cycle at `now`: its latest
+/// time has come, or the next cycle (at `next`, if known) would be past it.
+fn at_latest(latest: f64, now: f64, next: Option<f64>) -> bool {
+    now >= latest - TIME_EPSILON || next.is_some_and(|next| next > latest + TIME_EPSILON)
 }
