@@ -6,6 +6,9 @@ mod cli;
 
 use cli::kairos;
 
+#[path = "support/l2_breakers.rs"]
+mod l2_breakers;
+
 const PLANT: &str = "models/driver_valve.ron";
 const LOG: &str = "tests/logs/driver_valve_stuck.jsonl";
 
@@ -179,4 +182,45 @@ fn timed_me_at_kappa_3_is_the_exact_update_of_the_heating_engine() {
     let last = &timed[timed.len() - 1];
     assert_eq!(last["time"], 46.0);
     assert_eq!(last["estimates"][0]["modes"]["engine"], "standby");
+}
+
+/// `--json` says per cycle how much truncation discarded and how far the belief may be from the
+/// exact update's (`docs/reference/estimation-log.md`; the bound is derived in
+/// `src/estimation/timed_me.rs`), on Livingstone 2's reference script at κ = 10: nothing is
+/// discarded until the breakers can fail, the bound only grows, and it jumps where led8 off
+/// refutes almost every state kept.
+#[test]
+fn json_lines_say_what_truncation_discarded_and_how_far_from_exact() {
+    let dir = std::env::temp_dir().join(format!("kairos-estimate-bound-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a scratch directory");
+    let (model, log) = (dir.join("cb15.ron"), dir.join("cb.jsonl"));
+    std::fs::write(&model, l2_breakers::model_ron(15)).expect("model written");
+    std::fs::write(&log, l2_breakers::reference_log()).expect("log written");
+    let (model, log) = (model.display().to_string(), log.display().to_string());
+    let (code, stdout, stderr) = kairos(&[
+        "estimate", "--plant", &model, "--log", &log, "--json", "--full", "--top", "3", "--kappa",
+        "10",
+    ]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(code, 0, "{stderr}");
+    let cycles: Vec<serde_json::Value> = stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+        .collect();
+    let field = |c: &serde_json::Value, name: &str| c[name].as_f64().expect("a number");
+    assert_eq!(field(&cycles[0], "discarded"), 0.0);
+    assert_eq!(field(&cycles[0], "distance_bound"), 0.0);
+    for pair in cycles.windows(2) {
+        let discarded = field(&pair[1], "discarded");
+        assert!((0.0..=1.0).contains(&discarded), "{}", pair[1]);
+        assert!(
+            field(&pair[1], "distance_bound") >= field(&pair[0], "distance_bound"),
+            "{pair:?}"
+        );
+    }
+    assert!(field(&cycles[4], "distance_bound") > 10.0 * field(&cycles[3], "distance_bound"));
+    let shown: Vec<String> = (stdout.lines())
+        .map(|l| l.replace(&model, "MODEL").replace(&log, "LOG"))
+        .collect();
+    insta::assert_snapshot!(shown.join("\n"));
 }

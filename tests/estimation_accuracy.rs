@@ -20,7 +20,9 @@ use std::time::Instant;
 use kairos::estimation::{Belief, BeliefUpdate, ModeEstimator, TimedMe, TimedMeOptions, Update};
 use kairos::logic::ValueId;
 use proptest::strategy::{Strategy, ValueTree};
-use support::random_plant::{RandomPlant, RandomRun, broad_plant, runs};
+use support::random_plant::{
+    RandomPlant, RandomRun, broad_plant, fault_to_fault_plant, runs, sparse_runs,
+};
 
 /// The estimators scored: κ, and whether TimedME keeps its history window (docs/design/
 /// estimation.md, "The history window"; 0 turns it off).
@@ -119,7 +121,28 @@ fn measure(spec: &RandomPlant, run: &RandomRun, scores: &mut [Score]) -> Option<
 #[test]
 #[ignore = "a measurement (BENCHMARKS.md): run in release with --ignored --nocapture"]
 fn accuracy_of_timed_me_on_broad_random_plants() {
-    let strategy = (broad_plant(COMPONENTS), runs(COMPONENTS, 10, STEPS));
+    report(
+        "broad random plants",
+        (broad_plant(COMPONENTS), runs(COMPONENTS, 10, STEPS)),
+    );
+}
+
+/// As Livingstone 2's benchmark has them: components that go from fault to fault, and runs whose
+/// steps observe nothing half of the time (the others some observables each).
+#[test]
+#[ignore = "a measurement (BENCHMARKS.md): run in release with --ignored --nocapture"]
+fn accuracy_of_timed_me_on_partially_observed_fault_to_fault_plants() {
+    report(
+        "fault-to-fault random plants, half the steps blind",
+        (
+            fault_to_fault_plant(COMPONENTS),
+            sparse_runs(COMPONENTS, 10, STEPS, 0.5),
+        ),
+    );
+}
+
+/// Measures `seeded::cases(300)` plants and runs from `strategy` and prints the tables.
+fn report(name: &str, strategy: impl Strategy<Value = (RandomPlant, RandomRun)>) {
     let mut runner = seeded::runner();
     // Scored apart: plants whose exact belief stays within 80 system states (the issue's
     // "30–80 clock-distinct states" and smaller) and the wider ones (up to thousands).
@@ -152,7 +175,7 @@ fn accuracy_of_timed_me_on_broad_random_plants() {
         }
     }
     println!(
-        "{plants} broad random plants ({refused} refused by validation); exact beliefs stayed \
+        "{plants} {name} ({refused} refused by validation); exact beliefs stayed \
          within 80 system states on {}, reached more on {wide} (at most {widest})",
         plants - wide
     );

@@ -8,6 +8,10 @@
 //! - **Consistent with the model** (DESIGN.md §8: "the targets must be consistent with o(i+1) and
 //!   the model"): every system state either estimator keeps is consistent with the plant's
 //!   connections and mode constraints, whether or not anything was observed.
+//! - **How far from exact** (`src/estimation/timed_me.rs`): the total-variation distance between
+//!   TimedME's belief and the exact one, over system states, never exceeds
+//!   `Belief::distance_bound`, on every generator — the broad one with fault-to-fault
+//!   transitions and steps that observe nothing included, at κ small enough to truncate.
 //!
 //! `KAIROS_CASES=N` changes the number of random plants; `KAIROS_PROPTEST_SEED=random` explores.
 
@@ -21,7 +25,8 @@ use kairos::opsat::Theory;
 use kairos::plant::{Observation, Plant};
 use proptest::prelude::*;
 use support::random_plant::{
-    RandomPlant, RandomRun, broad_plant, consistent_with, random_plant, random_run, runs,
+    RandomPlant, RandomRun, broad_plant, consistent_with, fault_to_fault_plant, random_plant,
+    random_run, runs, sparse_runs,
 };
 
 const MAX_COMPONENTS: usize = 4;
@@ -68,6 +73,24 @@ fn differences(plant: &Plant, exact: &Belief, timed: &Belief) -> Vec<String> {
     out
 }
 
+/// ½ Σ |p − q| over system states.
+fn total_variation(exact: &Belief, timed: &Belief) -> f64 {
+    let mut distance: f64 = exact
+        .states()
+        .iter()
+        .map(|e| {
+            let t =
+                (timed.states().iter().find(|t| t.state == e.state)).map_or(0.0, |t| t.probability);
+            (e.probability - t).abs()
+        })
+        .sum();
+    distance += (timed.states().iter())
+        .filter(|t| !exact.states().iter().any(|e| e.state == t.state))
+        .map(|t| t.probability)
+        .sum::<f64>();
+    0.5 * distance
+}
+
 /// The states of `update` that the model alone refutes.
 fn inconsistent(plant: &Plant, theory: &mut Theory, update: &Update, who: &str) -> Vec<String> {
     update
@@ -91,9 +114,15 @@ fn inconsistent(plant: &Plant, theory: &mut Theory, update: &Update, who: &str) 
 struct Findings {
     inexact: Vec<String>,
     inconsistent: Vec<String>,
+    /// Steps where TimedME was further from the exact belief than its bound said.
+    beyond_bound: Vec<String>,
 }
 
 fn run_case(spec: &RandomPlant, run: &RandomRun) -> Findings {
+    run_case_at(spec, run, KAPPA)
+}
+
+fn run_case_at(spec: &RandomPlant, run: &RandomRun, kappa: usize) -> Findings {
     let mut findings = Findings::default();
     let Some(plant) = spec.plant() else {
         return findings;
@@ -101,7 +130,7 @@ fn run_case(spec: &RandomPlant, run: &RandomRun) -> Findings {
     let mut theory = plant.theory().expect("theory");
     let (first, cycles) = run.simulate(&plant, &mut theory);
     let mut exact = BeliefUpdate::new();
-    let mut timed = TimedMe::new(TimedMeOptions::kappa(KAPPA));
+    let mut timed = TimedMe::new(TimedMeOptions::kappa(kappa));
     let mut e = exact
         .initial(&plant, &mut theory, 0.0, &first)
         .expect("exact initial");
@@ -110,7 +139,17 @@ fn run_case(spec: &RandomPlant, run: &RandomRun) -> Findings {
         .expect("timed initial");
     let mut within = true;
     for step in 0..=cycles.len() {
-        within &= e.belief.states().len() <= KAPPA;
+        let distance = total_variation(&e.belief, &t.belief);
+        if distance > t.belief.distance_bound() + 1e-9 {
+            findings.beyond_bound.push(format!(
+                "step {step}: distance {distance} beyond the bound {} (events: exact {:?}, \
+                 TimedME {:?})",
+                t.belief.distance_bound(),
+                e.events,
+                t.events
+            ));
+        }
+        within &= e.belief.states().len() <= kappa;
         if within {
             for difference in differences(&plant, &e.belief, &t.belief) {
                 findings.inexact.push(format!(
@@ -146,9 +185,10 @@ proptest! {
     ) {
         let findings = run_case(&spec, &run);
         prop_assert!(
-            findings.inexact.is_empty(),
-            "{}\nmodel: {}",
+            findings.inexact.is_empty() && findings.beyond_bound.is_empty(),
+            "{}\n{}\nmodel: {}",
             findings.inexact.join("\n"),
+            findings.beyond_bound.join("\n"),
             spec.ron()
         );
     }
@@ -182,10 +222,31 @@ proptest! {
     ) {
         let findings = run_case(&spec, &run);
         prop_assert!(
-            findings.inexact.is_empty() && findings.inconsistent.is_empty(),
-            "{}\n{}\nmodel: {}",
+            findings.inexact.is_empty()
+                && findings.inconsistent.is_empty()
+                && findings.beyond_bound.is_empty(),
+            "{}\n{}\n{}\nmodel: {}",
             findings.inexact.join("\n"),
             findings.inconsistent.join("\n"),
+            findings.beyond_bound.join("\n"),
+            spec.ron()
+        );
+    }
+
+    /// The distance bound holds where truncation is heavy: κ = 3 on plants whose components
+    /// go from fault to fault, half the steps observing nothing (Livingstone 2's benchmark in
+    /// miniature).
+    #[test]
+    fn the_distance_bound_holds_on_partially_observed_fault_to_fault_plants(
+        spec in fault_to_fault_plant(BROAD_COMPONENTS),
+        run in sparse_runs(BROAD_COMPONENTS, 10, BROAD_STEPS, 0.5),
+    ) {
+        let findings = run_case_at(&spec, &run, 3);
+        prop_assert!(
+            findings.inconsistent.is_empty() && findings.beyond_bound.is_empty(),
+            "{}\n{}\nmodel: {}",
+            findings.inconsistent.join("\n"),
+            findings.beyond_bound.join("\n"),
             spec.ron()
         );
     }

@@ -321,7 +321,7 @@ fn the_trace_holds_changes_only_and_they_add_up_to_the_full_trace() {
     let changes = trace_of(scenario, "changes", &[]);
     let full = trace_of(scenario, "full", &["--trace-full"]);
     assert_eq!(changes.len(), full.len());
-    let carried = ["observation", "estimate", "belief"];
+    let carried = ["observation", "estimate", "belief", "distance_bound"];
     let per_cycle = ["command", "events", "plant"];
     let mut known = serde_json::Map::new();
     let mut quiet = 0;
@@ -333,6 +333,15 @@ fn the_trace_holds_changes_only_and_they_add_up_to_the_full_trace() {
             let (said, truth) = (known.get(field), long.get(field));
             if field == "belief" {
                 assert!(same_belief(said, truth), "{said:?} for {truth:?}");
+            } else if field == "distance_bound" {
+                let (p, q) = (
+                    said.and_then(|s| s.as_f64()),
+                    truth.and_then(|t| t.as_f64()),
+                );
+                assert!(
+                    p.zip(q).is_some_and(|(p, q)| (p - q).abs() < 1e-2),
+                    "{said:?} for {truth:?}"
+                );
             } else {
                 assert_eq!(said, truth, "{field} at {short}");
             }

@@ -253,5 +253,7 @@ fn as_json(plant: &Plant, record: &LogRecord, update: &Update, top: usize) -> Va
         "commands": object(plant, record.commands.issued(plant)),
         "system_states": update.stats.states,
         "sat_calls": update.stats.sat_calls,
+        "discarded": update.stats.discarded,
+        "distance_bound": update.belief.distance_bound(),
     })
 }

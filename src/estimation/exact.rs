@@ -19,7 +19,7 @@
 use std::collections::HashMap;
 
 use super::expand::{Choices, Expander, Limits, SourceChoices};
-use super::timed_me::{Outcome, initial_belief, with_fault_jumps};
+use super::timed_me::{Outcome, fallen_from, initial_belief, with_fault_jumps};
 use super::{Belief, EstimationError, ModeEstimator, Update, WeightedState, check_step};
 use crate::logic::ValueId;
 use crate::opsat::{SearchOptions, Theory};
@@ -130,7 +130,7 @@ impl ModeEstimator for BeliefUpdate {
             let jumps =
                 self.expander
                     .expand(plant, theory, &sources, observation, unbounded(), next)?;
-            outcome.fall_back(jumps, belief.states());
+            outcome.fall_back(jumps, belief.states(), fallen_from(belief));
         }
         Ok(outcome.into_update(plant, time, theory.stats().sat_calls - sat_before))
     }

@@ -128,9 +128,29 @@ pub(crate) struct Expansion {
     pub(crate) cut: Option<Cut>,
     /// Replayed from the last step ([`Expander::step`]) rather than expanded in full.
     pub(crate) replayed: bool,
+    /// An upper bound on the weight the streams had not handed out when the expansion stopped
+    /// (the prior mass of targets not enumerated, the observation factor being at most 1), in
+    /// the units of `merged`: 0 when every stream was exhausted.
+    pub(crate) unseen: f64,
+    /// The probability one unit of `merged` stands for: weights are relative to the best
+    /// candidate's trajectory probability, which is this.
+    pub(crate) scale: f64,
 }
 
 impl Expansion {
+    /// The bound [`super::Belief::distance_bound`] rests on, after this step with `kept` the
+    /// states kept, from a belief whose bound was `before`: the weight the exact update holds
+    /// outside the kept states, over the weight of the kept states (see `timed_me.rs`,
+    /// "How far from exact"). Infinite when a budget cut the search (targets were skipped
+    /// unseen) or nothing was kept.
+    pub(crate) fn outside(&self, kept: &[WeightedState], before: f64) -> f64 {
+        let kept: f64 = kept.iter().map(|w| w.probability).sum();
+        if self.cut.is_some() || kept <= 0.0 || self.scale <= 0.0 {
+            return f64::INFINITY;
+        }
+        ((self.merged + self.unseen - kept).max(0.0) + before / self.scale) / kept
+    }
+
     /// The fraction of the merged weight truncated away (0 when nothing was merged).
     pub(crate) fn lost(&self) -> f64 {
         let kept: f64 = self.states.iter().map(|w| w.probability).sum();
@@ -818,6 +838,7 @@ fn merge<S: Serve>(
     }
     let mut best = None;
     let mut candidates = 0u64;
+    let mut stopped = false;
     while let Some(Reverse((cost_bits, k, i))) = frontier.pop() {
         let cost = f64::from_bits(cost_bits);
         let best = *best.get_or_insert(cost);
@@ -834,6 +855,7 @@ fn merge<S: Serve>(
             serve.merge(merged, candidate, weight, successor);
         }
         if candidates as usize >= limits.max_candidates {
+            stopped = true;
             break;
         }
         let next_weight = frontier.peek().map_or(0.0, |Reverse((bits, _, _))| {
@@ -850,10 +872,21 @@ fn merge<S: Serve>(
             {
             }
             if unseen.mass() <= limit {
+                stopped = true;
                 break;
             }
         }
     }
+    // What the streams did not hand out, for the truncation report (`Expansion::unseen`):
+    // nothing when they ran dry, else the bound (computed already when the unseen mass
+    // stopped the expansion).
+    merged.scale = best.map_or(1.0, |b: f64| (-b).exp());
+    merged.unseen = if stopped {
+        unseen.bound(sources);
+        unseen.mass() / merged.scale
+    } else {
+        0.0
+    };
     Ok(candidates)
 }
 
@@ -966,6 +999,10 @@ pub(crate) struct Merged {
     states: Vec<WeightedState>,
     /// The sum of the weights.
     total: f64,
+    /// [`Expansion::unseen`] of the merge.
+    unseen: f64,
+    /// [`Expansion::scale`] of the merge.
+    scale: f64,
 }
 
 impl Merged {
@@ -1036,6 +1073,8 @@ impl Merged {
         self.index.clear();
         self.states.clear();
         self.total = 0.0;
+        self.unseen = 0.0;
+        self.scale = 1.0;
     }
 
     /// The expansion that ends here: the `kappa` heaviest states and the weight of all merged.
@@ -1052,6 +1091,8 @@ impl Merged {
             candidates,
             cut,
             replayed,
+            unseen: self.unseen,
+            scale: self.scale,
         }
     }
 

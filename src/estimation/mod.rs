@@ -68,6 +68,11 @@ pub struct Belief {
     /// update from it continues that estimator's history). Where a belief came from is not
     /// part of its value: equality and `Debug` leave it out.
     issued: Option<u64>,
+    /// An upper bound on the probability mass the exact update, run from the same start,
+    /// holds outside these states, over theirs (0 for a belief made by [`Belief::new`]; see
+    /// [`Belief::distance_bound`]). A record of how it was made, not part of its value:
+    /// equality and `Debug` leave it out.
+    outside: f64,
 }
 
 impl PartialEq for Belief {
@@ -109,7 +114,32 @@ impl Belief {
             states,
             mode_vars: plant.components().iter().map(|c| c.mode_var()).collect(),
             issued: None,
+            outside: 0.0,
         })
+    }
+
+    /// An upper bound on the total-variation distance, over system states (and so over plant
+    /// states), between this belief and the one the exact update (Figure 6-10, [`BeliefUpdate`])
+    /// would hold after the same steps from the same start: 0 for a belief made by
+    /// [`Belief::new`] and for the exact update's; for TimedME's, what its truncations can
+    /// have cost so far (`timed_me.rs`, "How far from exact"); 1 when nothing is known (after
+    /// a budget cut or a fallback).
+    pub fn distance_bound(&self) -> f64 {
+        if self.outside.is_finite() {
+            self.outside / (1.0 + self.outside)
+        } else {
+            1.0
+        }
+    }
+
+    /// Sets the bound behind [`Belief::distance_bound`] (`outside / (1 + outside)`).
+    pub(crate) fn set_outside(&mut self, outside: f64) {
+        self.outside = outside;
+    }
+
+    /// The bound behind [`Belief::distance_bound`].
+    pub(crate) fn outside(&self) -> f64 {
+        self.outside
     }
 
     /// The time of the last observation folded in, t(i).
@@ -245,7 +275,7 @@ pub enum EstimationEvent {
 }
 
 /// Work done by one update, for reports and benchmarks.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct UpdateStats {
     /// Candidate trajectories (source state × next plant state) examined.
     pub candidates: u64,
@@ -261,6 +291,11 @@ pub struct UpdateStats {
     /// but when an observation contradicted every tracked state or truncation could have
     /// decided ŝ; see [`TimedMeOptions::history`]).
     pub rerun: u32,
+    /// The fraction of this step's merged weight (the next states found, observation weighed in)
+    /// that truncation to κ states discarded: 0 for the exact update, and whenever every next
+    /// state found was kept. Per step; [`Belief::distance_bound`] is what the steps so far,
+    /// and the states the search did not enumerate, can add up to.
+    pub discarded: f64,
 }
 
 /// The result of one estimation step.

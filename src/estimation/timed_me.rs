@@ -16,6 +16,37 @@
 //! [`EstimationEvent::InconsistentObservation`] and falls back (DESIGN.md §8): first it lets
 //! components jump into their unconstrained fault modes, which explain anything of theirs; if
 //! even that fails, it keeps the previous belief, clocks running on.
+//!
+//! # How far from exact
+//!
+//! Every update reports how much truncation cost, so that a user sees how far the κ-best belief
+//! may be from the exact update's (Figure 6-10, `exact.rs`, run from the same start):
+//! - per step, [`UpdateStats::discarded`]: the fraction of the weight merged that truncation to
+//!   the κ heaviest states dropped — exact, for the states the search found. What the search
+//!   never enumerated (it stops early by design, `expand.rs`) is not in it: only a bound on it
+//!   is known (the sources' prior mass their streams have not handed out, `expand.rs`'s
+//!   `Unseen`; the observation factor is at most 1, so prior mass bounds posterior weight), and
+//!   that bound is loose exactly where an observation refutes most of the prior, since it
+//!   counts refuted targets too. It goes into the cumulative bound instead:
+//! - cumulatively, [`Belief::distance_bound`]: an upper bound on the total-variation distance
+//!   from the exact belief. Write the exact update's unnormalised posterior as ν + δ, where ν is
+//!   the weight of TimedME's states along TimedME's own lineage and δ ≥ 0 everything else, and
+//!   let r = |δ| / |ν|. One step maps ν to the states merged (mass M, of which K kept) and the
+//!   ones never enumerated (at most U); it maps δ to at most |δ|, as transition probabilities
+//!   sum to at most 1 and observation factors are at most 1. With |ν| = 1 (beliefs are
+//!   normalised): r' ≤ (M − K + U + r) / K. The distance between ν / |ν| and
+//!   (ν + δ) / |ν + δ| is at most |δ| / |ν + δ| = r / (1 + r). It holds whatever rule picks the
+//!   kept states and whatever the history's re-runs do (a re-run carries r through its own
+//!   steps from its window's start); it is lost (1) when a budget cut a search (targets were
+//!   skipped unseen) or an observation forced a fallback after something was discarded (a
+//!   discarded state might have explained it).
+//!
+//! The bound only grows (K ≤ 1), and it is conservative: it assumes every discarded and every
+//! unenumerated state survived every observation since, so an observation that refutes most of
+//! the kept mass (K small) multiplies it — also when what was not enumerated was refuted too.
+//! A user reads it as "TimedME may be this far from exact"; the per-step `discarded` says
+//! where truncation bit. Tests check it against the exact update on random plants
+//! (`tests/estimation_fidelity.rs`).
 
 use std::sync::Arc;
 
@@ -213,7 +244,7 @@ impl ModeEstimator for TimedMe {
                 let window = 1.0 - (1.0 - self.history.lost()) * (1.0 - lost);
                 window > MIN_LOSS && margin(&expansion.states) < AMBIGUITY * window
             };
-        let mut outcome = Outcome::new(expansion);
+        let mut outcome = Outcome::new(expansion, belief.outside());
         let mut wide = None;
         if ambiguous && let Some(rerun) = self.reestimate(plant, theory, belief, &step)? {
             wide = Some(outcome.rerun(rerun));
@@ -238,7 +269,7 @@ impl ModeEstimator for TimedMe {
                     limits,
                     successor_from(plant, belief.states(), time),
                 )?;
-                outcome.fall_back(expansion, belief.states());
+                outcome.fall_back(expansion, belief.states(), fallen_from(belief));
                 jumped = true;
             }
         }
@@ -291,6 +322,7 @@ impl TimedMe {
         .limits();
         let mut last = None;
         for input in steps.iter().chain(std::iter::once(step)) {
+            let before = current.outside();
             let (_, expansion) = expand_from(
                 &mut self.expander,
                 plant,
@@ -305,17 +337,23 @@ impl TimedMe {
                 let kappa = self.options.kappa.min(expansion.states.len());
                 expansion.states[..kappa].to_vec()
             });
-            let Some(next) = Belief::new(plant, input.time, expansion.states) else {
+            let outside = expansion.outside(&expansion.states, before);
+            let Some(mut next) = Belief::new(plant, input.time, expansion.states) else {
                 return Ok(None);
             };
+            next.set_outside(outside);
             current = next;
-            last = kept.map(|states| Expansion {
-                states,
-                ..expansion
+            last = kept.map(|states| {
+                let expansion = Expansion {
+                    states,
+                    ..expansion
+                };
+                (expansion, before)
             });
         }
-        Ok(last.map(|expansion| Rerun {
+        Ok(last.map(|(expansion, before)| Rerun {
             expansion,
+            before,
             steps: steps.len() + 1,
             wide: current,
         }))
@@ -326,6 +364,8 @@ impl TimedMe {
 struct Rerun {
     /// The κ heaviest states it ended with.
     expansion: Expansion,
+    /// The bound of the wide belief its last step started from ([`Belief::outside`]).
+    before: f64,
     /// How many steps it ran.
     steps: usize,
     /// Every state it ended with (at most 8κ), normalised.
@@ -420,7 +460,7 @@ pub(crate) fn initial_belief(
     }];
     let entered = |_: usize, modes: Vec<ValueId>| SystemState::entered_at(plant, modes, time);
     let expansion = expander.expand(plant, theory, &sources, observation, limits, entered)?;
-    let mut outcome = Outcome::new(expansion);
+    let mut outcome = Outcome::new(expansion, 0.0);
     if outcome.is_empty() {
         with_fault_jumps(plant, &mut sources);
         let expansion = expander.expand(plant, theory, &sources, observation, limits, entered)?;
@@ -433,7 +473,9 @@ pub(crate) fn initial_belief(
             limits,
             entered,
         )?;
-        outcome.fall_back(expansion, &prior.states);
+        // The exact update, run from the same start, falls back the same way: an empty
+        // expansion means no initial state at all is consistent with the observation.
+        outcome.fall_back(expansion, &prior.states, 0.0);
     }
     Ok(outcome.into_update(plant, time, theory.stats().sat_calls - sat_before))
 }
@@ -463,12 +505,28 @@ pub(crate) struct Outcome {
     candidates: u64,
     replayed: bool,
     rerun: u32,
+    /// [`UpdateStats::discarded`].
+    discarded: f64,
+    /// The new belief's bound ([`Belief::outside`]).
+    outside: f64,
+}
+
+/// The bound a fallback from `belief` starts from: the exact update falls back the same way
+/// only if nothing was ever discarded; otherwise a discarded state might have explained the
+/// observation, and nothing is known.
+pub(crate) fn fallen_from(belief: &Belief) -> f64 {
+    if belief.outside() == 0.0 {
+        0.0
+    } else {
+        f64::INFINITY
+    }
 }
 
 impl Outcome {
-    pub(crate) fn new(expansion: Expansion) -> Outcome {
+    /// The outcome of `expansion`, from a belief whose bound was `before` ([`Belief::outside`]).
+    pub(crate) fn new(expansion: Expansion, before: f64) -> Outcome {
         let mut outcome = Outcome::from_states(Vec::new(), 0);
-        outcome.absorb(expansion);
+        outcome.absorb(expansion, before);
         outcome
     }
 
@@ -480,10 +538,14 @@ impl Outcome {
             candidates,
             replayed: false,
             rerun: 0,
+            discarded: 0.0,
+            outside: 0.0,
         }
     }
 
-    fn absorb(&mut self, expansion: Expansion) {
+    fn absorb(&mut self, expansion: Expansion, before: f64) {
+        self.discarded = expansion.lost();
+        self.outside = expansion.outside(&expansion.states, before);
         self.candidates += expansion.candidates;
         self.replayed = expansion.replayed;
         if let Some(cut) = expansion.cut {
@@ -499,16 +561,19 @@ impl Outcome {
     /// The history's re-run gave the belief instead (`history.rs`); returns the wide belief it
     /// ended with.
     fn rerun(&mut self, rerun: Rerun) -> Belief {
-        self.absorb(rerun.expansion);
+        self.absorb(rerun.expansion, rerun.before);
         self.rerun = rerun.steps as u32;
         rerun.wide
     }
 
-    /// DESIGN.md §8's fallbacks: the fault-jump expansion, else `previous` as it was.
-    pub(crate) fn fall_back(&mut self, jumps: Expansion, previous: &[WeightedState]) {
-        self.absorb(jumps);
+    /// DESIGN.md §8's fallbacks: the fault-jump expansion, else `previous` as it was; `before`
+    /// is the bound the fallback starts from ([`fallen_from`]).
+    pub(crate) fn fall_back(&mut self, jumps: Expansion, previous: &[WeightedState], before: f64) {
+        self.absorb(jumps, before);
         let fallback = if self.states.is_empty() {
             self.states = previous.to_vec();
+            self.discarded = 0.0;
+            self.outside = before;
             Fallback::PreviousBelief
         } else {
             Fallback::UnconstrainedFaults
@@ -519,12 +584,14 @@ impl Outcome {
 
     pub(crate) fn into_update(self, plant: &Plant, time: f64, sat_calls: u64) -> Update {
         let states = self.states.len() as u64;
-        let belief = Belief::new(plant, time, self.states).unwrap_or_else(|| Belief {
+        let mut belief = Belief::new(plant, time, self.states).unwrap_or_else(|| Belief {
             time,
             states: Vec::new(),
             mode_vars: plant.components().iter().map(|c| c.mode_var()).collect(),
             issued: None,
+            outside: f64::INFINITY,
         });
+        belief.set_outside(self.outside);
         Update {
             belief,
             events: self.events,
@@ -534,6 +601,7 @@ impl Outcome {
                 states,
                 replayed: self.replayed,
                 rerun: self.rerun,
+                discarded: self.discarded,
             },
         }
     }

@@ -197,6 +197,8 @@ pub struct Step {
     pub most_likely: Vec<ValueId>,
     /// The plant states of the belief with their probabilities, most likely first.
     pub estimates: Vec<PlantEstimate>,
+    /// How far the belief may be from the exact update's ([`Belief::distance_bound`]).
+    pub distance_bound: f64,
     /// What each monitor of a numeric observable made of its readings: the value estimation
     /// read (`None`: absent). Empty for a plant without monitors.
     pub monitored: Vec<(VarId, Option<ValueId>)>,
@@ -629,6 +631,7 @@ impl Executive {
             action,
             most_likely: self.most_likely(),
             estimates: std::mem::take(&mut self.estimates),
+            distance_bound: self.belief.as_ref().map_or(0.0, Belief::distance_bound),
             monitored: self.monitoring.outputs().to_vec(),
             marking: self.control.marking(),
             events: log.events,

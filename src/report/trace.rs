@@ -19,6 +19,9 @@
 //! - `command`: μ, the non-idle control assignments, as `"PDE.cmd = on"`;
 //! - `estimate`: ŝ, the most likely mode of each component, `{"engine": "heating", ..}`;
 //! - `belief`: the tracked plant states, most likely first, `[{"p": .., "modes": {..}}]`;
+//! - `distance_bound`: an upper bound on the total-variation distance between the belief and
+//!   the exact update's (`estimation::Belief::distance_bound`), written like `belief` (on the
+//!   first line, then when it moved by [`DISTANCE_RESOLUTION`] or more);
 //! - `events`: the executive's events, `[{"kind": "Diagnosis", "text": "PDE = resettable (p 0.91);
 //!   evidence: PDE.status = fault; next: PDE = on (p 0.09)", "next": [{"mode": "on", "p": 0.09}],
 //!   "evidence": ["PDE.status = fault"]}]` (kinds as `simulation::EventName` spells them; text
@@ -54,6 +57,8 @@ struct Line<'a> {
     estimate: Option<Modes>,
     #[serde(skip_serializing_if = "Option::is_none")]
     belief: Option<Vec<Belief>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    distance_bound: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     events: Option<Vec<TraceEvent>>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -155,6 +160,7 @@ pub struct Trace {
     monitored: Option<Modes>,
     estimate: Option<Modes>,
     belief: Option<Vec<Belief>>,
+    distance_bound: Option<f64>,
 }
 
 impl Trace {
@@ -189,6 +195,11 @@ impl Trace {
             belief: all
                 .belief
                 .filter(|b| !repeats(full, &mut self.belief, b.as_slice(), same_belief)),
+            distance_bound: all.distance_bound.filter(|d| {
+                !repeats(full, &mut self.distance_bound, d, |a, b| {
+                    (a - b).abs() < DISTANCE_RESOLUTION
+                })
+            }),
             command: all.command.filter(some),
             events: all.events.filter(|v| full || !v.is_empty()),
             plant: all.plant.filter(|v| full || !v.is_empty()),
@@ -221,6 +232,10 @@ where
 /// How far a tracked state's probability may drift before a changes-only trace says the belief
 /// again: fault hazards move the tail of the belief a little every cycle, which is not news.
 pub const BELIEF_RESOLUTION: f64 = 1e-3;
+
+/// How far the distance bound may move before a changes-only trace says it again: it grows a
+/// little with every truncation, and a bound is worth reading to a hundredth.
+pub const DISTANCE_RESOLUTION: f64 = 1e-2;
 
 /// The same tracked plant states in the same order, each probability within
 /// [`BELIEF_RESOLUTION`] of what was last written.
@@ -274,6 +289,7 @@ fn line<'a>(scenario: &'a Scenario, record: &CycleRecord<'a>) -> Line<'a> {
                 })
                 .collect(),
         ),
+        distance_bound: Some(step.distance_bound),
         events: Some(
             step.events
                 .iter()

@@ -163,6 +163,7 @@ mod tests {
             action: None,
             most_likely: modes,
             estimates: Vec::new(),
+            distance_bound: 0.0,
             marking: Vec::new(),
             events: Vec::new(),
             monitored: Vec::new(),

@@ -88,6 +88,10 @@ pub struct ComponentSpec {
     pub behaviours: Vec<Behaviour>,
     /// A fault mode after the nominal ones, unconstrained (`true`) or stuck low (`false`).
     pub fault: Option<(bool, FaultSpec)>,
+    /// With a fault: a second fault mode of the other kind after it, entered by the same law
+    /// from every nominal mode and from the first fault, which it can also return to (fault to
+    /// fault, as Livingstone 2's breakers go between tripped, blown and unknown).
+    pub fault_to_fault: bool,
     /// Has a `cmd` control.
     pub commanded: bool,
     /// `out` is observable.
@@ -113,12 +117,22 @@ fn number(x: f64) -> String {
 
 impl ComponentSpec {
     fn modes(&self) -> usize {
-        self.behaviours.len() + usize::from(self.fault.is_some())
+        self.behaviours.len() + self.faults()
     }
 
+    /// How many fault modes (0–2).
+    fn faults(&self) -> usize {
+        match self.fault {
+            Some(_) if self.fault_to_fault => 2,
+            Some(_) => 1,
+            None => 0,
+        }
+    }
+
+    /// The probability per cycle of leaving a mode into the faults.
     fn fault_probability(&self) -> f64 {
         match self.fault {
-            Some((_, FaultSpec::PerCycle(p))) => p,
+            Some((_, FaultSpec::PerCycle(p))) => p * self.faults() as f64,
             _ => 0.0,
         }
     }
@@ -184,14 +198,21 @@ impl ComponentSpec {
         }
         let nominal = self.behaviours.len();
         if let Some((unconstrained, _)) = self.fault {
-            let constraint = if unconstrained {
-                "true".to_string()
-            } else {
-                format!("{name}.out = lo")
-            };
-            modes.push(format!(
-                "Mode(name: \"m{nominal}\", kind: Fault, constraint: \"{constraint}\")"
-            ));
+            for (k, unconstrained) in [unconstrained, !unconstrained]
+                .into_iter()
+                .take(self.faults())
+                .enumerate()
+            {
+                let constraint = if unconstrained {
+                    "true".to_string()
+                } else {
+                    format!("{name}.out = lo")
+                };
+                modes.push(format!(
+                    "Mode(name: \"m{}\", kind: Fault, constraint: \"{constraint}\")",
+                    nominal + k
+                ));
+            }
         }
         let left = 1.0 - self.fault_probability();
         let mut transitions = Vec::new();
@@ -236,6 +257,13 @@ impl ComponentSpec {
                 FaultSpec::Rate(r) => format!("rate: {}", number(r)),
             };
             transitions.push(format!("(from: \"*\", to: \"m{nominal}\", {law})"));
+            if self.fault_to_fault {
+                let (first, second) = (nominal, nominal + 1);
+                for (from, to) in [("*", second), (&*format!("m{first}"), second)] {
+                    transitions.push(format!("(from: \"{from}\", to: \"m{to}\", {law})"));
+                }
+                transitions.push(format!("(from: \"m{second}\", to: \"m{first}\", {law})"));
+            }
         }
         let initial = if self.initial >= 1.0 || nominal < 2 {
             "{ \"m0\": 1.0 }".to_string()
@@ -373,6 +401,7 @@ fn component() -> impl Strategy<Value = ComponentSpec> {
                 ComponentSpec {
                     behaviours,
                     fault,
+                    fault_to_fault: false,
                     commanded,
                     observed,
                     coupled,
@@ -419,6 +448,7 @@ fn broad_component() -> impl Strategy<Value = ComponentSpec> {
                 ComponentSpec {
                     behaviours,
                     fault,
+                    fault_to_fault: false,
                     commanded,
                     observed,
                     coupled,
@@ -441,6 +471,28 @@ pub fn broad_plant(max_components: usize) -> impl Strategy<Value = RandomPlant> 
     )
 }
 
+/// Broad random plants (see [`broad_plant`]) whose faulty components have, with probability
+/// 0.6, a second fault mode with fault-to-fault transitions ([`ComponentSpec::fault_to_fault`]).
+pub fn fault_to_fault_plant(max_components: usize) -> impl Strategy<Value = RandomPlant> {
+    prop::collection::vec(
+        (broad_component(), prop::bool::weighted(0.6)),
+        2..=max_components.max(2),
+    )
+    .prop_map(|components| {
+        let mut components: Vec<ComponentSpec> = components
+            .into_iter()
+            .map(|(mut c, second)| {
+                c.fault_to_fault = second && c.fault.is_some();
+                c
+            })
+            .collect();
+        if let Some(first) = components.first_mut() {
+            first.coupled = false;
+        }
+        RandomPlant { components }
+    })
+}
+
 /// Random plants of 1..=`max_components` components (2–4 modes each).
 pub fn random_plant(max_components: usize) -> impl Strategy<Value = RandomPlant> {
     prop::collection::vec(component(), 1..=max_components).prop_map(|mut components| {
@@ -459,6 +511,9 @@ pub struct RandomRun {
     pub steps: Vec<(f64, Vec<usize>, Vec<f64>, bool)>,
     /// Uniforms for the initial state.
     pub start: Vec<f64>,
+    /// Per step, whether nothing at all is observed after it (missing: every step observes
+    /// something, each observable with probability 0.8).
+    pub blind: Vec<bool>,
 }
 
 /// Runs of up to `max_steps` steps for plants of up to `max_components` components.
@@ -482,8 +537,28 @@ pub fn runs(
         uniforms.clone(),
         prop::bool::weighted(0.1),
     );
-    (prop::collection::vec(step, min_steps..=max_steps), uniforms)
-        .prop_map(|(steps, start)| RandomRun { steps, start })
+    (prop::collection::vec(step, min_steps..=max_steps), uniforms).prop_map(|(steps, start)| {
+        RandomRun {
+            steps,
+            start,
+            blind: Vec::new(),
+        }
+    })
+}
+
+/// Runs as [`runs`] gives them whose steps observe nothing with probability `blind`: partial
+/// observation as Livingstone 2's scripts have it, a few observables on some steps only.
+pub fn sparse_runs(
+    max_components: usize,
+    min_steps: usize,
+    max_steps: usize,
+    blind: f64,
+) -> impl Strategy<Value = RandomRun> {
+    (
+        runs(max_components, min_steps, max_steps),
+        prop::collection::vec(prop::bool::weighted(blind), max_steps),
+    )
+        .prop_map(|(run, blind)| RandomRun { blind, ..run })
 }
 
 /// One simulated cycle of a run: the control action before it, the time and the observation.
@@ -600,7 +675,7 @@ impl RandomRun {
         let controls: Vec<VarId> = plant.controls().iter().map(|c| c.var).collect();
         let mut time = 0.0;
         let mut cycles = Vec::new();
-        for (period, commands, uniforms, noisy) in &self.steps {
+        for (i, (period, commands, uniforms, noisy)) in self.steps.iter().enumerate() {
             let issued: Vec<(VarId, ValueId)> = controls
                 .iter()
                 .zip(commands)
@@ -618,13 +693,17 @@ impl RandomRun {
             )
             .expect("step");
             time += period;
-            let observation = observe(
-                plant,
-                theory,
-                &next.modes,
-                &uniforms[plant.components().len().min(uniforms.len())..],
-                *noisy,
-            );
+            let observation = if self.blind.get(i).copied().unwrap_or(false) {
+                Observation::none()
+            } else {
+                observe(
+                    plant,
+                    theory,
+                    &next.modes,
+                    &uniforms[plant.components().len().min(uniforms.len())..],
+                    *noisy,
+                )
+            };
             state = next;
             cycles.push(Cycle {
                 commands,
