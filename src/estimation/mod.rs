@@ -20,6 +20,7 @@ mod exact;
 mod expand;
 mod history;
 pub mod log;
+mod merge;
 mod observe;
 mod replay;
 mod streams;

@@ -92,7 +92,8 @@
 use std::sync::Arc;
 
 use super::WeightedState;
-use super::expand::{Choices, Merged, Serve, SourceChoices, state_hash};
+use super::expand::{Choices, SourceChoices};
+use super::merge::{Merged, Serve, state_hash};
 use super::observe::ObservationModel;
 use super::streams::{Known, SolutionCache, cost_at, drift, possible_mass_under};
 use crate::logic::ValueId;

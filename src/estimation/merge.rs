@@ -1,0 +1,430 @@
+//! The merge of the sources' solution streams, best first by trajectory probability (the
+//! expansion's core; see `expand`'s module documentation for why it yields the κ most likely
+//! next states): where solutions come from ([`Serve`]: the live streams or a replay), the
+//! prior mass not yet handed out ([`Unseen`]) that bounds what is still to come, and the
+//! merged next states with summed weights ([`Merged`]).
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use std::hash::{Hash, Hasher};
+
+use rustc_hash::{FxHashMap, FxHasher};
+
+use super::expand::{Expansion, Limits, MASS_TOLERANCE, SourceChoices};
+use super::observe::ObservationModel;
+use super::streams::Streams;
+use super::{EstimationError, WeightedState};
+use crate::logic::ValueId;
+use crate::opsat::{Cut, Theory};
+use crate::plant::{Observation, Plant, SystemState};
+
+/// Where the merge gets each source's solutions, cheapest first, and their observation factors:
+/// the streams of a full expansion ([`Live`]), or the replay of the last one
+/// ([`super::replay::Replaying`]), which answers only what it can certify.
+pub(crate) trait Serve {
+    /// What stops a merge: [`EstimationError`] for the streams,
+    /// [`super::replay::Uncertified`] for a replay.
+    type Error;
+
+    /// The cost of solution `i` of source `k` (fetched in order: `i` is at most one past the
+    /// last one asked for); `None` when there is none.
+    fn cost(&mut self, k: usize, i: usize, theory: &mut Theory)
+    -> Result<Option<f64>, Self::Error>;
+
+    /// What the merge needs of a candidate it examines.
+    type Candidate;
+
+    /// Solution `i` of source `k`, whose cost was asked for.
+    fn candidate(&self, k: usize, i: usize) -> Self::Candidate;
+
+    /// See [`Streams::possible_mass`].
+    fn possible_mass(&mut self, k: usize, theory: &mut Theory) -> Result<f64, Self::Error>;
+
+    /// P_O(o | modes) for the expansion's observation and the candidate's next modes.
+    fn factor(
+        &mut self,
+        observe: &mut ObservationModel,
+        theory: &mut Theory,
+        candidate: &Self::Candidate,
+    ) -> Result<f64, Self::Error>;
+
+    /// Adds the candidate's successor (as `successor` builds it) to `merged` with `weight`.
+    fn merge(
+        &mut self,
+        merged: &mut Merged,
+        candidate: Self::Candidate,
+        weight: f64,
+        successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+    );
+}
+
+/// The streams of a full expansion, with what they are asked about.
+pub(super) struct Live<'s, 'o, 'a> {
+    pub(super) streams: &'s mut Streams<'o>,
+    pub(super) plant: &'a Plant,
+    pub(super) sources: &'a [SourceChoices],
+    pub(super) observation: &'a Observation,
+}
+
+impl Serve for Live<'_, '_, '_> {
+    type Error = EstimationError;
+
+    fn cost(
+        &mut self,
+        k: usize,
+        i: usize,
+        theory: &mut Theory,
+    ) -> Result<Option<f64>, Self::Error> {
+        Ok(self
+            .streams
+            .cost(k, i, self.plant, self.sources, self.observation, theory))
+    }
+
+    type Candidate = (usize, Vec<ValueId>);
+
+    fn candidate(&self, k: usize, i: usize) -> (usize, Vec<ValueId>) {
+        (k, self.streams.modes(k, i))
+    }
+
+    fn possible_mass(&mut self, k: usize, theory: &mut Theory) -> Result<f64, Self::Error> {
+        Ok(self.streams.possible_mass(k, self.plant, theory))
+    }
+
+    fn factor(
+        &mut self,
+        observe: &mut ObservationModel,
+        theory: &mut Theory,
+        (_, modes): &(usize, Vec<ValueId>),
+    ) -> Result<f64, Self::Error> {
+        Ok(observe.factor_of_solution(self.plant, theory, modes, self.observation)?)
+    }
+
+    fn merge(
+        &mut self,
+        merged: &mut Merged,
+        (k, modes): (usize, Vec<ValueId>),
+        weight: f64,
+        successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+    ) {
+        merged.add(successor(k, modes), weight);
+    }
+}
+
+/// The merge's working storage (kept by the [`Expander`](super::expand::Expander) so that a step allocates none of it
+/// afresh).
+#[derive(Default)]
+pub(super) struct Buffers {
+    unseen: Unseen,
+    /// The successors merged so far (emptied by [`Merged::heaviest`]).
+    pub(super) merged: Merged,
+    frontier: BinaryHeap<Reverse<(u64, usize, usize)>>,
+    /// Per source, −ln of its probability.
+    source_cost: Vec<f64>,
+}
+
+/// The merge of the sources' solutions best first (see the module documentation): the
+/// candidates' successors with their weights, into `buffers.merged`; returns how many
+/// candidates were examined.
+pub(super) fn merge<S: Serve>(
+    observe: &mut ObservationModel,
+    buffers: &mut Buffers,
+    theory: &mut Theory,
+    sources: &[SourceChoices],
+    limits: Limits,
+    serve: &mut S,
+    successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+) -> Result<u64, S::Error> {
+    let Buffers {
+        unseen,
+        merged,
+        frontier,
+        source_cost,
+    } = buffers;
+    source_cost.clear();
+    source_cost.extend(sources.iter().map(|s| -s.probability.ln()));
+    unseen.reset(sources.len());
+    frontier.clear();
+    merged.clear();
+    for (k, source) in sources.iter().enumerate() {
+        let first = if source.probability > 0.0 {
+            serve.cost(k, 0, theory)?
+        } else {
+            None
+        };
+        match first {
+            Some(cost) => frontier.push(Reverse((order(source_cost[k] + cost), k, 0usize))),
+            None => unseen.exhausted(k),
+        }
+    }
+    let mut best = None;
+    let mut candidates = 0u64;
+    let mut stopped = false;
+    while let Some(Reverse((cost_bits, k, i))) = frontier.pop() {
+        let cost = f64::from_bits(cost_bits);
+        let best = *best.get_or_insert(cost);
+        candidates += 1;
+        unseen.served(k, cost);
+        let candidate = serve.candidate(k, i);
+        match serve.cost(k, i + 1, theory)? {
+            Some(next) => frontier.push(Reverse((order(source_cost[k] + next), k, i + 1))),
+            None => unseen.exhausted(k),
+        }
+        let factor = serve.factor(observe, theory, &candidate)?;
+        let weight = (best - cost).exp() * factor;
+        if weight > 0.0 {
+            serve.merge(merged, candidate, weight, successor);
+        }
+        if candidates as usize >= limits.max_candidates {
+            stopped = true;
+            break;
+        }
+        let next_weight = frontier.peek().map_or(0.0, |Reverse((bits, _, _))| {
+            (best - f64::from_bits(*bits)).exp()
+        });
+        // Past κ states, with no single candidate able to displace the κ-th, only the
+        // unseen mass keeps the expansion going: tighten the bounds of the sources holding
+        // most of it, one at a time, only as far as it lets the expansion stop.
+        if merged.states.len() > limits.kappa && merged.kth_at_least(limits.kappa, next_weight) {
+            let limit = MASS_TOLERANCE * merged.total * (-best).exp();
+            unseen.bound(sources);
+            while unseen.mass() > limit
+                && unseen.tighten_heaviest(sources, |k| serve.possible_mass(k, theory))?
+            {
+            }
+            if unseen.mass() <= limit {
+                stopped = true;
+                break;
+            }
+        }
+    }
+    // What the streams did not hand out, for the truncation report (`Expansion::unseen`):
+    // nothing when they ran dry, else the bound (computed already when the unseen mass
+    // stopped the expansion).
+    merged.scale = best.map_or(1.0, |b: f64| (-b).exp());
+    merged.unseen = if stopped {
+        unseen.bound(sources);
+        unseen.mass() / merged.scale
+    } else {
+        0.0
+    };
+    Ok(candidates)
+}
+
+/// A non-negative cost as an integer with the same order (IEEE-754 bit patterns of non-negative
+/// doubles order like the numbers).
+fn order(cost: f64) -> u64 {
+    cost.max(0.0).to_bits()
+}
+
+/// The prior probability the sources' streams have not handed out yet, per source: a source's
+/// targets are a subset of its next-mode combinations, whose probabilities sum to
+/// p(source) · Π_components Σ p(next mode) (p(source) but for the fallback's extra jumps), so
+/// that sum less what was served bounds every target still to come, feasible or not. Once
+/// [tightened](Unseen::tighten_heaviest), the sums run over the next modes the observation does not
+/// refute on their own, which leaves out the mass of refuted faults that no stream will ever
+/// hand out. An exhausted stream has nothing left.
+#[derive(Default)]
+struct Unseen {
+    /// Per source of the current expansion (the vector is reused from one to the next).
+    bounds: Vec<Bound>,
+}
+
+/// One source's unseen mass.
+#[derive(Clone, Copy, Default)]
+struct Bound {
+    /// The bound on its targets' total probability: `None` until needed, 0 once exhausted.
+    mass: Option<f64>,
+    /// The probability of the targets served.
+    served: f64,
+    /// Whether the bound was tightened.
+    tightened: bool,
+}
+
+impl Unseen {
+    /// Starts an expansion of `sources` sources.
+    fn reset(&mut self, sources: usize) {
+        self.bounds.clear();
+        self.bounds.resize(sources, Bound::default());
+    }
+
+    /// Computes the bounds not known yet (only expansions that get past κ states need them).
+    fn bound(&mut self, sources: &[SourceChoices]) {
+        for (bound, source) in self.bounds.iter_mut().zip(sources) {
+            bound.mass.get_or_insert_with(|| {
+                let combinations: f64 = source
+                    .choices
+                    .iter()
+                    .map(|next| next.iter().map(|n| n.probability).sum::<f64>())
+                    .product();
+                source.probability * combinations
+            });
+        }
+    }
+
+    /// Replaces the bound of the source with the most unseen mass not yet tightened by
+    /// `p(source) · possible(source)` (see [`Streams::possible_mass`]); false when no source
+    /// is left to tighten.
+    fn tighten_heaviest<E>(
+        &mut self,
+        sources: &[SourceChoices],
+        possible: impl FnOnce(usize) -> Result<f64, E>,
+    ) -> Result<bool, E> {
+        let heaviest = (0..self.bounds.len())
+            .filter(|&k| !self.bounds[k].tightened && self.left(k) > 0.0)
+            .max_by(|&a, &b| self.left(a).total_cmp(&self.left(b)));
+        let Some(k) = heaviest else {
+            return Ok(false);
+        };
+        let tightened = sources[k].probability * possible(k)?;
+        let bound = &mut self.bounds[k];
+        bound.tightened = true;
+        bound.mass = Some(bound.mass.map_or(tightened, |mass| mass.min(tightened)));
+        Ok(true)
+    }
+
+    /// What source `k` may still hand out (rounding can leave it slightly below 0; a bound not
+    /// computed yet counts as nothing, [`Unseen::bound`] comes first).
+    fn left(&self, k: usize) -> f64 {
+        let bound = &self.bounds[k];
+        (bound.mass.unwrap_or(0.0) - bound.served).max(0.0)
+    }
+
+    /// Source `k` handed out a target of trajectory cost `cost` (−ln of its prior probability).
+    fn served(&mut self, k: usize, cost: f64) {
+        self.bounds[k].served += (-cost).exp();
+    }
+
+    fn exhausted(&mut self, k: usize) {
+        self.bounds[k].mass = Some(0.0);
+    }
+
+    /// The bound on everything still to come.
+    fn mass(&self) -> f64 {
+        (0..self.bounds.len()).map(|k| self.left(k)).sum()
+    }
+}
+
+/// The hash [`Merged`] indexes a state by.
+pub(crate) fn state_hash(state: &SystemState) -> u64 {
+    let mut hasher = FxHasher::default();
+    state.hash(&mut hasher);
+    hasher.finish()
+}
+
+/// Next system states with summed weights, in order of first appearance. Indexed by hash, so a
+/// new state is stored once (hash collisions fall back to comparing states).
+#[derive(Default)]
+pub(crate) struct Merged {
+    index: FxHashMap<u64, usize>,
+    states: Vec<WeightedState>,
+    /// The sum of the weights.
+    total: f64,
+    /// [`Expansion::unseen`] of the merge.
+    unseen: f64,
+    /// [`Expansion::scale`] of the merge.
+    scale: f64,
+}
+
+impl Merged {
+    fn add(&mut self, state: SystemState, weight: f64) {
+        let hash = state_hash(&state);
+        self.add_hashed(state, hash, weight);
+    }
+
+    /// [`Merged::add`] of `state`, whose hash ([`state_hash`]) is `hash`.
+    pub(crate) fn add_hashed(&mut self, state: SystemState, hash: u64, weight: f64) {
+        self.total += weight;
+        match self.find(hash, &state) {
+            Some(i) => self.states[i].probability += weight,
+            None => self.push(hash, state, weight),
+        }
+    }
+
+    /// [`Merged::add`] of a copy of `state`, whose hash ([`state_hash`]) is `hash`, copied only
+    /// if it is new.
+    pub(crate) fn add_known(&mut self, state: &SystemState, hash: u64, weight: f64) {
+        self.total += weight;
+        match self.find(hash, state) {
+            Some(i) => self.states[i].probability += weight,
+            None => self.push(hash, state.clone(), weight),
+        }
+    }
+
+    /// The index of `state` (of hash `hash`) among the states merged, if it is one.
+    fn find(&self, hash: u64, state: &SystemState) -> Option<usize> {
+        match self.index.get(&hash) {
+            Some(&i) if self.states[i].state == *state => Some(i),
+            Some(_) => self.states.iter().position(|w| w.state == *state),
+            None => None,
+        }
+    }
+
+    fn push(&mut self, hash: u64, state: SystemState, weight: f64) {
+        self.index.entry(hash).or_insert(self.states.len());
+        self.states.push(WeightedState {
+            state,
+            probability: weight,
+        });
+    }
+
+    /// Whether the `k`-th largest weight (0 with fewer than `k` states) is at least `weight`
+    /// (a weight of a candidate, ≥ 0). Counted rather than selected: the `k`-th largest is at
+    /// least `weight` exactly when `k` weights are, and counting reads the weights once where a
+    /// selection copies and partitions them — asked after every candidate, a selection was a
+    /// tenth of a partially observed replay's instructions.
+    fn kth_at_least(&self, k: usize, weight: f64) -> bool {
+        if k == 0 || self.states.len() < k {
+            return 0.0 >= weight;
+        }
+        let mut at_least = 0;
+        for w in &self.states {
+            if w.probability >= weight {
+                at_least += 1;
+                if at_least == k {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// Empties it for a new merge (keeping the index's capacity).
+    fn clear(&mut self) {
+        self.index.clear();
+        self.states.clear();
+        self.total = 0.0;
+        self.unseen = 0.0;
+        self.scale = 1.0;
+    }
+
+    /// The expansion that ends here: the `kappa` heaviest states and the weight of all merged.
+    pub(super) fn expansion(
+        &mut self,
+        kappa: usize,
+        candidates: u64,
+        cut: Option<Cut>,
+        replayed: bool,
+    ) -> Expansion {
+        Expansion {
+            merged: self.total,
+            states: self.heaviest(kappa),
+            candidates,
+            cut,
+            replayed,
+            unseen: self.unseen,
+            scale: self.scale,
+        }
+    }
+
+    /// The `k` heaviest states, heaviest first (ties in order of appearance); leaves none.
+    fn heaviest(&mut self, k: usize) -> Vec<WeightedState> {
+        self.states
+            .sort_by(|a, b| b.probability.total_cmp(&a.probability));
+        // Drained rather than taken, so that the merge keeps its capacity for the next step.
+        let kept = k.min(self.states.len());
+        let mut heaviest = Vec::with_capacity(kept);
+        heaviest.extend(self.states.drain(..kept));
+        self.states.clear();
+        heaviest
+    }
+}
