@@ -83,8 +83,9 @@
 //!
 //! The record's bound on the other solutions is computed once per record (it costs a pass over
 //! the shape's known solutions, what `take` does every step), at the first replay. A source's
-//! preparation (its shape, L, O and its R ordered) is a function of its choices while the
-//! record lives, so it is kept per source for the last few distinct `Arc<Choices>` (a quiet
+//! preparation (its shape, L, O, its R ordered and, once asked, its possible mass) is a
+//! function of its choices while the record lives, so it is kept per source for the last few
+//! distinct `Arc<Choices>` (a quiet
 //! source keeps its very `Arc` from step to step, `expand.rs` `Recents`) and a source whose
 //! choices are one of those allocations (`Arc::ptr_eq`; the preparation holds the `Arc`, so the
 //! address cannot be reused) is not prepared again.
@@ -280,6 +281,10 @@ struct Prepared {
     certified: f64,
     /// O, below which no known solution outside R costs.
     others_bound: f64,
+    /// The source's possible mass under its shape's mask (see [`Serve::possible_mass`]), once
+    /// asked: a function of the choices and of the mask, which the cache keeps while the
+    /// record lives.
+    possible: Option<f64>,
 }
 
 /// The known solutions of a shape outside R.
@@ -480,6 +485,7 @@ impl Default for Prepared {
             order: Vec::new(),
             certified: f64::NEG_INFINITY,
             others_bound: f64::NEG_INFINITY,
+            possible: None,
         }
     }
 }
@@ -494,6 +500,7 @@ impl Prepared {
         choices: &Choices,
     ) -> Result<(), Uncertified> {
         self.shape = index;
+        self.possible = None;
         let known = cache.known(shape.slot).ok_or(Uncertified)?;
         self.certified = if known.complete {
             f64::INFINITY
@@ -578,8 +585,15 @@ impl Serve for Replaying<'_> {
     }
 
     fn possible_mass(&mut self, k: usize, _: &mut Theory) -> Result<f64, Uncertified> {
+        let variants = &self.replay.sources[k];
+        if let Some(possible) = variants.current().possible {
+            return Ok(possible);
+        }
         let mask = self.known(k)?.possible.as_ref().ok_or(Uncertified)?;
-        Ok(possible_mass_under(&self.sources[k].choices, mask))
+        let possible = possible_mass_under(&self.sources[k].choices, mask);
+        let variants = &mut self.replay.sources[k];
+        variants.prepared[variants.current].possible = Some(possible);
+        Ok(possible)
     }
 
     fn factor(
