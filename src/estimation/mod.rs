@@ -113,7 +113,7 @@ impl Belief {
         Some(Belief {
             time,
             states,
-            mode_vars: plant.components().iter().map(|c| c.mode_var()).collect(),
+            mode_vars: Arc::clone(plant.mode_vars()),
             issued: None,
             outside: 0.0,
         })

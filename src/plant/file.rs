@@ -100,7 +100,7 @@ use std::collections::{HashMap, HashSet};
 
 use serde::Deserialize;
 
-use super::{ComponentId, Control, Plant, validate};
+use super::{ComponentIndex, Control, Plant, validate};
 use crate::diagnostic::locate::NumberOrName as Number;
 use crate::diagnostic::locate::{Entries, Locator, Step};
 use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean, ron_error};
@@ -398,10 +398,7 @@ impl Loader {
         let acknowledgements =
             self.acknowledgements(&file.acknowledgements, &controls, &observables);
         self.refuse_acknowledgements_in_constraints(&acknowledgements, &components, &connections);
-        let mut component_of = vec![None; self.table.len()];
-        for (i, component) in components.iter().enumerate() {
-            component_of[component.mode_var.index()] = Some(ComponentId(i as u32));
-        }
+        let index = ComponentIndex::new(&components, self.table.len());
         Plant {
             name: file.name.clone(),
             table: std::mem::take(&mut self.table),
@@ -411,7 +408,7 @@ impl Loader {
             connections,
             monitors,
             acknowledgements,
-            component_of,
+            index,
         }
     }
 

@@ -29,6 +29,7 @@ mod timing;
 mod validate;
 
 use std::hash::{Hash, Hasher};
+use std::sync::Arc;
 
 pub use acknowledgement::{Acknowledgement, Answer};
 pub use step::{
@@ -203,8 +204,38 @@ pub struct Plant {
     monitors: Vec<Monitor>,
     /// The controls' acknowledgement observables.
     acknowledgements: Vec<Acknowledgement>,
+    /// What is looked up about the components every step, computed once.
+    index: ComponentIndex,
+}
+
+/// What estimation asks of the components every step, kept beside them rather than read out
+/// of each [`Component`] (the components never change after loading; [`Plant::believing`]
+/// changes an initial distribution only).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ComponentIndex {
     /// For each variable of the table, the component whose mode variable it is.
     component_of: Vec<Option<ComponentId>>,
+    /// Per component, how many modes it has: checking a state's modes reads this one array
+    /// (a belief's states are checked twice a step).
+    mode_counts: Vec<usize>,
+    /// Per component, its mode variable: shared by every belief of the plant rather than
+    /// collected for each.
+    mode_vars: Arc<[VarId]>,
+}
+
+impl ComponentIndex {
+    /// The index of `components`, whose variables are among `variables` many.
+    pub(crate) fn new(components: &[Component], variables: usize) -> ComponentIndex {
+        let mut component_of = vec![None; variables];
+        for (i, component) in components.iter().enumerate() {
+            component_of[component.mode_var.index()] = Some(ComponentId(i as u32));
+        }
+        ComponentIndex {
+            component_of,
+            mode_counts: components.iter().map(|c| c.modes.len()).collect(),
+            mode_vars: components.iter().map(|c| c.mode_var).collect(),
+        }
+    }
 }
 
 impl Plant {
@@ -277,7 +308,17 @@ impl Plant {
 
     /// The component whose mode variable `var` is (`None` for attributes).
     pub fn component_of(&self, var: VarId) -> Option<ComponentId> {
-        self.component_of.get(var.index()).copied().flatten()
+        self.index.component_of.get(var.index()).copied().flatten()
+    }
+
+    /// Per component, how many modes it has.
+    pub(crate) fn mode_counts(&self) -> &[usize] {
+        &self.index.mode_counts
+    }
+
+    /// Per component, its mode variable (shared).
+    pub(crate) fn mode_vars(&self) -> &Arc<[VarId]> {
+        &self.index.mode_vars
     }
 
     /// Component ids with their components.

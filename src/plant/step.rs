@@ -50,6 +50,14 @@ pub(crate) fn check_modes(plant: &Plant, modes: &[ValueId]) -> Result<(), InputE
     if modes.len() != components.len() {
         return Err(InputError::StateShape);
     }
+    // A pass without early exit over the mode counts first (estimation checks every state of a
+    // belief twice a step, and nearly always they fit); the component at fault is looked for
+    // only when one does not.
+    let fits = (modes.iter().zip(plant.mode_counts()))
+        .fold(true, |fits, (mode, &count)| fits & (mode.index() < count));
+    if fits {
+        return Ok(());
+    }
     for (component, mode) in components.iter().zip(modes) {
         if mode.index() >= component.modes().len() {
             return Err(InputError::OutOfDomain {
