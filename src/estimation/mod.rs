@@ -63,7 +63,11 @@ pub struct PlantEstimate {
 pub struct Belief {
     time: f64,
     states: Vec<WeightedState>,
-    /// The plant's mode variables, by component, to answer [`Belief::marginal`].
+    /// The plant's mode variables, by component, to answer [`Belief::marginal`]. Made by
+    /// [`Belief::new`], it is the plant's own allocation (`Plant::mode_vars`, shared by the
+    /// plant's clones, whose components are the same), and `Belief::new` checked every state
+    /// against that plant: a belief whose `mode_vars` is a plant's allocation fits that plant,
+    /// and an update from it need not check its states again (`check_step`).
     mode_vars: Arc<[VarId]>,
     /// The serial number TimedME returned this belief under, if it did (`history.rs`: an
     /// update from it continues that estimator's history). Where a belief came from is not
@@ -381,8 +385,11 @@ fn check_step(
 ) -> Result<(), EstimationError> {
     check_values(plant, commands.values())?;
     check_values(plant, observation.values())?;
-    for weighted in &belief.states {
-        weighted.state.check(plant)?;
+    // Checked when made, if made for this plant (see `Belief::mode_vars`).
+    if !Arc::ptr_eq(&belief.mode_vars, plant.mode_vars()) {
+        for weighted in &belief.states {
+            weighted.state.check(plant)?;
+        }
     }
     if !time.is_finite() || time < belief.time {
         return Err(EstimationError::TimeWentBackwards {
@@ -404,4 +411,53 @@ fn check_values(plant: &Plant, values: &[(VarId, ValueId)]) -> Result<(), InputE
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::Source;
+
+    fn load(name: &str, text: &str) -> Plant {
+        Plant::load(&Source::new(name, text)).expect("the model loads")
+    }
+
+    /// `check_step` leaves out the states of a belief made for the plant it is given (its
+    /// mode variables are that plant's allocation) and checks any other's: a belief of the
+    /// same model loaded again fits and is accepted, one of another model is refused.
+    #[test]
+    fn a_belief_made_for_another_plant_is_checked() {
+        const VALVE: &str = include_str!("../../models/driver_valve.ron");
+        let valve = load("driver_valve.ron", VALVE);
+        let mut theory = valve.theory().expect("theory");
+        let mut me = TimedMe::new(TimedMeOptions::kappa(3));
+        let first = me
+            .initial(&valve, &mut theory, 0.0, &Observation::none())
+            .expect("initial belief");
+        assert!(Arc::ptr_eq(&first.belief.mode_vars, valve.mode_vars()));
+        let step = |plant: &Plant, belief: &Belief| {
+            let mut theory = plant.theory().expect("theory");
+            let commands = Commands::idle(plant);
+            TimedMe::new(TimedMeOptions::kappa(3)).update(
+                plant,
+                &mut theory,
+                belief,
+                &commands,
+                &Observation::none(),
+                1.0,
+            )
+        };
+        assert!(step(&valve, &first.belief).is_ok());
+        let again = load("driver_valve.ron", VALVE);
+        assert!(!Arc::ptr_eq(&first.belief.mode_vars, again.mode_vars()));
+        assert!(step(&again, &first.belief).is_ok());
+        let thermostat = load(
+            "thermostat.ron",
+            include_str!("../../models/thermostat.ron"),
+        );
+        assert!(matches!(
+            step(&thermostat, &first.belief),
+            Err(EstimationError::Input(_))
+        ));
+    }
 }
