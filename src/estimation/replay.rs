@@ -8,8 +8,9 @@
 //! modes and the observation) and lists the shape's known solutions that the certificate
 //! covers: C_k = { known s : cost(s) ≤ L_k }, where L_k = ∞ for a complete shape and otherwise
 //! `bound − drift(certificate's choices, k's choices)`, the drift running over the modes the
-//! observation allows (deciding one not decided yet is a SAT call). C_k is sorted dearest first,
-//! stably over the known solutions' order, and served from the back; only when it runs out does
+//! observation allows (deciding one not decided yet is a SAT call). C_k is served in the order
+//! of a list sorted dearest first, stably over the known solutions' order, served from its back
+//! (`streams::Waiting`: a heap with that order); only when it runs out does
 //! a live OPSAT enumeration start (and then the stream's later costs are OPSAT's sums, its tie
 //! order OPSAT's, and the cache learns solutions and a new certificate). The merge asks the
 //! streams for costs in order, for next modes, for observation factors (cached per (modes,
@@ -527,7 +528,8 @@ impl Prepared {
             let cost = cost_at(choices, &known.positions[index]).ok_or(Uncertified)?;
             self.order.push((index, cost));
         }
-        // The certified list's order (`Known::certified`): dearest first, stably.
+        // The certified list's order (`streams::Waiting`): dearest first, stably, served
+        // from the back.
         self.order.sort_by(|a, b| b.1.total_cmp(&a.1));
         Ok(())
     }

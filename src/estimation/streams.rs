@@ -22,6 +22,8 @@
 //! call per mode, and only for modes whose cost moved ([`Possible`]).
 
 use std::cell::OnceCell;
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
 
 use rustc_hash::FxHashMap;
 
@@ -148,9 +150,9 @@ struct Stream {
     /// the shape's solutions (which only grow during an expansion, and are distinct, so an
     /// index names one solution).
     served: Vec<(usize, f64)>,
-    /// Certified known solutions not yet served, by index into the shape's solutions, dearest
-    /// first (served from the back).
-    certified: Vec<(usize, f64)>,
+    /// Certified known solutions not yet served, by index into the shape's solutions
+    /// ([`Waiting`] says in which order).
+    certified: BinaryHeap<Waiting>,
     /// The live enumeration's last cost, when one ran.
     live_bound: Option<f64>,
     done: bool,
@@ -266,32 +268,65 @@ pub(super) fn drift(
         .sum()
 }
 
+/// A certified known solution waiting to be served, by index into its shape's solutions, with
+/// its cost. The greatest is served first: the cheapest (by [`f64::total_cmp`]) and, among equal
+/// costs, the one known last — the order in which a list of them sorted dearest first, stably
+/// over the known solutions' order, is served from its back (the order `replay.rs` reproduces).
+/// Indices are distinct, so no two compare equal and the order is total. A heap gives it without
+/// sorting the whole list: the merge takes a few solutions of a source that may know hundreds,
+/// and sorting them all was most of an expansion's sorting.
+#[derive(Debug, Clone, Copy)]
+struct Waiting {
+    index: usize,
+    cost: f64,
+}
+
+impl Ord for Waiting {
+    fn cmp(&self, other: &Self) -> Ordering {
+        (other.cost.total_cmp(&self.cost)).then(self.index.cmp(&other.index))
+    }
+}
+
+impl PartialOrd for Waiting {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for Waiting {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Waiting {}
+
 impl Known {
-    /// The known solutions servable under `choices`' costs before any unknown one (by index),
-    /// dearest first. `possible` says which modes a feasible solution may take (see
-    /// [`drift`]).
+    /// The known solutions servable under `choices`' costs before any unknown one, to be
+    /// served in [`Waiting`]'s order. `possible` says which modes a feasible solution may take
+    /// (see [`drift`]).
     fn certified(
         &self,
         choices: &Choices,
         possible: impl FnMut(usize, ValueId) -> bool,
-    ) -> Vec<(usize, f64)> {
+    ) -> BinaryHeap<Waiting> {
         let limit = if self.complete {
             f64::INFINITY
         } else {
             match &self.certificate {
                 Some((old, bound)) => bound - drift(old, choices, possible),
-                None => return Vec::new(),
+                None => return BinaryHeap::new(),
             }
         };
-        let mut out: Vec<(usize, f64)> = self
+        let waiting: Vec<Waiting> = self
             .positions
             .iter()
             .enumerate()
-            .filter_map(|(i, at)| Some((i, cost_at(choices, at)?)))
+            .filter_map(|(index, at)| Some((index, cost_at(choices, at)?)))
             .filter(|(_, cost)| *cost <= limit)
+            .map(|(index, cost)| Waiting { index, cost })
             .collect();
-        out.sort_by(|a, b| b.1.total_cmp(&a.1));
-        out
+        BinaryHeap::from(waiting)
     }
 }
 
@@ -452,8 +487,8 @@ impl<'o> Streams<'o> {
             if let Some((_, cost)) = stream.served.get(i) {
                 return Some(*cost);
             }
-            if let Some(certified) = stream.certified.pop() {
-                stream.served.push(certified);
+            if let Some(Waiting { index, cost }) = stream.certified.pop() {
+                stream.served.push((index, cost));
                 continue;
             }
             if stream.done || self.cut.is_some() {

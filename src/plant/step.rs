@@ -44,7 +44,9 @@ pub enum StepError {
     Theory(#[from] TheoryError),
 }
 
-/// Checks that every component has a mode of its own.
+/// Checks that every component has a mode of its own. (Inlined: a belief checks its states
+/// with it every step, and a call per state cost as much as the check.)
+#[inline]
 pub(crate) fn check_modes(plant: &Plant, modes: &[ValueId]) -> Result<(), InputError> {
     let components = plant.components();
     if modes.len() != components.len() {
