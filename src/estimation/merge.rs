@@ -251,9 +251,10 @@ struct Unseen {
 #[derive(Default)]
 struct Combinations(FxHashMap<usize, (Arc<Choices>, f64)>);
 
-/// Past this many entries [`Combinations`] starts afresh (a quiet step meets κ choices; a
-/// history re-run a few hundred).
-const COMBINATIONS_LIMIT: usize = 512;
+/// Past this many entries [`Combinations`] starts afresh: a quiet step meets κ choices, new
+/// ones only where a source changed. Its entries keep their choices alive (a plant of 1,500
+/// components has 24 KB of them per source), so the limit also bounds what it can hold on to.
+const COMBINATIONS_LIMIT: usize = 256;
 
 impl Combinations {
     /// Π_components Σ p(next mode) of `choices`.
