@@ -134,6 +134,11 @@ pub(crate) struct Expansion {
     /// The probability one unit of `merged` stands for: weights are relative to the best
     /// candidate's trajectory probability, which is this.
     pub(crate) scale: f64,
+    /// The weight of the heaviest state merged but not kept (0 when every one was kept).
+    pub(crate) dropped: f64,
+    /// The largest observation factor P_O(o | modes) of a candidate merged (0 when none was):
+    /// how well the best explanation found explains the observation.
+    pub(crate) best_factor: f64,
 }
 
 impl Expansion {

@@ -10,8 +10,13 @@
 //!   was dropped): a dropped state within the window and among the wider run's states is found
 //!   again with its true weight relative to the others;
 //! - when ŝ is in doubt because of truncation: the two heaviest plant states of the step differ
-//!   by less than a few times the weight truncated away within the window (the trigger is in
-//!   `timed_me.rs`; the weight lost per step is recorded here).
+//!   by less than a few times the weight truncated away within the window;
+//! - when an observation surprised and a state dropped within the window may now outweigh a
+//!   kept one: the re-run then starts at the step that dropped it, from the belief that step
+//!   started from, kept for the purpose (steps that dropped next to nothing keep none).
+//!
+//! The triggers are in `timed_me.rs` ("When the window is re-run"); what each step truncated
+//! ([`Truncated`]) is recorded here.
 //!
 //! The wide belief a re-run ends with is kept behind the belief returned from it: when the next
 //! update starts from that belief and needs a re-run too, the wide one is stepped once — the
@@ -52,8 +57,69 @@ pub(super) struct Input {
     commands: Arc<Commands>,
     observation: Arc<Observation>,
     time: f64,
-    /// The fraction of the merged weight the step truncated away.
-    lost: f64,
+    /// What the step's truncation dropped.
+    truncated: Truncated,
+    /// The belief the step started from, kept when the step dropped a state heavy enough that
+    /// a re-run may start here ([`CHECKPOINT`]).
+    start: Option<Belief>,
+}
+
+/// A step that drops a state of more than this share of its merged weight keeps the belief it
+/// started from, so that a re-run for that state can start there rather than at the window's
+/// start. Quiet steps of a plant whose faults are rare drop far less and copy nothing.
+const CHECKPOINT: f64 = 1e-6;
+
+/// What one step's truncation dropped, as the re-run's triggers need it (`timed_me.rs`, "When
+/// the window is re-run").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Truncated {
+    /// The fraction of the merged weight truncated away.
+    pub(super) lost: f64,
+    /// The weight of the heaviest state dropped, as a share of the weight merged.
+    pub(super) dropped: f64,
+    /// How much the step's observation may have lifted a state missing from its sources,
+    /// relative to the states merged (at least 1): the best observation factor of a candidate
+    /// over the weight merged, from sources whose weights sum to 1.
+    pub(super) lift: f64,
+}
+
+impl Truncated {
+    /// A step that dropped nothing and lifted nothing.
+    pub(super) const NONE: Truncated = Truncated {
+        lost: 0.0,
+        dropped: 0.0,
+        lift: 1.0,
+    };
+}
+
+/// The heaviest state dropped within the window, carried forward to a step
+/// ([`History::heaviest_dropped`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Dropped {
+    /// Its weight, as a share of the step's merged weight.
+    pub(super) weight: f64,
+    /// The step that dropped it (counting the window's steps from 0).
+    pub(super) origin: usize,
+    /// How many steps were carried.
+    steps: usize,
+}
+
+impl Dropped {
+    /// Carried through a step that truncated `step`: lifted by its observation, or replaced by
+    /// what it dropped if that weighs more.
+    pub(super) fn then(self, step: Truncated) -> Dropped {
+        let lifted = self.weight * step.lift;
+        let (weight, origin) = if step.dropped > lifted {
+            (step.dropped, self.steps)
+        } else {
+            (lifted, self.origin)
+        };
+        Dropped {
+            weight,
+            origin,
+            steps: self.steps + 1,
+        }
+    }
 }
 
 impl Input {
@@ -115,14 +181,28 @@ impl History {
         self.wide = returned.issued.map(|serial| (serial, wide));
     }
 
-    /// The oldest segment's start and every recorded step since, oldest first; `None` when
-    /// nothing is recorded.
-    pub(super) fn replay(&self) -> Option<(&Belief, impl Iterator<Item = &Input>)> {
+    /// The latest start a re-run can take at or before recorded step `origin` (counting from 0),
+    /// and the recorded steps from there, oldest first: the step's own start where it kept one,
+    /// else the window's start (`origin` 0: the window's start and every step recorded); `None`
+    /// when nothing is recorded.
+    pub(super) fn replay_from(
+        &self,
+        origin: usize,
+    ) -> Option<(&Belief, impl Iterator<Item = &Input>)> {
         let first = self.segments.front()?;
-        Some((
-            &first.start,
-            self.segments.iter().flat_map(|s| s.steps.iter()),
-        ))
+        let (skip, start) = self
+            .steps()
+            .enumerate()
+            .take(origin.saturating_add(1))
+            .filter_map(|(i, input)| input.start.as_ref().map(|start| (i, start)))
+            .last()
+            .unwrap_or((0, &first.start));
+        Some((start, self.steps().skip(skip)))
+    }
+
+    /// Every recorded step, oldest first.
+    fn steps(&self) -> impl Iterator<Item = &Input> {
+        self.segments.iter().flat_map(|s| s.steps.iter())
     }
 
     /// Records an update from `from` with these inputs that returned `to`, keeping `window`
@@ -133,7 +213,7 @@ impl History {
         window: usize,
         from: &Belief,
         step: &Step,
-        lost: f64,
+        truncated: Truncated,
         to: &mut Belief,
     ) {
         if window == 0 {
@@ -156,7 +236,8 @@ impl History {
             commands: shared(previous.map(|p| &p.commands), step.commands),
             observation: shared(previous.map(|p| &p.observation), step.observation),
             time: step.time,
-            lost,
+            truncated,
+            start: (truncated.dropped > CHECKPOINT).then(|| from.clone()),
         };
         if let Some(segment) = self.segments.back_mut() {
             segment.steps.push(input);
@@ -164,13 +245,19 @@ impl History {
         self.last = Some(issue(to));
     }
 
+    /// The heaviest state the window's steps dropped, carried forward to the last step
+    /// recorded.
+    pub(super) fn heaviest_dropped(&self) -> Dropped {
+        self.steps().fold(Dropped::default(), |dropped, input| {
+            dropped.then(input.truncated)
+        })
+    }
+
     /// The fraction of the window's start belief's weight truncated away on the way since.
     pub(super) fn lost(&self) -> f64 {
         1.0 - self
-            .segments
-            .iter()
-            .flat_map(|s| s.steps.iter())
-            .map(|i| 1.0 - i.lost)
+            .steps()
+            .map(|i| 1.0 - i.truncated.lost)
             .product::<f64>()
     }
 

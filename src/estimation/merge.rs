@@ -173,6 +173,7 @@ pub(super) fn merge<S: Serve>(
         let factor = serve.factor(observe, theory, &candidate)?;
         let weight = (best - cost).exp() * factor;
         if weight > 0.0 {
+            merged.best_factor = merged.best_factor.max(factor);
             serve.merge(merged, candidate, weight, successor);
         }
         if candidates as usize >= limits.max_candidates {
@@ -364,6 +365,8 @@ pub(crate) struct Merged {
     unseen: f64,
     /// [`Expansion::scale`] of the merge.
     scale: f64,
+    /// [`Expansion::best_factor`] of the merge.
+    best_factor: f64,
 }
 
 impl Merged {
@@ -436,6 +439,7 @@ impl Merged {
         self.total = 0.0;
         self.unseen = 0.0;
         self.scale = 1.0;
+        self.best_factor = 0.0;
     }
 
     /// The expansion that ends here: the `kappa` heaviest states and the weight of all merged.
@@ -446,26 +450,31 @@ impl Merged {
         cut: Option<Cut>,
         replayed: bool,
     ) -> Expansion {
+        let (states, dropped) = self.heaviest(kappa);
         Expansion {
             merged: self.total,
-            states: self.heaviest(kappa),
+            states,
             candidates,
             cut,
             replayed,
             unseen: self.unseen,
             scale: self.scale,
+            dropped,
+            best_factor: self.best_factor,
         }
     }
 
-    /// The `k` heaviest states, heaviest first (ties in order of appearance); leaves none.
-    fn heaviest(&mut self, k: usize) -> Vec<WeightedState> {
+    /// The `k` heaviest states, heaviest first (ties in order of appearance), and the weight of
+    /// the heaviest of the others (0 when none is left); leaves none.
+    fn heaviest(&mut self, k: usize) -> (Vec<WeightedState>, f64) {
         self.states
             .sort_by(|a, b| b.probability.total_cmp(&a.probability));
         // Drained rather than taken, so that the merge keeps its capacity for the next step.
         let kept = k.min(self.states.len());
         let mut heaviest = Vec::with_capacity(kept);
         heaviest.extend(self.states.drain(..kept));
+        let dropped = self.states.first().map_or(0.0, |w| w.probability);
         self.states.clear();
-        heaviest
+        (heaviest, dropped)
     }
 }
