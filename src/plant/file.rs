@@ -94,120 +94,21 @@
 mod acknowledgements;
 mod component;
 mod monitors;
+mod schema;
 pub(crate) mod types;
 
 use std::collections::{HashMap, HashSet};
-
-use serde::Deserialize;
 
 use super::{ComponentIndex, Control, Plant, validate};
 use crate::diagnostic::locate::NumberOrName as Number;
 use crate::diagnostic::locate::{Entries, Locator, Step};
 use crate::diagnostic::{Diagnostic, Source, SourceErrors, Span, did_you_mean, ron_error};
 use crate::logic::{self, DeclarationError, Formula, VarId, VarTable, is_value_name};
+use schema::{ComponentFile, KindFile, ModeFile, PlantFile, TimingFile, TransitionFile};
 use types::{expand_indexed, rename_self};
 
 /// Initial probabilities and outgoing sums are compared with this tolerance.
 pub(crate) const TOLERANCE: f64 = 1e-9;
-
-#[derive(Deserialize)]
-#[serde(rename = "Plant", deny_unknown_fields)]
-struct PlantFile {
-    name: String,
-    #[serde(default)]
-    types: Vec<TypeFile>,
-    components: Vec<ComponentFile>,
-    #[serde(default)]
-    controls: Entries<String>,
-    #[serde(default)]
-    observables: Vec<String>,
-    #[serde(default)]
-    connections: Vec<String>,
-    #[serde(default)]
-    monitors: Entries<monitors::MonitorFile>,
-    #[serde(default)]
-    acknowledgements: Entries<String>,
-}
-
-/// `Type(...)`: a component written once, instantiated by `Component(name, type)`.
-#[derive(Deserialize)]
-#[serde(rename = "Type", deny_unknown_fields)]
-struct TypeFile {
-    name: String,
-    #[serde(default)]
-    parameters: Entries<f64>,
-    #[serde(default)]
-    attributes: Entries<Vec<String>>,
-    modes: Vec<ModeFile>,
-    initial: Entries<Number>,
-    #[serde(default)]
-    transitions: Vec<TransitionFile>,
-}
-
-#[derive(Deserialize)]
-#[serde(rename = "Component", deny_unknown_fields)]
-struct ComponentFile {
-    name: String,
-    #[serde(default, rename = "type")]
-    type_name: Option<String>,
-    #[serde(default)]
-    parameters: Entries<f64>,
-    #[serde(default)]
-    attributes: Entries<Vec<String>>,
-    #[serde(default)]
-    modes: Vec<ModeFile>,
-    #[serde(default)]
-    initial: Entries<Number>,
-    #[serde(default)]
-    transitions: Vec<TransitionFile>,
-}
-
-fn always() -> String {
-    "true".to_string()
-}
-
-fn zero() -> Number {
-    Number::Number(0.0)
-}
-
-#[derive(Deserialize)]
-#[serde(rename = "Mode", deny_unknown_fields)]
-struct ModeFile {
-    name: String,
-    #[serde(default)]
-    kind: KindFile,
-    #[serde(default = "always")]
-    constraint: String,
-    #[serde(default = "zero")]
-    reward: Number,
-}
-
-#[derive(Deserialize, Default, Clone, Copy)]
-enum KindFile {
-    #[default]
-    Nominal,
-    Fault,
-}
-
-#[derive(Deserialize)]
-#[serde(rename = "Transition", deny_unknown_fields)]
-struct TransitionFile {
-    from: String,
-    to: String,
-    #[serde(default = "always")]
-    guard: String,
-    probability: Option<Number>,
-    rate: Option<Number>,
-    after: Option<TimingFile>,
-}
-
-#[derive(Deserialize, Clone)]
-enum TimingFile {
-    Uniform(Number, Number),
-    Gaussian(Number, Number),
-    Exponential(Number),
-    Fixed(Number),
-}
 
 /// What a component is made of: the body of a component written out, or of its type.
 #[derive(Clone, Copy)]
