@@ -151,29 +151,19 @@ fn an_engine_still_cold_after_60_s_of_heating_has_failed_or_its_pde_has() {
     let timed = run(&plant, &mut TimedMe::new(TimedMeOptions::kappa(10)), &text);
     let exact = run(&plant, &mut BeliefUpdate::new(), &text);
     for (name, updates) in [("TimedME κ=10", &timed), ("exact", &exact)] {
-        for t in 2..62 {
-            assert_eq!(
-                estimate_at(&plant, updates, t, "engine"),
-                "heating",
-                "{name} at {t} s"
-            );
-            assert_eq!(
-                estimate_at(&plant, updates, t, "PDE"),
-                "on",
-                "{name} at {t} s"
-            );
-        }
-        for t in [62, 63] {
-            assert_eq!(
-                estimate_at(&plant, updates, t, "PDE"),
-                "failed",
-                "{name} at {t} s"
-            );
-            assert_eq!(
-                estimate_at(&plant, updates, t, "engine"),
-                "heating",
-                "{name} at {t} s"
-            );
+        for t in 2..64 {
+            let expected = if t < 62 {
+                [("engine", "heating"), ("PDE", "on")]
+            } else {
+                [("engine", "heating"), ("PDE", "failed")]
+            };
+            for (component, mode) in expected {
+                assert_eq!(
+                    estimate_at(&plant, updates, t, component),
+                    mode,
+                    "{name}: {component} at {t} s"
+                );
+            }
         }
         let engine_failed = marginal(&plant, &updates[62].belief, "engine", "failed");
         assert!(
