@@ -440,12 +440,16 @@ struct Rerun {
 
 /// What `expansion`'s truncation dropped, for the history.
 fn truncated_by(expansion: &Expansion) -> Truncated {
+    let lost = expansion.lost();
     let mass = expansion.merged * expansion.scale;
     if expansion.merged <= 0.0 || mass <= 0.0 || !mass.is_finite() {
-        return Truncated::NONE;
+        return Truncated {
+            lost,
+            ..Truncated::NONE
+        };
     }
     Truncated {
-        lost: expansion.lost(),
+        lost,
         dropped: expansion.dropped / expansion.merged,
         lift: (expansion.best_factor / mass).max(1.0),
     }
@@ -646,7 +650,7 @@ impl Outcome {
 
     fn absorb(&mut self, expansion: Expansion, before: f64) {
         self.truncated = truncated_by(&expansion);
-        self.discarded = expansion.lost();
+        self.discarded = self.truncated.lost;
         self.outside = expansion.outside(&expansion.states, before);
         self.candidates += expansion.candidates;
         self.replayed = expansion.replayed;
