@@ -24,3 +24,8 @@ pub mod report;
 pub mod rmpl;
 pub mod sequencer;
 pub mod simulation;
+
+/// The property tests' seeded configuration, shared with the integration tests.
+#[cfg(test)]
+#[path = "../tests/support/seeded.rs"]
+mod seeded;

@@ -189,11 +189,7 @@ pub(super) fn merge<S: Serve>(
         {
             let limit = MASS_TOLERANCE * merged.total * (-best).exp();
             unseen.bound(sources);
-            while unseen.mass() > limit
-                && unseen.tighten_heaviest(sources, |k| serve.possible_mass(k, theory))?
-            {
-            }
-            if unseen.mass() <= limit {
+            if unseen.tighten_below(limit, sources, |k| serve.possible_mass(k, theory))? {
                 stopped = true;
                 break;
             }
@@ -237,11 +233,23 @@ fn order(cost: f64) -> u64 {
 /// The product Π Σ p is remembered per `Arc<Choices>` ([`Combinations`]): a quiet step's
 /// sources keep their very choices from step to step (`expand.rs`, `Recents`), and the
 /// product, a pass over every component's next modes, was 6 % of the Mars lander's quiet cycle.
+///
+/// Past κ states the merge asks after every candidate whether the unseen mass is small enough
+/// to stop; the answers are computed as before, in the same order (every bound, then the sum),
+/// but what cannot have changed since the last candidate is not recomputed: the bounds once all
+/// are known ([`Unseen::bounded`]), and the search for a source to tighten once none is left
+/// ([`Unseen::untightened`]). On Livingstone 2's breakers, where the 8κ re-run merges from 80
+/// sources, those two passes over the sources were a fifth of all instructions.
 #[derive(Default)]
 struct Unseen {
     /// Per source of the current expansion (the vector is reused from one to the next).
     bounds: Vec<Bound>,
     combinations: Combinations,
+    /// Every source's bound is known.
+    bounded: bool,
+    /// How many sources are not tightened and not exhausted: the only ones
+    /// [`Unseen::tighten_heaviest`] may pick.
+    untightened: usize,
 }
 
 /// Π_components Σ p(next mode) of choices already met, by the address of their `Arc`. Exact:
@@ -283,7 +291,7 @@ struct Bound {
     mass: Option<f64>,
     /// The probability of the targets served.
     served: f64,
-    /// Whether the bound was tightened.
+    /// Whether the bound was tightened (or the stream ran dry, which leaves nothing to tighten).
     tightened: bool,
 }
 
@@ -292,14 +300,38 @@ impl Unseen {
     fn reset(&mut self, sources: usize) {
         self.bounds.clear();
         self.bounds.resize(sources, Bound::default());
+        self.bounded = false;
+        self.untightened = sources;
     }
 
     /// Computes the bounds not known yet (only expansions that get past κ states need them).
     fn bound(&mut self, sources: &[SourceChoices]) {
+        if self.bounded {
+            return;
+        }
         for (bound, source) in self.bounds.iter_mut().zip(sources) {
             bound
                 .mass
                 .get_or_insert_with(|| source.probability * self.combinations.of(&source.choices));
+        }
+        self.bounded = true;
+    }
+
+    /// Tightens the heaviest sources' bounds one at a time while the unseen mass is above
+    /// `limit`; whether it is at most `limit` in the end (the merge may stop).
+    fn tighten_below<E>(
+        &mut self,
+        limit: f64,
+        sources: &[SourceChoices],
+        mut possible: impl FnMut(usize) -> Result<f64, E>,
+    ) -> Result<bool, E> {
+        loop {
+            if self.mass() <= limit {
+                return Ok(true);
+            }
+            if !self.tighten_heaviest(sources, &mut possible)? {
+                return Ok(false);
+            }
         }
     }
 
@@ -311,6 +343,9 @@ impl Unseen {
         sources: &[SourceChoices],
         possible: impl FnOnce(usize) -> Result<f64, E>,
     ) -> Result<bool, E> {
+        if self.untightened == 0 {
+            return Ok(false);
+        }
         let heaviest = (0..self.bounds.len())
             .filter(|&k| !self.bounds[k].tightened && self.left(k) > 0.0)
             .max_by(|&a, &b| self.left(a).total_cmp(&self.left(b)));
@@ -318,6 +353,7 @@ impl Unseen {
             return Ok(false);
         };
         let tightened = sources[k].probability * possible(k)?;
+        self.untightened -= 1;
         let bound = &mut self.bounds[k];
         bound.tightened = true;
         bound.mass = Some(bound.mass.map_or(tightened, |mass| mass.min(tightened)));
@@ -336,8 +372,15 @@ impl Unseen {
         self.bounds[k].served += (-cost).exp();
     }
 
+    /// Source `k`'s stream ran dry. Nothing is left to tighten of it (its bound is 0), so it
+    /// counts as tightened.
     fn exhausted(&mut self, k: usize) {
-        self.bounds[k].mass = Some(0.0);
+        let bound = &mut self.bounds[k];
+        bound.mass = Some(0.0);
+        if !bound.tightened {
+            bound.tightened = true;
+            self.untightened -= 1;
+        }
     }
 
     /// The bound on everything still to come.
@@ -367,6 +410,96 @@ pub(crate) struct Merged {
     scale: f64,
     /// [`Expansion::best_factor`] of the merge.
     best_factor: f64,
+    /// Which states are known to weigh at least the last weight [`Merged::kth_at_least`] was
+    /// asked about.
+    at_least: AtLeast,
+}
+
+/// The count behind [`Merged::kth_at_least`], kept from one question to the next. The merge asks
+/// about the next candidate's prior weight, which never grows (candidates come cheapest first),
+/// while a state's weight never shrinks (merging only adds): a state that weighed at least one
+/// asked weight weighs at least every later one, so it is counted once, for good. The others wait
+/// in a max-heap by their weight when last changed (a state whose weight grows is pushed again; the
+/// stale entry, lighter, is skipped when it comes out). A question pops what weighs at least its
+/// weight: every state not counted has its current weight in the heap, so what stays there weighs
+/// less, and the count is the exact number of states at least that heavy (or `k`, when it gets
+/// there first). A question about a heavier weight than the last (which the merge never asks) is
+/// answered by counting afresh, and leaves the count as it was.
+#[derive(Default)]
+struct AtLeast {
+    /// The least weight asked about so far (∞ before any question).
+    asked: Option<f64>,
+    /// How many states are counted.
+    count: usize,
+    /// Per state, whether it is counted.
+    counted: Vec<bool>,
+    /// The states not counted, by weight when pushed.
+    waiting: BinaryHeap<(Weight, usize)>,
+}
+
+/// A weight ordered by [`f64::total_cmp`].
+#[derive(Clone, Copy, PartialEq)]
+struct Weight(f64);
+
+impl Eq for Weight {}
+
+impl PartialOrd for Weight {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Weight {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
+}
+
+impl AtLeast {
+    fn clear(&mut self) {
+        self.asked = None;
+        self.count = 0;
+        self.counted.clear();
+        self.waiting.clear();
+    }
+
+    /// State `i` is new, or its weight grew to `weight`.
+    fn weighs(&mut self, i: usize, weight: f64) {
+        if i == self.counted.len() {
+            self.counted.push(false);
+        }
+        if !self.counted[i] {
+            self.waiting.push((Weight(weight), i));
+        }
+    }
+
+    /// Whether at least `k` of the `states` states, of weights `weight_of(i)`, weigh at least
+    /// `weight` (`k` ≤ `states`).
+    fn at_least(
+        &mut self,
+        k: usize,
+        weight: f64,
+        states: usize,
+        weight_of: impl Fn(usize) -> f64,
+    ) -> bool {
+        if self.asked.is_some_and(|asked| weight > asked) {
+            return (0..states).filter(|&i| weight_of(i) >= weight).count() >= k;
+        }
+        self.asked = Some(weight);
+        while self.count < k {
+            match self.waiting.peek() {
+                Some(&(Weight(w), i)) if w >= weight => {
+                    self.waiting.pop();
+                    if !self.counted[i] && w.total_cmp(&weight_of(i)).is_eq() {
+                        self.counted[i] = true;
+                        self.count += 1;
+                    }
+                }
+                _ => break,
+            }
+        }
+        self.count >= k
+    }
 }
 
 impl Merged {
@@ -379,7 +512,7 @@ impl Merged {
     pub(crate) fn add_hashed(&mut self, state: SystemState, hash: u64, weight: f64) {
         self.total += weight;
         match self.find(hash, &state) {
-            Some(i) => self.states[i].probability += weight,
+            Some(i) => self.grow(i, weight),
             None => self.push(hash, state, weight),
         }
     }
@@ -389,9 +522,16 @@ impl Merged {
     pub(crate) fn add_known(&mut self, state: &SystemState, hash: u64, weight: f64) {
         self.total += weight;
         match self.find(hash, state) {
-            Some(i) => self.states[i].probability += weight,
+            Some(i) => self.grow(i, weight),
             None => self.push(hash, state.clone(), weight),
         }
+    }
+
+    /// Adds `weight` to state `i`.
+    fn grow(&mut self, i: usize, weight: f64) {
+        let state = &mut self.states[i];
+        state.probability += weight;
+        self.at_least.weighs(i, state.probability);
     }
 
     /// The index of `state` (of hash `hash`) among the states merged, if it is one.
@@ -404,6 +544,7 @@ impl Merged {
     }
 
     fn push(&mut self, hash: u64, state: SystemState, weight: f64) {
+        self.at_least.weighs(self.states.len(), weight);
         self.index.entry(hash).or_insert(self.states.len());
         self.states.push(WeightedState {
             state,
@@ -413,23 +554,17 @@ impl Merged {
 
     /// Whether the `k`-th largest weight (0 with fewer than `k` states) is at least `weight`
     /// (a weight of a candidate, ≥ 0). Counted rather than selected: the `k`-th largest is at
-    /// least `weight` exactly when `k` weights are, and counting reads the weights once where a
-    /// selection copies and partitions them — asked after every candidate, a selection was a
-    /// tenth of a partially observed replay's instructions.
-    fn kth_at_least(&self, k: usize, weight: f64) -> bool {
+    /// least `weight` exactly when `k` weights are — asked after every candidate, a selection
+    /// was a tenth of a partially observed replay's instructions — and the count is kept from
+    /// one question to the next ([`AtLeast`]), since re-counting every state after every
+    /// candidate was most of what was left.
+    fn kth_at_least(&mut self, k: usize, weight: f64) -> bool {
         if k == 0 || self.states.len() < k {
             return 0.0 >= weight;
         }
-        let mut at_least = 0;
-        for w in &self.states {
-            if w.probability >= weight {
-                at_least += 1;
-                if at_least == k {
-                    return true;
-                }
-            }
-        }
-        false
+        let states = &self.states;
+        self.at_least
+            .at_least(k, weight, states.len(), |i| states[i].probability)
     }
 
     /// Empties it for a new merge (keeping the index's capacity).
@@ -440,6 +575,7 @@ impl Merged {
         self.unseen = 0.0;
         self.scale = 1.0;
         self.best_factor = 0.0;
+        self.at_least.clear();
     }
 
     /// The expansion that ends here: the `kappa` heaviest states and the weight of all merged.
@@ -475,6 +611,70 @@ impl Merged {
         heaviest.extend(self.states.drain(..kept));
         let dropped = self.states.first().map_or(0.0, |w| w.probability);
         self.states.clear();
+        self.index.clear();
+        self.at_least.clear();
         (heaviest, dropped)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::seeded;
+    use proptest::prelude::*;
+
+    /// One step of a merge as [`AtLeast`] sees it: a state added or grown by a weight, or a
+    /// question about the `k`-th weight.
+    #[derive(Debug, Clone)]
+    enum Op {
+        Add { state: usize, weight: f64 },
+        Ask { k: usize, weight: f64 },
+    }
+
+    fn op() -> impl Strategy<Value = Op> {
+        let weight = prop_oneof![(1u32..8).prop_map(|w| f64::from(w) / 8.0), 0.0..1.0f64];
+        prop_oneof![
+            (0usize..12, weight.clone()).prop_map(|(state, weight)| Op::Add { state, weight }),
+            (1usize..6, weight).prop_map(|(k, weight)| Op::Ask { k, weight }),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(seeded::config(512))]
+
+        /// DESIGN.md §8, the expansion's stopping rule (`expand.rs`): `Merged::kth_at_least`'s
+        /// kept count answers as counting every state afresh does,
+        /// for the merge's questions (weights that never grow) and for any others.
+        #[test]
+        fn the_kept_count_answers_as_a_fresh_count(
+            ops in proptest::collection::vec(op(), 1..60),
+            descending in any::<bool>(),
+        ) {
+            let mut at_least = AtLeast::default();
+            let mut weights: Vec<f64> = Vec::new();
+            let mut last_ask = f64::INFINITY;
+            for op in ops {
+                match op {
+                    Op::Add { state, weight } => {
+                        let i = state.min(weights.len());
+                        if i == weights.len() {
+                            weights.push(0.0);
+                        }
+                        weights[i] += weight;
+                        at_least.weighs(i, weights[i]);
+                    }
+                    Op::Ask { k, weight } => {
+                        let weight = if descending { weight.min(last_ask) } else { weight };
+                        last_ask = weight;
+                        if k > weights.len() {
+                            continue;
+                        }
+                        let fresh = weights.iter().filter(|&&w| w >= weight).count() >= k;
+                        let kept = at_least.at_least(k, weight, weights.len(), |i| weights[i]);
+                        prop_assert_eq!(kept, fresh);
+                    }
+                }
+            }
+        }
     }
 }

@@ -49,9 +49,6 @@ mod reference;
 #[cfg(test)]
 #[path = "../../../tests/support/goal_workload.rs"]
 mod goal_workload;
-#[cfg(test)]
-#[path = "../../../tests/support/seeded.rs"]
-mod seeded;
 
 use super::goal::{GoalId, GoalKind};
 use super::network::{ExecutableNetwork, GoalNetwork, Timeline};

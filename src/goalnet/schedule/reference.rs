@@ -250,7 +250,8 @@ mod tests {
     use crate::goalnet::mission;
     use crate::plant::Plant;
 
-    use crate::goalnet::schedule::{goal_workload, seeded};
+    use crate::goalnet::schedule::goal_workload;
+    use crate::seeded;
 
     fn thermostat() -> Reconfiguration {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/thermostat.ron");
