@@ -87,6 +87,9 @@ enum Command {
         /// How many system states TimedME tracks (at least 1).
         #[arg(long, default_value_t = 10, value_parser = cli::limits::parse_kappa)]
         kappa: usize,
+        /// TimedME's history window.
+        #[command(flatten)]
+        window: cli::window_args::WindowArgs,
         /// Use the exact belief update (Figure 6-10; small models only) instead of TimedME.
         #[arg(long)]
         exact: bool,
@@ -159,6 +162,9 @@ enum Command {
         /// The model-driven plant's forced faults and noise.
         #[command(flatten)]
         model: cli::model_args::ModelArgs,
+        /// Mode estimation's history window, in place of the scenario's.
+        #[command(flatten)]
+        window: cli::window_args::WindowArgs,
     },
     /// Explore every path a scenario's `Optional` rules allow (each may fire at any cycle of its
     /// window, or not, at most `--faults` per path), checking every expectation on each; print
@@ -187,6 +193,9 @@ enum Command {
         /// scenario's κ, or 10 for a log).
         #[arg(long, value_delimiter = ',', value_parser = cli::limits::parse_kappa)]
         kappa: Vec<usize>,
+        /// Mode estimation's history window (in place of the scenario's).
+        #[command(flatten)]
+        window: cli::window_args::WindowArgs,
         /// Print one JSON object instead of the table.
         #[arg(long)]
         json: bool,
@@ -237,6 +246,7 @@ fn main() -> ExitCode {
             plant,
             log,
             kappa,
+            window,
             exact,
             top,
             json,
@@ -245,6 +255,7 @@ fn main() -> ExitCode {
             plant: &plant,
             log: &log,
             kappa,
+            window,
             exact,
             top,
             json,
@@ -264,6 +275,7 @@ fn main() -> ExitCode {
             from,
             to,
             model,
+            window,
         } => cli::run::run(&cli::run::RunArgs {
             scenario: &scenario,
             trace: trace.as_deref(),
@@ -279,6 +291,7 @@ fn main() -> ExitCode {
                 to: to.unwrap_or(f64::INFINITY),
             },
             model: &model,
+            window,
         }),
         Command::Campaign(args) => cli::campaign::run(&args),
         Command::Explore(args) => cli::explore::run(&args),
@@ -287,6 +300,7 @@ fn main() -> ExitCode {
             plant,
             log,
             kappa,
+            window,
             json,
         } => {
             let target = match (&scenario, &plant, &log) {
@@ -300,7 +314,7 @@ fn main() -> ExitCode {
                     return usage_error("kairos bench needs a SCENARIO, or --plant and --log");
                 }
             };
-            cli::bench::run(&target, json)
+            cli::bench::run(&target, window, json)
         }
     };
     match outcome {

@@ -102,6 +102,47 @@ fn a_replay_reports_its_mean_cycle_and_questions_asked() {
     assert!(all["sat_calls"].as_u64().is_some_and(|n| n > 0), "{all}");
 }
 
+/// `--rerun surprise` reaches the estimator (src/estimation/timed_me.rs, "When the window is
+/// re-run"): on the breaker log, observed in part, doubt re-runs the window on most steps at
+/// 8κ, so re-running on surprise alone asks fewer satisfiability questions; the sections say
+/// which policy they measured. Counts, not times: the questions asked are deterministic.
+#[test]
+fn a_replay_is_measured_under_the_rerun_policy_given() {
+    let sat_calls = |extra: &[&str]| {
+        let args = [
+            &[
+                "bench",
+                "--json",
+                "--plant",
+                "models/l2_breakers_15.ron",
+                "--log",
+                "tests/logs/l2_breakers_15.jsonl",
+                "--kappa",
+                "5",
+            ][..],
+            extra,
+        ]
+        .concat();
+        let (code, stdout, stderr) = kairos(&args);
+        assert_eq!(code, 0, "{stderr}");
+        let report: Value = serde_json::from_str(&stdout).expect("one JSON object");
+        let section = &report["sections"][0];
+        let calls = section["all"]["sat_calls"].as_u64().expect("a count");
+        (
+            section["title"].as_str().unwrap_or_default().to_string(),
+            calls,
+        )
+    };
+    let (doubt_title, doubt) = sat_calls(&[]);
+    let (surprise_title, surprise) = sat_calls(&["--rerun", "surprise"]);
+    assert_eq!(doubt_title, "estimation, TimedME κ = 5");
+    assert_eq!(
+        surprise_title,
+        "estimation, TimedME κ = 5, re-run on surprise"
+    );
+    assert!(surprise < doubt, "surprise {surprise}, doubt {doubt}");
+}
+
 #[test]
 fn bench_needs_a_scenario_or_a_plant_and_a_log() {
     let (code, _, stderr) = kairos(&["bench", "--plant", "models/mars_lander.ron"]);

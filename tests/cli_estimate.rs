@@ -102,6 +102,37 @@ fn a_bad_log_exits_2_with_every_error_located() {
     insta::assert_snapshot!(stderr);
 }
 
+/// The history window is the user's to set (src/estimation/timed_me.rs, "When the window is
+/// re-run"): `--history N` and `--rerun doubt|surprise` are named in the title when they differ
+/// from the defaults; a policy that does not exist, a window past the most allowed, or either
+/// with the exact update (which has no window) is refused with what was expected.
+#[test]
+fn the_history_window_is_a_choice_and_bad_choices_are_refused() {
+    let base = ["estimate", "--plant", PLANT, "--log", LOG];
+    let (code, stdout, stderr) = kairos(&[&base[..], &["--rerun", "surprise"]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("TimedME, κ = 10, re-run on surprise"),
+        "{stdout}"
+    );
+    let (code, stdout, stderr) = kairos(&[&base[..], &["--history", "0"]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("TimedME, κ = 10, history 0,"), "{stdout}");
+    let mut refusals = Vec::new();
+    for bad in [
+        &["--rerun", "never"][..],
+        &["--history=-1"],
+        &["--history", "10001"],
+        &["--exact", "--rerun", "surprise"],
+    ] {
+        let (code, stdout, stderr) = kairos(&[&base[..], bad].concat());
+        assert_eq!(code, 2, "{bad:?}: {stdout}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+        refusals.push(format!("$ {}\n{stderr}", bad.join(" ")));
+    }
+    insta::assert_snapshot!(refusals.join("\n"));
+}
+
 /// By default `kairos estimate` prints the cycles where something changed and
 /// says how many it left out; `--full` prints every cycle.
 #[test]

@@ -6,7 +6,7 @@
 mod support;
 
 use kairos::estimation::{
-    EstimationEvent, Fallback, ModeEstimator, TimedMe, TimedMeOptions, Update,
+    EstimationEvent, Fallback, ModeEstimator, Rerun, TimedMe, TimedMeOptions, Update,
 };
 use kairos::plant::{Commands, Observation, Plant};
 use support::plants::{mode_in, plant_from, value};
@@ -162,4 +162,32 @@ fn a_truncation_that_could_decide_the_estimate_is_rerun_wider() {
     assert!(wide[2].events.is_empty());
     assert_eq!(estimate(&plant, &wide[3]), "up");
     assert_eq!(wide[3].stats.rerun, 1);
+}
+
+#[test]
+fn on_surprise_alone_doubt_does_not_rerun_but_a_contradiction_does() {
+    // The case above, re-running only on contradiction and surprise (`Rerun::Surprise`,
+    // src/estimation/timed_me.rs "When the window is re-run"): the two unseen cycles put ŝ in
+    // doubt, which re-ran the window above; here they do not, and ŝ stays κ = 1's `down`, as
+    // without a history. The lamp lit contradicts `down`: the window is re-run from its start
+    // (three steps) and finds `up`, where no history would have blamed the fault.
+    let plant = switch(0.4);
+    let mut estimator = TimedMe::new(TimedMeOptions {
+        rerun: Rerun::Surprise,
+        ..TimedMeOptions::kappa(1)
+    });
+    let updates = run(&plant, &mut estimator);
+    for update in &updates[1..3] {
+        assert_eq!(update.stats.rerun, 0);
+        assert_eq!(estimate(&plant, update), "down");
+        assert!(update.events.is_empty());
+    }
+    assert_reestimated(&plant, &updates[3], 3, "up");
+    assert_eq!(updates[3].stats.rerun, 3);
+}
+
+#[test]
+fn the_default_reruns_on_doubt() {
+    assert_eq!(TimedMeOptions::kappa(1).rerun, Rerun::Doubt);
+    assert_eq!(Rerun::default(), Rerun::Doubt);
 }

@@ -84,6 +84,25 @@ bad_scenario!(
     "deadline_1e20.ron:7:15",
     "is longer than any duration"
 );
+// Mode estimation's history window: 0 to `estimation::MAX_HISTORY` steps, re-run on `Doubt` or
+// `Surprise` (src/estimation/timed_me.rs, "When the window is re-run").
+bad_scenario!(
+    history_negative,
+    "history_negative.ron:7:14",
+    "a history window of -3 steps",
+    "0 (none) to 10000"
+);
+bad_scenario!(
+    history_too_long,
+    "history_too_long.ron:8:14",
+    "a history window of 1000000000 steps"
+);
+bad_scenario!(
+    rerun_unknown,
+    "rerun_unknown.ron:7:12",
+    "`Doubt`",
+    "`Surprise`"
+);
 // A run of more than `simulation::MAX_CYCLES` cycles is refused before it starts.
 bad_scenario!(
     too_many_cycles,

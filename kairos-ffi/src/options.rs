@@ -1,6 +1,14 @@
 //! How a handle's executive runs, as C sets it: κ, the cycle deadline, the estimator's budget,
 //! and the bounded-time mode.
 //!
+//! Mode estimation's history window (`ExecutiveOptions::history`, `ExecutiveOptions::rerun`) is
+//! not here, by decision: [`KairosOptions`] is read through a pointer the caller allocated, at
+//! the size of the header it was compiled against, and carries no size or version field, so a
+//! field added at its end would be read past a present caller's struct. A C caller keeps the
+//! defaults (16 steps, re-run on doubt); the bounded-time mode bounds the window's re-runs with
+//! the rest of estimation. Exposing them needs a new ABI revision (a struct carrying its own
+//! size), not a field.
+//!
 //! # The bounded-time mode, and what it bounds
 //!
 //! With `bounded` set, mode estimation must end half the cycle deadline after the cycle starts

@@ -1,12 +1,14 @@
 //! `kairos bench`: how long the executive's cycles take, per phase, for sizing a flight computer
 //! (DESIGN.md §12, §14).
 //!
-//! - `kairos bench SCENARIO [--kappa K ...] [--json]` runs a scenario as `kairos run` does (no
+//! - `kairos bench SCENARIO [--kappa K ...] [--history N] [--rerun doubt|surprise] [--json]`
+//!   runs a scenario as `kairos run` does (no
 //!   log), once per κ given (the scenario's own κ when none is), and reports,
 //!   per phase (estimation, sequencer, reconfiguration, goals submitted before the cycle, whole
 //!   cycle, submissions included), the minimum, median, 99th
 //!   percentile and maximum wall time of its *quiet* and *busy* cycles separately.
-//! - `kairos bench --plant MODEL --log LOG [--kappa K ...] [--json]` replays an estimation log
+//! - `kairos bench --plant MODEL --log LOG [--kappa K ...] [--history N] [--rerun ...] [--json]`
+//!   replays an estimation log
 //!   (the format of `kairos estimate`) through TimedME once per κ and reports the same figures
 //!   for the estimation step alone, with the satisfiability questions asked per cycle.
 //!
@@ -24,13 +26,14 @@
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+use kairos::estimation::TimedMe;
 use kairos::estimation::log::{LogRecord, parse_log, replay_with};
-use kairos::estimation::{TimedMe, TimedMeOptions};
 use kairos::executive::NamedValue;
 use kairos::simulation::{self, RunOptions};
 use serde_json::{Value, json};
 
 use super::output::emit;
+use super::window_args::{WindowArgs, describe};
 use super::{Failure, load_plant, read_source};
 
 /// What to benchmark.
@@ -48,11 +51,12 @@ pub enum BenchTarget<'a> {
     },
 }
 
-/// Runs the benchmark and prints its table (or JSON).
-pub fn run(target: &BenchTarget, json: bool) -> Result<(), Failure> {
+/// Runs the benchmark, mode estimation's history window set by `window`, and prints its table
+/// (or JSON).
+pub fn run(target: &BenchTarget, window: WindowArgs, json: bool) -> Result<(), Failure> {
     let report = match target {
-        BenchTarget::Scenario(path, kappas) => bench_scenario(path, kappas)?,
-        BenchTarget::Log { plant, log, kappas } => bench_log(plant, log, kappas)?,
+        BenchTarget::Scenario(path, kappas) => bench_scenario(path, kappas, window)?,
+        BenchTarget::Log { plant, log, kappas } => bench_log(plant, log, kappas, window)?,
     };
     let text = if json {
         format!("{}\n", report.to_json())
@@ -136,8 +140,9 @@ struct Report {
 }
 
 /// Runs the scenario once per κ of `kappas` (its own κ when none is given).
-fn bench_scenario(path: &Path, kappas: &[usize]) -> Result<Report, Failure> {
+fn bench_scenario(path: &Path, kappas: &[usize], window: WindowArgs) -> Result<Report, Failure> {
     let mut scenario = simulation::load(path).map_err(Failure::bad_input)?;
+    window.apply(&mut scenario);
     let kappas = if kappas.is_empty() {
         vec![scenario.kappa]
     } else {
@@ -162,7 +167,11 @@ fn bench_scenario(path: &Path, kappas: &[usize]) -> Result<Report, Failure> {
 /// One run of the scenario, its cycles sorted into quiet and busy; and how many it ran.
 fn bench_run(scenario: &simulation::Scenario) -> Result<(Section, u64), Failure> {
     let mut section = Section {
-        title: format!("scenario `{}`, κ = {}", scenario.name, scenario.kappa),
+        title: format!(
+            "scenario `{}`, {}",
+            scenario.name,
+            describe(&scenario.estimation())
+        ),
         quiet: Samples::default(),
         busy: Samples::default(),
         sat_calls: None,
@@ -196,7 +205,12 @@ fn bench_run(scenario: &simulation::Scenario) -> Result<(Section, u64), Failure>
     Ok((section, outcome.cycles))
 }
 
-fn bench_log(plant_path: &Path, log: &Path, kappas: &[usize]) -> Result<Report, Failure> {
+fn bench_log(
+    plant_path: &Path,
+    log: &Path,
+    kappas: &[usize],
+    window: WindowArgs,
+) -> Result<Report, Failure> {
     let plant = load_plant(plant_path)?;
     let source = read_source(log)?;
     let records = parse_log(&source, &plant).map_err(Failure::bad_input)?;
@@ -206,9 +220,10 @@ fn bench_log(plant_path: &Path, log: &Path, kappas: &[usize]) -> Result<Report, 
         let mut theory = plant
             .theory()
             .map_err(|e| Failure::bad_input(format!("error: {e}")))?;
-        let mut estimator = TimedMe::new(TimedMeOptions::kappa(kappa));
+        let options = window.options(kappa);
+        let mut estimator = TimedMe::new(options);
         let mut section = Section {
-            title: format!("estimation, TimedME κ = {kappa}"),
+            title: format!("estimation, TimedME {}", describe(&options)),
             quiet: Samples::default(),
             busy: Samples::default(),
             sat_calls: Some(0),

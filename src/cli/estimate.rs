@@ -1,4 +1,5 @@
-//! `kairos estimate --plant MODEL --log LOG [--kappa K] [--exact] [--top N] [--json] [--full]`:
+//! `kairos estimate --plant MODEL --log LOG [--kappa K] [--history N] [--rerun doubt|surprise]
+//! [--exact] [--top N] [--json] [--full]`:
 //! replay a command/observation log (format: `kairos::estimation::log`) through mode estimation
 //! and print, per cycle, the most likely plant states with their probabilities. Without
 //! `--full`, a cycle is printed only when something changed — its observation, a command before
@@ -10,9 +11,7 @@ use std::path::Path;
 
 use kairos::estimation::PlantEstimate;
 use kairos::estimation::log::{LogRecord, parse_log, replay};
-use kairos::estimation::{
-    BeliefUpdate, EstimationEvent, Fallback, ModeEstimator, TimedMe, TimedMeOptions, Update,
-};
+use kairos::estimation::{BeliefUpdate, EstimationEvent, Fallback, ModeEstimator, TimedMe, Update};
 use kairos::logic::{ValueId, VarId};
 use kairos::plant::monitor::MonitorEvent;
 use kairos::plant::{Plant, describe_modes};
@@ -21,6 +20,7 @@ use serde_json::{Map, Value, json};
 
 use super::load_plant;
 use super::output::emit;
+use super::window_args::{WindowArgs, describe};
 use super::{Failure, read_source};
 
 /// What to replay and how to show it.
@@ -31,6 +31,8 @@ pub struct EstimateArgs<'a> {
     pub log: &'a Path,
     /// κ for TimedME.
     pub kappa: usize,
+    /// TimedME's history window.
+    pub window: WindowArgs,
     /// Use the exact update instead of TimedME.
     pub exact: bool,
     /// Plant states to show per cycle.
@@ -43,6 +45,12 @@ pub struct EstimateArgs<'a> {
 
 /// Replays the log and prints the estimates.
 pub fn run(args: &EstimateArgs) -> Result<(), Failure> {
+    if args.exact && args.window.given() {
+        return Err(Failure::bad_input(
+            "error: --history and --rerun set TimedME's history window; the exact update \
+             (--exact) has none",
+        ));
+    }
     let plant = load_plant(args.plant)?;
     let source = read_source(args.log)?;
     let records = parse_log(&source, &plant).map_err(Failure::bad_input)?;
@@ -61,10 +69,10 @@ pub fn run(args: &EstimateArgs) -> Result<(), Failure> {
     let (mut estimator, label): (Box<dyn ModeEstimator>, String) = if args.exact {
         (Box::new(BeliefUpdate::new()), "exact belief update".into())
     } else {
-        let options = TimedMeOptions::kappa(args.kappa);
+        let options = args.window.options(args.kappa);
         (
             Box::new(TimedMe::new(options)),
-            format!("TimedME, κ = {}", options.kappa),
+            format!("TimedME, {}", describe(&options)),
         )
     };
     let updates =

@@ -17,6 +17,7 @@ pub mod run;
 pub mod schedule;
 pub mod shards;
 pub mod solve;
+pub mod window_args;
 
 use std::path::Path;
 

@@ -1,5 +1,6 @@
 //! `kairos run SCENARIO [--trace FILE] [--timeline FILE.svg] [--report FILE.html] [--quiet]
-//! [--hide-plant] [--only COMPONENT,…] [--from T] [--to T] [--seed S] [--fault F]... [--noise q]`:
+//! [--hide-plant] [--only COMPONENT,…] [--from T] [--to T] [--seed S] [--fault F]... [--noise q]
+//! [--history N] [--rerun doubt|surprise]`:
 //! run a scenario
 //! (DESIGN.md §11, §12) and print its mission log (`kairos::report::log`); exit 0 when every
 //! expectation holds, 1 when one does not (the failed ones are listed on standard error), 2 when
@@ -22,6 +23,7 @@ use kairos::simulation::{self, RunError, RunOptions, RunOutcome, Scenario};
 use super::Failure;
 use super::model_args::ModelArgs;
 use super::output::emit;
+use super::window_args::WindowArgs;
 
 /// What to run and how to show it.
 pub struct RunArgs<'a> {
@@ -43,6 +45,8 @@ pub struct RunArgs<'a> {
     pub filter: LogFilter,
     /// The model-driven plant's forced faults and noise.
     pub model: &'a ModelArgs,
+    /// Mode estimation's history window, in place of the scenario's.
+    pub window: WindowArgs,
 }
 
 /// Loads and runs the scenario; the outcome is the exit code.
@@ -62,6 +66,7 @@ pub fn run(args: &RunArgs) -> Result<(), Failure> {
         )));
     }
     args.model.apply(&mut scenario)?;
+    args.window.apply(&mut scenario);
     check_filter(&scenario, &args.filter)?;
     // Opened before the run, so that a bad path is reported before a long run, not after.
     let picture = args

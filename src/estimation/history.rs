@@ -64,6 +64,10 @@ pub(super) struct Input {
     start: Option<Belief>,
 }
 
+/// A segment reserves room for at most this many steps up front (a user's window may be long;
+/// the room grows as steps come).
+const CAPACITY: usize = 64;
+
 /// A step that drops a state of more than this share of its merged weight keeps the belief it
 /// started from, so that a re-run for that state can start there rather than at the window's
 /// start. Quiet steps of a plant whose faults are rare drop far less and copy nothing.
@@ -228,7 +232,7 @@ impl History {
             }
             self.segments.push_back(Segment {
                 start: from.clone(),
-                steps: Vec::with_capacity(window),
+                steps: Vec::with_capacity(window.min(CAPACITY)),
             });
         }
         let previous = self.segments.iter().rev().find_map(|s| s.steps.last());

@@ -30,7 +30,7 @@ use std::fmt;
 use std::sync::Arc;
 
 pub use exact::BeliefUpdate;
-pub use timed_me::{TimedMe, TimedMeOptions};
+pub use timed_me::{DEFAULT_HISTORY, MAX_HISTORY, Rerun, TimedMe, TimedMeOptions};
 
 use crate::logic::{ValueId, VarId};
 use crate::opsat::{Cut, Theory, TheoryError};

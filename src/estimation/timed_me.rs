@@ -110,7 +110,12 @@ use crate::plant::{Commands, Observation, Plant, SystemState};
 const JUMP: f64 = 1e-9;
 
 /// The default history window, in steps (see [`TimedMeOptions::history`]).
-const HISTORY: usize = 16;
+pub const DEFAULT_HISTORY: usize = 16;
+
+/// The longest history window a user may ask for, in steps: a step may re-run up to twice the
+/// window at 8κ, and the window keeps every step's inputs, so a mistyped 10⁹ is refused where
+/// it is read (scenario files, the command line) rather than run.
+pub const MAX_HISTORY: usize = 10_000;
 
 /// ŝ is in doubt when the two heaviest plant states' weights differ by less than this many
 /// times the weight truncated away within the history window (`history.rs`: at 1, the lost
@@ -130,6 +135,41 @@ const SURPRISE: f64 = 2.0;
 
 /// …and then a dropped state displaces a kept one when it may outweigh it this many times.
 const DISPLACE: f64 = 2.0;
+
+/// Which occasions re-run the history window (module documentation, "When the window is
+/// re-run"): the user's choice between cost and accuracy. Both re-run when an observation
+/// contradicts every tracked state and when a surprising observation may make a dropped state
+/// outweigh a kept one; they differ on doubt.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Deserialize)]
+pub enum Rerun {
+    /// Also when ŝ is in doubt: the two heaviest plant states differ by less than a few times
+    /// the weight truncated within the window. The default, and the more accurate: on a plant
+    /// observed in part, where truncation keeps the leading states close, it fires on most
+    /// steps, so a step costs about what a step at 8κ costs.
+    #[default]
+    Doubt,
+    /// Only on contradiction and surprise: doubt alone does not re-run, so a step costs κ's
+    /// price unless an observation surprised.
+    Surprise,
+}
+
+impl Rerun {
+    /// Every policy.
+    pub const ALL: [Rerun; 2] = [Rerun::Doubt, Rerun::Surprise];
+
+    /// Its name on the command line (`doubt`, `surprise`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Rerun::Doubt => "doubt",
+            Rerun::Surprise => "surprise",
+        }
+    }
+
+    /// The policy named `name` ([`Rerun::name`]).
+    pub fn named(name: &str) -> Option<Rerun> {
+        Self::ALL.into_iter().find(|r| r.name() == name)
+    }
+}
 
 /// How TimedME searches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -153,7 +193,10 @@ pub struct TimedMeOptions {
     /// observation contradicts every tracked state or truncation could have decided ŝ
     /// (`history.rs`): the window holds this many to twice as many steps, so a step costs at
     /// worst 2 · `history` + 1 steps at 8κ; 0 turns it off (and bounds a step by one at κ).
+    /// [`DEFAULT_HISTORY`] by default.
     pub history: usize,
+    /// Which occasions re-run the window ([`Rerun`]); [`Rerun::Doubt`] by default.
+    pub rerun: Rerun,
     /// Share the conflicts OPSAT learns between the sources' searches of a step, and between
     /// steps with the same observation (`opsat::ConflictStore`): each source's OCSP assumes the
     /// same observation, so a conflict one source paid a SAT call for prunes the others'
@@ -171,7 +214,8 @@ impl TimedMeOptions {
             candidates_per_state: 4,
             budget: Budget::default(),
             replay: true,
-            history: HISTORY,
+            history: DEFAULT_HISTORY,
+            rerun: Rerun::Doubt,
             share_conflicts: true,
         }
     }
@@ -295,7 +339,7 @@ impl ModeEstimator for TimedMe {
             && self.history.continues_from(belief)
         {
             let window = 1.0 - (1.0 - self.history.lost()) * (1.0 - truncated.lost);
-            if in_doubt(&expansion, window) {
+            if self.options.rerun == Rerun::Doubt && in_doubt(&expansion, window) {
                 Some(0)
             } else {
                 displaced(&expansion, truncated, &self.history)
@@ -367,7 +411,7 @@ impl TimedMe {
         belief: &Belief,
         step: &Step,
         origin: usize,
-    ) -> Result<Option<Rerun>, EstimationError> {
+    ) -> Result<Option<Reestimation>, EstimationError> {
         if !self.history.continues_from(belief) {
             return Ok(None);
         }
@@ -417,7 +461,7 @@ impl TimedMe {
                 (expansion, before)
             });
         }
-        Ok(last.map(|(expansion, before)| Rerun {
+        Ok(last.map(|(expansion, before)| Reestimation {
             expansion,
             before,
             steps: steps.len() + 1,
@@ -427,7 +471,7 @@ impl TimedMe {
 }
 
 /// What a re-run of the history gave.
-struct Rerun {
+struct Reestimation {
     /// The κ heaviest states it ended with.
     expansion: Expansion,
     /// The bound of the wide belief its last step started from ([`Belief::outside`]).
@@ -666,7 +710,7 @@ impl Outcome {
 
     /// The history's re-run gave the belief instead (`history.rs`); returns the wide belief it
     /// ended with.
-    fn rerun(&mut self, rerun: Rerun) -> Belief {
+    fn rerun(&mut self, rerun: Reestimation) -> Belief {
         self.absorb(rerun.expansion, rerun.before);
         self.rerun = rerun.steps as u32;
         rerun.wide

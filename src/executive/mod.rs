@@ -61,7 +61,8 @@ pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeli
 
 use crate::diagnostic::Source;
 use crate::estimation::{
-    Belief, EstimationError, EstimationEvent, ModeEstimator, PlantEstimate, TimedMe, TimedMeOptions,
+    Belief, DEFAULT_HISTORY, EstimationError, EstimationEvent, ModeEstimator, PlantEstimate, Rerun,
+    TimedMe, TimedMeOptions,
 };
 use crate::logic::{Formula, ValueId, VarId, VarTable};
 use crate::opsat::{Budget, Theory, TheoryError};
@@ -82,6 +83,12 @@ use reconfigure::Purpose;
 pub struct ExecutiveOptions {
     /// κ: how many system states mode estimation tracks.
     pub kappa: usize,
+    /// How many recent steps mode estimation keeps to estimate again tracking 8κ states
+    /// ([`TimedMeOptions::history`]); 0 turns the history window off.
+    pub history: usize,
+    /// Which occasions re-run the history window ([`TimedMeOptions::rerun`]): the choice
+    /// between accuracy ([`Rerun::Doubt`], the default) and cost ([`Rerun::Surprise`]).
+    pub rerun: Rerun,
     /// A cycle that takes longer than this (wall time) raises a deadline-overrun event.
     pub cycle_deadline: Option<Duration>,
     /// OPSAT's budget for mode estimation, per tracked state.
@@ -110,6 +117,8 @@ impl Default for ExecutiveOptions {
     fn default() -> Self {
         ExecutiveOptions {
             kappa: 10,
+            history: DEFAULT_HISTORY,
+            rerun: Rerun::Doubt,
             cycle_deadline: None,
             estimation_budget: Budget::default(),
             estimation_deadline: None,
@@ -247,6 +256,20 @@ impl ExecutiveBuilder {
         self
     }
 
+    /// Sets how many recent steps mode estimation keeps to estimate again
+    /// ([`ExecutiveOptions::history`]; 0: none).
+    pub fn history(mut self, steps: usize) -> Self {
+        self.options.history = steps;
+        self
+    }
+
+    /// Sets which occasions re-run mode estimation's history window
+    /// ([`ExecutiveOptions::rerun`]).
+    pub fn rerun(mut self, rerun: Rerun) -> Self {
+        self.options.rerun = rerun;
+        self
+    }
+
     /// Sets the wall-time deadline of a cycle.
     pub fn cycle_deadline(mut self, deadline: Duration) -> Self {
         self.options.cycle_deadline = Some(deadline);
@@ -304,8 +327,12 @@ impl ExecutiveBuilder {
         check_linked(&plant, program.table())?;
         let theory = plant.theory()?;
         let reconfiguration = Reconfiguration::compile(&plant)?;
-        let mut estimation = TimedMeOptions::kappa(options.kappa);
-        estimation.budget = options.estimation_budget;
+        let estimation = TimedMeOptions {
+            budget: options.estimation_budget,
+            history: options.history,
+            rerun: options.rerun,
+            ..TimedMeOptions::kappa(options.kappa)
+        };
         let confidence_atoms = program.confidence_atoms();
         let observables = plant.observables().to_vec();
         let timelines = Timelines::new(plant.components().len(), &observables, options.retention);

@@ -6,6 +6,7 @@
 use serde::Deserialize;
 
 use crate::diagnostic::locate::{Entries, NumberOrName};
+use crate::estimation::Rerun;
 use crate::executive::EventKind;
 
 /// `Scenario(...)`: a whole run.
@@ -27,6 +28,10 @@ pub(super) struct ScenarioFile {
     pub(super) end: f64,
     #[serde(default)]
     pub(super) kappa: Option<i64>,
+    #[serde(default)]
+    pub(super) history: Option<i64>,
+    #[serde(default)]
+    pub(super) rerun: Option<Rerun>,
     #[serde(default)]
     pub(super) chatter_cycles: Option<i64>,
     #[serde(default)]

@@ -12,6 +12,7 @@ use crate::diagnostic::{
     Diagnostic, ReadError, Source, SourceErrors, Span, did_you_mean, ron_error,
 };
 use crate::diagnostic::{LoadErrors, resolve_path};
+use crate::estimation::{DEFAULT_HISTORY, MAX_HISTORY};
 use crate::executive::{CHATTER_CYCLES, ScheduledMission};
 use crate::goalnet::{display, mission};
 use crate::logic::{self, Formula, ValueId, VarId, VarTable};
@@ -165,6 +166,8 @@ pub fn load_source(source: &Source, dir: &Path) -> Result<Scenario, LoadErrors> 
         cycle: settings.cycle,
         end: settings.end,
         kappa: settings.kappa,
+        history: settings.history,
+        rerun: file.rerun.unwrap_or_default(),
         chatter_cycles: settings.chatter_cycles,
         deadline: settings.deadline,
         script,
@@ -218,6 +221,7 @@ struct Settings {
     cycle: f64,
     end: f64,
     kappa: usize,
+    history: usize,
     chatter_cycles: u64,
     deadline: Option<Duration>,
 }
@@ -253,6 +257,25 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
                 "the number of system states mode estimation tracks, at least 1",
             );
             DEFAULT_KAPPA
+        }
+    };
+    let history = match file
+        .history
+        .map(|n| usize::try_from(n).ok().filter(|&n| n <= MAX_HISTORY))
+    {
+        None => DEFAULT_HISTORY,
+        Some(Some(n)) => n,
+        Some(None) => {
+            let n = file.history.unwrap_or_default();
+            ctx.error(
+                &[Step::Field("history")],
+                format!("a history window of {n} steps is out of range"),
+                &format!(
+                    "the number of recent steps mode estimation keeps to estimate again, 0 (none) \
+                     to {MAX_HISTORY}"
+                ),
+            );
+            DEFAULT_HISTORY
         }
     };
     let chatter_cycles = match file.chatter_cycles {
@@ -292,6 +315,7 @@ fn settings(ctx: &mut FileCtx, file: &ScenarioFile) -> Settings {
         cycle,
         end,
         kappa,
+        history,
         chatter_cycles,
         deadline,
     }
@@ -686,6 +710,7 @@ pub(super) fn empty_script(plant: &Plant) -> Script {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::estimation::Rerun;
     use crate::logic::ValueId;
     use crate::simulation::Held;
     use crate::simulation::testing::engine_camera;
@@ -707,6 +732,18 @@ mod tests {
         );
     }
 
+    /// Mode estimation's history window and its re-runs are the scenario's to choose, and reach
+    /// the executive.
+    #[test]
+    fn the_history_window_is_a_setting() {
+        let scenario = engine_camera("history: 0, rerun: Surprise");
+        assert_eq!((scenario.history, scenario.rerun), (0, Rerun::Surprise));
+        let executive =
+            crate::simulation::run::build(&scenario, Default::default()).expect("builds");
+        let options = executive.options();
+        assert_eq!((options.history, options.rerun), (0, Rerun::Surprise));
+    }
+
     /// A scenario without `name` is named after its file; κ and the chatter window default;
     /// hidden variables start at their first value.
     #[test]
@@ -714,6 +751,8 @@ mod tests {
         let scenario = engine_camera(r#"hidden: { "weather": ["calm", "storm"] }"#);
         assert_eq!(scenario.name, "test");
         assert_eq!(scenario.kappa, DEFAULT_KAPPA);
+        assert_eq!(scenario.history, DEFAULT_HISTORY);
+        assert_eq!(scenario.rerun, Rerun::Doubt);
         assert_eq!(scenario.chatter_cycles, CHATTER_CYCLES);
         assert_eq!(scenario.deadline, None);
         let weather = scenario.script.hidden()[0];
@@ -728,7 +767,7 @@ mod tests {
     fn bad_numbers_are_reported_together() {
         let text = "Scenario(program: \"programs/engine_burn.rmpl\", \
                     plant: \"models/engine_camera.ron\", cycle: 0.0, end: -1.0, kappa: 0, \
-                    chatter_cycles: 0, deadline: -0.5)";
+                    history: -1, chatter_cycles: 0, deadline: -0.5)";
         let errors = load_source(
             &Source::new("bad.ron", text),
             Path::new(env!("CARGO_MANIFEST_DIR")),
@@ -739,6 +778,7 @@ mod tests {
             "cycle period 0 is not a positive number of seconds",
             "end time -1 is not a time",
             "κ = 0 tracks no state",
+            "a history window of -1 steps",
             "a chatter window of 0 cycles sees no return",
             "cycle deadline -0.5 is not a positive number of seconds",
         ] {

@@ -26,6 +26,10 @@
 //!     end: 300.0,                           // the last cycle is at or before this time;
 //!                                           // at most 10⁷ cycles (`MAX_CYCLES`), below
 //!     kappa: 5,                             // optional (default 10): states tracked by estimation
+//!     history: 16,                          // optional (default 16): steps estimation keeps to
+//!                                           // estimate again at 8κ; 0: none
+//!     rerun: Surprise,                      // optional (default Doubt): what re-runs them
+//!                                           // (`TimedMeOptions::rerun`)
 //!     chatter_cycles: 20,                   // optional (default 10): a command back into a mode
 //!                                           // left within this many cycles is `Chatter`
 //!     deadline: 0.05,                       // optional: wall-time budget per cycle, seconds
@@ -332,6 +336,7 @@ pub use script::{
 };
 
 use crate::diagnostic::Source;
+use crate::estimation::{Rerun, TimedMeOptions};
 use crate::executive::{ControlProgram, ScheduledMission};
 use crate::logic::ValueId;
 use crate::plant::{ComponentId, Plant};
@@ -398,6 +403,10 @@ pub struct Scenario {
     pub end: f64,
     /// κ for mode estimation.
     pub kappa: usize,
+    /// Mode estimation's history window, in steps (0: none; `TimedMeOptions::history`).
+    pub history: usize,
+    /// Which occasions re-run mode estimation's history window (`TimedMeOptions::rerun`).
+    pub rerun: Rerun,
     /// The executive's chatter window, in cycles (DESIGN.md §9; `chatter_cycles`).
     pub chatter_cycles: u64,
     /// The wall-time deadline of a cycle.
@@ -415,6 +424,15 @@ pub struct Scenario {
 }
 
 impl Scenario {
+    /// Mode estimation's options as the scenario sets them: κ and the history window.
+    pub fn estimation(&self) -> TimedMeOptions {
+        TimedMeOptions {
+            history: self.history,
+            rerun: self.rerun,
+            ..TimedMeOptions::kappa(self.kappa)
+        }
+    }
+
     /// How many cycles the run has if it goes to its end (it may settle earlier).
     pub fn cycles(&self) -> u64 {
         // At most `MAX_CYCLES`, checked when the scenario was loaded: the cast does not saturate.

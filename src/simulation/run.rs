@@ -309,7 +309,8 @@ impl<'s> Simulator<'s> {
     }
 }
 
-/// The scenario's executive (κ, deadline, and the options' retention).
+/// The scenario's executive (κ, the history window and its re-runs, deadline, and the options'
+/// retention).
 pub(crate) fn build(scenario: &Scenario, options: RunOptions) -> Result<Executive, BuildError> {
     let mut plant = scenario.plant.clone();
     for &(component, mode) in &scenario.believed {
@@ -317,6 +318,8 @@ pub(crate) fn build(scenario: &Scenario, options: RunOptions) -> Result<Executiv
     }
     let mut builder = Executive::builder(plant, scenario.program.clone())
         .kappa(scenario.kappa)
+        .history(scenario.history)
+        .rerun(scenario.rerun)
         .chatter_cycles(scenario.chatter_cycles);
     if let Some(deadline) = scenario.deadline {
         builder = builder.cycle_deadline(deadline);
