@@ -12,11 +12,15 @@
 //! - when ŝ is in doubt because of truncation: the two heaviest plant states of the step differ
 //!   by less than a few times the weight truncated away within the window;
 //! - when an observation surprised and a state dropped within the window may now outweigh a
-//!   kept one: the re-run then starts at the step that dropped it, from the belief that step
-//!   started from, kept for the purpose (steps that dropped next to nothing keep none).
+//!   kept one: the re-run then starts at the latest belief recorded at or before the step
+//!   that dropped it — that step's start, kept for the purpose (steps that dropped next to
+//!   nothing keep none), an earlier step's, or a segment's start — or re-runs the step being
+//!   updated alone when that step, or the one before it without a checkpoint, dropped it
+//!   ([`History::replay_from`]).
 //!
-//! The triggers are in `timed_me.rs` ("When the window is re-run"); what each step truncated
-//! ([`Truncated`]) is recorded here.
+//! The triggers, which of them the user chose ([`Rerun`](super::Rerun)), and why the re-run
+//! starts where it does are in `timed_me.rs` ("When the window is re-run"); what each step
+//! truncated ([`Truncated`]) is recorded here.
 //!
 //! The wide belief a re-run ends with is kept behind the belief returned from it: when the next
 //! update starts from that belief and needs a re-run too, the wide one is stepped once — the
@@ -137,6 +141,24 @@ impl Input {
     }
 }
 
+/// Where a re-run of the window starts ([`History::replay_from`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Start {
+    /// At the window's start: an observation no tracked state explains, or doubt.
+    Window,
+    /// For a state dropped at this recorded step (counting the window's steps from 0), which a
+    /// surprise may have made heavier than a kept one.
+    Dropped(usize),
+}
+
+/// What a re-run runs ([`History::replay_from`]).
+pub(super) enum Replay<'a> {
+    /// From this recorded belief, these recorded steps, then the step being updated.
+    Recorded(&'a Belief, Vec<&'a Input>),
+    /// The step being updated alone, from the belief it starts from.
+    Current,
+}
+
 /// A belief TimedME was given, and the inputs of the steps from it on.
 #[derive(Clone)]
 pub(super) struct Segment {
@@ -185,23 +207,58 @@ impl History {
         self.wide = returned.issued.map(|serial| (serial, wide));
     }
 
-    /// The latest start a re-run can take at or before recorded step `origin` (counting from 0),
-    /// and the recorded steps from there, oldest first: the step's own start where it kept one,
-    /// else the window's start (`origin` 0: the window's start and every step recorded); `None`
-    /// when nothing is recorded.
-    pub(super) fn replay_from(
-        &self,
-        origin: usize,
-    ) -> Option<(&Belief, impl Iterator<Item = &Input>)> {
-        let first = self.segments.front()?;
-        let (skip, start) = self
-            .steps()
-            .enumerate()
-            .take(origin.saturating_add(1))
-            .filter_map(|(i, input)| input.start.as_ref().map(|start| (i, start)))
-            .last()
-            .unwrap_or((0, &first.start));
-        Some((start, self.steps().skip(skip)))
+    /// Where a re-run for `start` begins, and the recorded steps from there, oldest first;
+    /// `None` when there is nothing to re-run from (an empty window, for [`Start::Window`]).
+    ///
+    /// From [`Start::Window`], the window's start and every step. For a state dropped at
+    /// recorded step `origin` ([`Start::Dropped`]), the latest belief recorded at or before
+    /// that step — a step's checkpoint, or a segment's start (the belief its first step
+    /// started from) — so that no step before it is re-run: a re-run that starts later cannot
+    /// find the state again. Except when the state was dropped by the step being updated, or
+    /// by the one before it with no belief kept at its start: then [`Replay::Current`], the
+    /// step being updated alone, from the belief it starts from (`timed_me.rs`, "When the
+    /// window is re-run", says why).
+    pub(super) fn replay_from(&self, start: Start) -> Option<Replay<'_>> {
+        let latest = match start {
+            Start::Window => 0,
+            Start::Dropped(origin) => {
+                if origin + 1 >= self.steps().count() && self.belief_before(origin).is_none() {
+                    return Some(Replay::Current);
+                }
+                self.latest_at_or_before(origin)
+            }
+        };
+        let belief = self.belief_before(latest)?;
+        Some(Replay::Recorded(
+            belief,
+            self.steps().skip(latest).collect(),
+        ))
+    }
+
+    /// The latest recorded step at or before `origin` whose start belief is recorded (0, the
+    /// window's start, when no later one is).
+    fn latest_at_or_before(&self, origin: usize) -> usize {
+        (0..=origin)
+            .rev()
+            .find(|&i| self.belief_before(i).is_some())
+            .unwrap_or(0)
+    }
+
+    /// The belief recorded step `i` started from, where it is kept: its checkpoint, or its
+    /// segment's start when it is the segment's first step.
+    fn belief_before(&self, i: usize) -> Option<&Belief> {
+        let mut offset = 0;
+        for segment in &self.segments {
+            if i < offset + segment.steps.len() {
+                let input = &segment.steps[i - offset];
+                return input
+                    .start
+                    .as_ref()
+                    .or((i == offset).then_some(&segment.start));
+            }
+            offset += segment.steps.len();
+        }
+        None
     }
 
     /// Every recorded step, oldest first.
@@ -279,5 +336,91 @@ fn shared<T: Clone + PartialEq>(previous: Option<&Arc<T>>, value: &T) -> Arc<T> 
     match previous {
         Some(previous) if **previous == *value => Arc::clone(previous),
         _ => Arc::new(value.clone()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::Source;
+    use crate::estimation::{ModeEstimator, TimedMe, TimedMeOptions};
+    use crate::plant::Plant;
+
+    /// A step that dropped `dropped` of its weight.
+    fn truncated(dropped: f64) -> Truncated {
+        Truncated {
+            lost: dropped,
+            dropped,
+            lift: 1.0,
+        }
+    }
+
+    /// A history of two-step segments whose steps dropped `drops` in turn, and the serial
+    /// number of the belief each step started from.
+    fn recorded(drops: &[f64]) -> (History, Vec<Option<u64>>) {
+        let plant = Plant::load(&Source::new(
+            "driver_valve.ron",
+            include_str!("../../models/driver_valve.ron"),
+        ))
+        .expect("the model loads");
+        let mut theory = plant.theory().expect("theory");
+        let mut belief = TimedMe::new(TimedMeOptions::kappa(1))
+            .initial(&plant, &mut theory, 0.0, &Observation::none())
+            .expect("initial")
+            .belief;
+        let mut history = History::default();
+        history.restart(&mut belief);
+        let (commands, observation) = (Commands::idle(&plant), Observation::none());
+        let mut starts = Vec::new();
+        for (i, &dropped) in drops.iter().enumerate() {
+            let step = Step {
+                commands: &commands,
+                observation: &observation,
+                time: i as f64 + 1.0,
+            };
+            let mut next = belief.clone();
+            history.record(2, &belief, &step, truncated(dropped), &mut next);
+            starts.push(belief.issued);
+            belief = next;
+        }
+        (history, starts)
+    }
+
+    /// Where a re-run for `start` begins: the serial number of its belief and how many
+    /// recorded steps it runs; `None` for the step being updated alone.
+    fn begins(history: &History, start: Start) -> Option<(Option<u64>, usize)> {
+        match history.replay_from(start).expect("something to re-run") {
+            Replay::Recorded(belief, steps) => Some((belief.issued, steps.len())),
+            Replay::Current => None,
+        }
+    }
+
+    /// `timed_me.rs`, "When the window is re-run": a surprise's re-run starts at the latest
+    /// belief recorded at or before the step that dropped the state (a checkpoint or a
+    /// segment's start), or re-runs the step being updated alone when the step before it
+    /// dropped the state without a checkpoint; doubt and contradictions start at the window's
+    /// start.
+    #[test]
+    fn a_rerun_starts_no_earlier_than_it_must() {
+        let light = CHECKPOINT / 10.0;
+        let heavy = CHECKPOINT * 10.0;
+        // Segments [0, 1] and [2, 3]; step 0 kept a checkpoint (and starts the window).
+        let (history, starts) = recorded(&[heavy, light, light, light]);
+        assert_eq!(begins(&history, Start::Window), Some((starts[0], 4)));
+        assert_eq!(begins(&history, Start::Dropped(0)), Some((starts[0], 4)));
+        assert_eq!(begins(&history, Start::Dropped(1)), Some((starts[0], 4)));
+        assert_eq!(begins(&history, Start::Dropped(2)), Some((starts[2], 2)));
+        assert_eq!(begins(&history, Start::Dropped(3)), None);
+        assert_eq!(begins(&history, Start::Dropped(4)), None);
+        // A checkpoint within the newer segment, and at the last step.
+        let (history, starts) = recorded(&[light, light, light, heavy]);
+        assert_eq!(begins(&history, Start::Dropped(1)), Some((starts[0], 4)));
+        assert_eq!(begins(&history, Start::Dropped(3)), Some((starts[3], 1)));
+        let (history, starts) = recorded(&[light, light, light, heavy, light]);
+        // Three segments were started; the oldest is gone: [2, 3], [4].
+        assert_eq!(begins(&history, Start::Window), Some((starts[2], 3)));
+        assert_eq!(begins(&history, Start::Dropped(1)), Some((starts[3], 2)));
+        // The last step recorded starts a segment: its start is kept.
+        assert_eq!(begins(&history, Start::Dropped(2)), Some((starts[4], 1)));
     }
 }
