@@ -497,6 +497,7 @@ mod tests {
         reference::add::<DelayFile>(&mut tracer);
         reference::add::<TriggerFile>(&mut tracer);
         reference::add::<SimulatorFile>(&mut tracer);
+        reference::add::<Rerun>(&mut tracer);
         reference::add::<ConditionFile>(&mut tracer);
         reference::add::<ExpectFile>(&mut tracer);
         reference::add::<ScriptFile>(&mut tracer);
@@ -511,6 +512,7 @@ mod tests {
                 ("DelayFile", "scenario.md", "Delays"),
                 ("DeliverFile", "scenario.md", "Deliveries"),
                 ("SimulatorFile", "scenario.md", "A model-driven plant"),
+                ("Rerun", "scenario.md", "Re-run policies"),
                 ("ExpectFile", "scenario.md", "Expectations"),
                 ("ConditionFile", "scenario.md", "Conditions"),
                 ("EventName", "scenario.md", "Event kinds"),
