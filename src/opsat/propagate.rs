@@ -49,55 +49,6 @@ pub(crate) struct Solver {
     pub(crate) propagator: Propagator,
     /// The fast path for OPSAT's candidate checks ([`Solver::for_search`]).
     pub(crate) search: Propagator,
-    /// Candidate assumption lists OPSAT's search found consistent (see [`ConsistentLists`]).
-    pub(crate) consistent: ConsistentLists,
-}
-
-/// Past this many literals in all, [`ConsistentLists`] starts afresh (4 MB of lists: a quiet
-/// Mars lander cycle asks a few dozen lists of ~60 literals, a 1,023-breaker step thousands of
-/// ~3,000).
-const CONSISTENT_LITERALS: usize = 1 << 20;
-
-/// Assumption lists found consistent by OPSAT's candidate checks, remembered so that a list
-/// asked again is answered without propagating it. Estimation asks the same list many times: a
-/// step's sources (up to 8κ of them in a history re-run) enumerate overlapping targets — many
-/// states reach "all nominal but this breaker tripped" — and the next step, under the same
-/// observation, asks them again; on Livingstone 2's 15-breaker log 44 % of the search's checks
-/// repeat a list already asked, and each costs a closure of the whole theory.
-///
-/// Exact: consistency is a function of the clauses and the list, and the lists are forgotten
-/// whenever a clause is added. Only "consistent" is remembered; a conflict is read off anew, as
-/// the search learns from its members. Which closure the search's propagator holds does change
-/// (a remembered list is not propagated), and with it which conflicts are read off later — but
-/// not the solutions: OPSAT returns them in an order that is a function of the OCSP alone,
-/// whatever conflicts it knows (`search.rs`, "Order").
-#[derive(Clone, Default)]
-pub(crate) struct ConsistentLists {
-    lists: rustc_hash::FxHashSet<Vec<SatLit>>,
-    /// The literals in `lists`.
-    literals: usize,
-}
-
-impl ConsistentLists {
-    /// Whether `assumptions` were found consistent.
-    pub(crate) fn contains(&self, assumptions: &[SatLit]) -> bool {
-        self.lists.contains(assumptions)
-    }
-
-    /// Remembers that `assumptions` are consistent.
-    pub(crate) fn insert(&mut self, assumptions: &[SatLit]) {
-        if self.literals + assumptions.len() > CONSISTENT_LITERALS {
-            self.clear();
-        }
-        if self.lists.insert(assumptions.to_vec()) {
-            self.literals += assumptions.len();
-        }
-    }
-
-    fn clear(&mut self) {
-        self.lists.clear();
-        self.literals = 0;
-    }
 }
 
 impl Solver {
@@ -107,7 +58,6 @@ impl Solver {
             sat,
             propagator: Propagator::kept_as_set(),
             search: Propagator::default(),
-            consistent: ConsistentLists::default(),
         }
     }
 
@@ -130,8 +80,6 @@ impl SatSolver for Solver {
         self.sat.add_clause(clause);
         self.propagator.add_clause(clause);
         self.search.add_clause(clause);
-        // A new clause may refute a list found consistent.
-        self.consistent.clear();
     }
 
     fn solve(&mut self, assumptions: &[SatLit]) -> Outcome {

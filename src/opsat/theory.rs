@@ -386,20 +386,9 @@ impl Theory {
     ) -> Consistency {
         self.stats.consistency_checks += 1;
         let sat_assumptions = self.sat_literals(assumptions);
-        // OPSAT's candidates repeat (`propagate::ConsistentLists`); nothing else is remembered.
-        let remember = propagated_cores && self.propagation;
-        if remember && self.solver.consistent.contains(&sat_assumptions) {
-            self.consistent_with.clear();
-            self.consistent_with.extend_from_slice(&sat_assumptions);
-            self.scratch = sat_assumptions;
-            return Consistency::Consistent;
-        }
         if self.consistent_by_propagation(&sat_assumptions, propagated_cores) {
             self.stats.sat_calls += 1;
             self.stats.propagated += 1;
-            if remember {
-                self.solver.consistent.insert(&sat_assumptions);
-            }
             self.scratch = sat_assumptions;
             return Consistency::Consistent;
         }
@@ -413,12 +402,7 @@ impl Theory {
         } else {
             // The solver's core, which OPSAT learns from and the mission log shows.
             match self.solve(&sat_assumptions) {
-                Outcome::Satisfiable => {
-                    if remember {
-                        self.solver.consistent.insert(&sat_assumptions);
-                    }
-                    Consistency::Consistent
-                }
+                Outcome::Satisfiable => Consistency::Consistent,
                 Outcome::Unsatisfiable { core } => {
                     let core = if minimize { self.minimize(core) } else { core };
                     Consistency::Conflict(conflict_of(&core, &sat_assumptions, assumptions))
@@ -735,52 +719,6 @@ mod tests {
 
     fn formula(theory: &Theory, text: &str) -> Formula {
         parse_formula(text, theory.table()).unwrap()
-    }
-
-    /// `propagate::ConsistentLists`: OPSAT's candidate checks answer a list found consistent
-    /// again without propagating it, never remember a conflict, and forget every list when a
-    /// clause is added.
-    #[test]
-    fn a_candidate_found_consistent_is_remembered_until_a_clause_is_added() {
-        let mut theory = driver();
-        let good = [is(&theory, "driver", "on"), is(&theory, "valve", "open")];
-        let bad = [is(&theory, "driver", "off"), is(&theory, "valve", "open")];
-        let asked = |theory: &Theory| theory.stats().sat_calls;
-        assert_eq!(theory.search_conflict(&good), Consistency::Consistent);
-        let first = asked(&theory);
-        assert_eq!(theory.search_conflict(&good), Consistency::Consistent);
-        assert_eq!(asked(&theory), first, "answered from memory");
-        assert!(matches!(
-            theory.search_conflict(&bad),
-            Consistency::Conflict(_)
-        ));
-        let after_conflict = asked(&theory);
-        assert!(matches!(
-            theory.search_conflict(&bad),
-            Consistency::Conflict(_)
-        ));
-        assert!(
-            asked(&theory) > after_conflict,
-            "a conflict is read off anew"
-        );
-        theory
-            .define(&formula(&theory, "driver = on & valve = closed"))
-            .unwrap();
-        let before = asked(&theory);
-        assert_eq!(theory.search_conflict(&good), Consistency::Consistent);
-        assert!(
-            asked(&theory) > before,
-            "a new clause forgets what was remembered"
-        );
-        theory.set_propagation(false);
-        let before = asked(&theory);
-        assert_eq!(theory.search_conflict(&good), Consistency::Consistent);
-        assert_eq!(theory.search_conflict(&good), Consistency::Consistent);
-        assert_eq!(
-            asked(&theory),
-            before + 2,
-            "without propagation the solver answers each"
-        );
     }
 
     #[test]
