@@ -113,7 +113,9 @@
 //!   kept states and whatever the history's re-runs do (a re-run carries r through its own
 //!   steps from its window's start); it is lost (1) when a budget cut a search (targets were
 //!   skipped unseen) or an observation forced a fallback after something was discarded (a
-//!   discarded state might have explained it).
+//!   discarded state might have explained it). When no initial state explains the first
+//!   observation, the initial belief falls back to the prior's κ heaviest states, and starts
+//!   from the bound of that truncation (the exact update keeps the whole prior).
 //!
 //! The bound only grows (K ≤ 1), and it is conservative: it assumes every discarded and every
 //! unenumerated state survived every observation since, so an observation that refutes most of
@@ -662,8 +664,11 @@ pub(crate) fn initial_belief(
             entered,
         )?;
         // The exact update, run from the same start, falls back the same way: an empty
-        // expansion means no initial state at all is consistent with the observation.
-        outcome.fall_back(expansion, &prior.states, 0.0);
+        // expansion means no initial state at all is consistent with the observation. It
+        // keeps the whole prior, TimedME the κ heaviest of its states: what the prior's
+        // truncation left out is the distance between the two.
+        let truncated = prior.outside(&prior.states, 0.0);
+        outcome.fall_back_to(expansion, &prior.states, 0.0, truncated);
     }
     Ok(outcome.into_update(plant, time, theory.stats().sat_calls - sat_before))
 }
@@ -759,14 +764,27 @@ impl Outcome {
     }
 
     /// DESIGN.md §8's fallbacks: the fault-jump expansion, else `previous` as it was; `before`
-    /// is the bound the fallback starts from ([`fallen_from`]).
+    /// is the bound the fallback starts from ([`fallen_from`]), and the bound of `previous`
+    /// when it is kept.
     pub(crate) fn fall_back(&mut self, jumps: Expansion, previous: &[WeightedState], before: f64) {
+        self.fall_back_to(jumps, previous, before, before);
+    }
+
+    /// [`Outcome::fall_back`], keeping `previous` with the bound `kept` ([`Belief::outside`])
+    /// when nothing explains the observation.
+    fn fall_back_to(
+        &mut self,
+        jumps: Expansion,
+        previous: &[WeightedState],
+        before: f64,
+        kept: f64,
+    ) {
         self.absorb(jumps, before);
         let fallback = if self.states.is_empty() {
             self.states = previous.to_vec();
             self.discarded = 0.0;
             self.truncated = Truncated::NONE;
-            self.outside = before;
+            self.outside = kept;
             Fallback::PreviousBelief
         } else {
             Fallback::UnconstrainedFaults
