@@ -16,7 +16,7 @@ use super::observe::ObservationModel;
 use super::streams::Streams;
 use super::{EstimationError, WeightedState};
 use crate::logic::ValueId;
-use crate::opsat::{Cut, Theory};
+use crate::opsat::{Cost, Cut, Theory};
 use crate::plant::{Observation, Plant, SystemState};
 
 /// Where the merge gets each source's solutions, cheapest first, and their observation factors:
@@ -239,7 +239,8 @@ fn order(cost: f64) -> u64 {
 /// but what cannot have changed since the last candidate is not recomputed: the bounds once all
 /// are known ([`Unseen::bounded`]), and the search for a source to tighten once none is left
 /// ([`Unseen::untightened`]). On Livingstone 2's breakers, where the 8κ re-run merges from 80
-/// sources, those two passes over the sources were a fifth of all instructions.
+/// sources, the merge's own instructions (these passes and the count of heavy states,
+/// [`AtLeast`]) were a fifth of the 15-breaker log's; the two changes took a tenth off it.
 #[derive(Default)]
 struct Unseen {
     /// Per source of the current expansion (the vector is reused from one to the next).
@@ -439,26 +440,9 @@ struct AtLeast {
     count: usize,
     /// Per state, whether it is counted.
     counted: Vec<bool>,
-    /// The states not counted, by weight when pushed.
-    waiting: BinaryHeap<(Weight, usize)>,
-}
-
-/// A weight ordered by [`f64::total_cmp`].
-#[derive(Clone, Copy, PartialEq)]
-struct Weight(f64);
-
-impl Eq for Weight {}
-
-impl PartialOrd for Weight {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-impl Ord for Weight {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        self.0.total_cmp(&other.0)
-    }
+    /// The states not counted, by weight when pushed (a weight ordered totally, as OPSAT orders
+    /// costs).
+    waiting: BinaryHeap<(Cost, usize)>,
 }
 
 impl AtLeast {
@@ -483,7 +467,7 @@ impl AtLeast {
             self.counted.push(false);
         }
         if !self.counted[i] {
-            self.waiting.push((Weight(weight), i));
+            self.waiting.push((Cost(weight), i));
         }
     }
 
@@ -506,13 +490,13 @@ impl AtLeast {
                 self.counted.resize(states, false);
                 self.waiting.clear();
                 self.waiting
-                    .extend((0..states).map(|i| (Weight(weight_of(i)), i)));
+                    .extend((0..states).map(|i| (Cost(weight_of(i)), i)));
             }
         }
         self.asked = Some(weight);
         while self.count < k {
             match self.waiting.peek() {
-                Some(&(Weight(w), i)) if w >= weight => {
+                Some(&(Cost(w), i)) if w >= weight => {
                     self.waiting.pop();
                     if !self.counted[i] && w.total_cmp(&weight_of(i)).is_eq() {
                         self.counted[i] = true;

@@ -27,6 +27,7 @@ pub use merge::Enumeration;
 pub use ocsp::{
     Budget, Choice, Cut, Decision, Ocsp, OcspError, SearchOptions, SearchStats, Solution, Solutions,
 };
+pub(crate) use search::Cost;
 pub use shared::ConflictStore;
 pub use theory::{
     Consistency, Definition, Literal, Theory, TheoryError, TheoryOptions, TheoryStats,
