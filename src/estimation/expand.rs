@@ -497,7 +497,7 @@ impl Expander {
         let choices: Arc<Choices> = Arc::new(
             plant
                 .component_ids()
-                .zip(&state.modes)
+                .zip(state.modes.iter())
                 .zip(&mut self.memo.timed)
                 .zip(&mut untimed.next)
                 .enumerate()

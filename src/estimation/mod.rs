@@ -52,8 +52,9 @@ pub struct WeightedState {
 /// modes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlantEstimate {
-    /// Mode per component, by [`ComponentId`](crate::plant::ComponentId).
-    pub modes: Vec<ValueId>,
+    /// Mode per component, by [`ComponentId`](crate::plant::ComponentId): its first system
+    /// state's, shared.
+    pub modes: Arc<[ValueId]>,
     /// Summed probability.
     pub probability: f64,
 }
@@ -166,7 +167,7 @@ impl Belief {
             match out.iter_mut().find(|e| e.modes == weighted.state.modes) {
                 Some(estimate) => estimate.probability += weighted.probability,
                 None => out.push(PlantEstimate {
-                    modes: weighted.state.modes.clone(),
+                    modes: Arc::clone(&weighted.state.modes),
                     probability: weighted.probability,
                 }),
             }
@@ -184,7 +185,7 @@ impl Belief {
         Belief::most_likely_among(&self.plant_states())
             .cloned()
             .unwrap_or(PlantEstimate {
-                modes: Vec::new(),
+                modes: Arc::from([]),
                 probability: 0.0,
             })
     }

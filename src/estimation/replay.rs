@@ -652,7 +652,7 @@ fn restarts_no_clock(source: &SystemState, next: &SystemState) -> bool {
     source
         .modes
         .iter()
-        .zip(&next.modes)
-        .zip(&next.clock_starts)
+        .zip(next.modes.iter())
+        .zip(next.clock_starts.iter())
         .all(|((before, after), start)| before == after || start.is_none())
 }

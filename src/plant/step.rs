@@ -383,7 +383,7 @@ pub fn component_distributions(
 ) -> Vec<Vec<(ValueId, f64)>> {
     plant
         .component_ids()
-        .zip(&state.modes)
+        .zip(state.modes.iter())
         .zip(enabled)
         .map(|(((id, component), &mode), enabled)| {
             component_distribution(component, mode, enabled, state.clock(id, from), to - from)
@@ -432,16 +432,20 @@ pub fn transition_choices(
 
 /// Figure 6-6 step 6 / Figure 6-11 step 5: the state reached when every component takes the
 /// transition to `targets`, at time `to` — clocks of components that changed mode restart then.
+/// When no component changed mode, that is `source` itself, shared.
 pub fn successor(source: &SystemState, targets: Vec<ValueId>, to: f64) -> SystemState {
+    if *source.modes == *targets {
+        return source.clone();
+    }
     let clock_starts = source
         .modes
         .iter()
         .zip(&targets)
-        .zip(&source.clock_starts)
+        .zip(source.clock_starts.iter())
         .map(|((before, after), start)| if before == after { *start } else { Some(to) })
         .collect();
     SystemState {
-        modes: targets,
+        modes: targets.into(),
         clock_starts,
     }
 }
@@ -474,7 +478,7 @@ pub fn chosen_successor(
 ) -> SystemState {
     let targets = choices
         .iter()
-        .zip(&state.modes)
+        .zip(state.modes.iter())
         .enumerate()
         .map(|(c, (distribution, &current))| {
             let pick = choose(ComponentId(c as u32), distribution);
@@ -531,4 +535,46 @@ pub fn consistent_state(
         let targets = solution.assignment.into_iter().map(|(_, v)| v).collect();
         successor(state, targets, to)
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::*;
+
+    fn state(modes: &[u32], starts: &[Option<f64>]) -> SystemState {
+        SystemState::new(modes.iter().map(|&m| ValueId(m)).collect(), starts.to_vec())
+    }
+
+    /// Figure 6-6 step 6: a component that changed mode restarts its clock at the step's end,
+    /// the others keep theirs; a step that changed no mode is the source itself, shared.
+    #[test]
+    fn a_successor_restarts_changed_clocks_and_shares_an_unchanged_state() {
+        let source = state(&[0, 1, 2], &[Some(1.0), None, Some(3.0)]);
+        let stayed = successor(&source, vec![ValueId(0), ValueId(1), ValueId(2)], 5.0);
+        assert!(Arc::ptr_eq(&stayed.modes, &source.modes));
+        assert!(Arc::ptr_eq(&stayed.clock_starts, &source.clock_starts));
+        let moved = successor(&source, vec![ValueId(0), ValueId(4), ValueId(2)], 5.0);
+        assert_eq!(&*moved.modes, &[ValueId(0), ValueId(4), ValueId(2)]);
+        assert_eq!(&*moved.clock_starts, &[Some(1.0), Some(5.0), Some(3.0)]);
+        assert_eq!(
+            &*source.clock_starts,
+            &[Some(1.0), None, Some(3.0)],
+            "source untouched"
+        );
+    }
+
+    /// Equality compares modes and clock starts bit for bit whether or not the vectors are
+    /// shared: the pointer comparison is only a shortcut.
+    #[test]
+    fn states_are_equal_by_value_shared_or_not() {
+        let a = state(&[0, 1], &[Some(1.0), None]);
+        assert_eq!(a, a.clone());
+        assert_eq!(a, state(&[0, 1], &[Some(1.0), None]));
+        assert_ne!(a, state(&[0, 2], &[Some(1.0), None]));
+        assert_ne!(a, state(&[0, 1], &[Some(1.0), Some(0.0)]));
+        assert_ne!(a, state(&[0, 1], &[Some(1.0 + f64::EPSILON), None]));
+        assert_ne!(a, state(&[0], &[Some(1.0)]));
+    }
 }
