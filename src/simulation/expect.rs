@@ -399,7 +399,11 @@ impl<'a> Checker<'a> {
                     self.progress[i] = self.check_sequence(i, commands, *window, step);
                 }
             } else if self.progress[i] == Progress::Open {
-                self.progress[i] = self.check(i, step, plant);
+                // Written only when it moved: an open expectation stays open on most cycles.
+                match self.check(i, step, plant) {
+                    Progress::Open => {}
+                    moved => self.progress[i] = moved,
+                }
             }
         }
         self.last_modes = Arc::clone(&step.most_likely);
