@@ -54,7 +54,7 @@ use crate::logic::ValueId;
 use crate::opsat::{Cut, Ocsp, SearchOptions, Theory};
 use crate::plant::{
     Commands, Component, Enabled, Observation, Plant, SystemState, component_distribution,
-    enabled_transitions, successor,
+    enabled_transitions, successor_forgetting,
 };
 
 /// Past this many entries a cache starts afresh.
@@ -759,7 +759,7 @@ pub(crate) fn successor_from<'a>(
     states: &'a [WeightedState],
     time: f64,
 ) -> impl Fn(usize, Vec<ValueId>) -> SystemState + 'a {
-    move |k, modes| successor(&states[k].state, modes, time).forget_idle_clocks(plant)
+    move |k, modes| successor_forgetting(plant, &states[k].state, modes, time)
 }
 
 #[cfg(test)]

@@ -35,7 +35,7 @@ pub use acknowledgement::{Acknowledgement, Answer};
 pub use step::{
     Commands, Enabled, InputError, Observation, StepError, chosen_successor,
     component_distribution, component_distributions, consistent_state, enabled_transitions,
-    step_tcca, successor, transition_choices,
+    step_tcca, successor, successor_forgetting, transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{BOUND_TOLERANCE, Timing, TransitionLaw, mode_distribution};

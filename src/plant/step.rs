@@ -484,6 +484,37 @@ pub fn successor(source: &SystemState, targets: Vec<ValueId>, to: f64) -> System
     }
 }
 
+/// [`successor`] with the clocks that cannot matter in the new modes forgotten
+/// ([`SystemState::forget_idle_clocks`]), built in one pass: the state estimation keeps. Each
+/// component's clock start is forgotten when its new mode ignores the clock, else kept when it
+/// stayed and restarted at `to` when it moved — what the two steps give in turn.
+pub fn successor_forgetting(
+    plant: &Plant,
+    source: &SystemState,
+    targets: Vec<ValueId>,
+    to: f64,
+) -> SystemState {
+    if *source.modes == *targets {
+        return source.clone().forget_idle_clocks(plant);
+    }
+    let clock_starts = (plant.components().iter().zip(source.modes.iter()))
+        .zip(targets.iter().zip(source.clock_starts.iter()))
+        .map(|((component, before), (after, start))| {
+            if !component.clock_matters(*after) {
+                None
+            } else if before == after {
+                *start
+            } else {
+                Some(to)
+            }
+        })
+        .collect();
+    SystemState {
+        modes: targets.into(),
+        clock_starts,
+    }
+}
+
 /// Step_TCCA (Figure 6-6): every component takes one enabled transition (staying is the
 /// implicit one), chosen by `choose(component, distribution)`, which returns an index into the
 /// distribution (a simulator samples; a test picks); out-of-range indices mean "stay".
@@ -663,6 +694,45 @@ mod tests {
             }
             assert!(checked > 100, "{name}: {checked} guards checked");
         }
+    }
+
+    /// The one-pass successor is the successor with its idle clocks forgotten, bit for bit:
+    /// the Mars lander (timed modes) from states varying one component's mode, every target
+    /// of every component, clock starts known, forgotten or at odd times.
+    #[test]
+    fn the_one_pass_successor_is_the_successor_with_idle_clocks_forgotten() {
+        let text = include_str!("../../models/mars_lander.ron");
+        let plant =
+            Plant::load(&crate::diagnostic::Source::new("mars_lander.ron", text)).expect("loads");
+        let initial = plant.most_likely_initial();
+        let n = initial.len();
+        let mut checked = 0;
+        for (c, component) in plant.components().iter().enumerate() {
+            for m in 0..component.modes().len() as u32 {
+                let mut modes = initial.clone();
+                modes[c] = ValueId(m);
+                let starts = (0..n).map(|i| (i % 3 != 0).then_some(i as f64 * 0.7 - 3.0));
+                let source = SystemState::new(modes.clone(), starts.collect());
+                for (d, other) in plant.components().iter().enumerate() {
+                    for t in 0..other.modes().len() as u32 {
+                        let mut targets = modes.clone();
+                        targets[d] = ValueId(t);
+                        let fused = successor_forgetting(&plant, &source, targets.clone(), 9.5);
+                        let composed = successor(&source, targets, 9.5).forget_idle_clocks(&plant);
+                        assert_eq!(fused.modes, composed.modes);
+                        let bits = |s: &SystemState| {
+                            s.clock_starts
+                                .iter()
+                                .map(|t| t.map(f64::to_bits))
+                                .collect::<Vec<_>>()
+                        };
+                        assert_eq!(bits(&fused), bits(&composed), "component {c} → {d}");
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 1000, "{checked} successors checked");
     }
 
     /// Equality compares modes and clock starts bit for bit whether or not the vectors are
