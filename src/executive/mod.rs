@@ -348,6 +348,7 @@ impl ExecutiveBuilder {
             belief: None,
             most_likely: Arc::from([]),
             estimates: Vec::new(),
+            marginals: Vec::new(),
             estimate: VersionedEstimate::default(),
             observed: LastObservation::default(),
             monitoring: Monitoring::new(&plant),
@@ -503,6 +504,8 @@ pub struct Executive {
     most_likely: Arc<[ValueId]>,
     /// The plant states of `belief`, grouped once per update and handed to the step's result.
     estimates: Vec<PlantEstimate>,
+    /// Each component's marginal of ŝ's mode, refilled every update (kept for its room).
+    marginals: Vec<f64>,
     estimate: VersionedEstimate,
     /// The last report and its checked, typed form ([`LastObservation`]).
     observed: LastObservation,
@@ -742,10 +745,16 @@ impl Executive {
         let previous = self.belief.replace(update.belief);
         self.report_mode_changes(&before, &after, previous.as_ref(), log);
         self.refresh_estimate(&after, before != after);
+        let mut marginals = std::mem::take(&mut self.marginals);
+        match &self.belief {
+            Some(belief) => belief.component_marginals(&after, &mut marginals),
+            None => marginals.clear(),
+        }
         for (c, &mode) in after.iter().enumerate() {
-            let probability = self.marginal(ComponentId(c as u32), mode);
+            let probability = marginals.get(c).copied().unwrap_or(0.0);
             self.timelines.record_state(c, now, mode, probability);
         }
+        self.marginals = marginals;
         Ok(())
     }
 
