@@ -49,6 +49,9 @@ pub(crate) struct Solver {
     pub(crate) propagator: Propagator,
     /// The fast path for OPSAT's candidate checks ([`Solver::for_search`]).
     pub(crate) search: Propagator,
+    /// How many clauses the solver has been given (answers remembered under fewer may no
+    /// longer hold).
+    pub(crate) clauses: u64,
 }
 
 impl Solver {
@@ -58,6 +61,7 @@ impl Solver {
             sat,
             propagator: Propagator::kept_as_set(),
             search: Propagator::default(),
+            clauses: 0,
         }
     }
 
@@ -77,6 +81,7 @@ impl SatSolver for Solver {
     }
 
     fn add_clause(&mut self, clause: &[SatLit]) {
+        self.clauses += 1;
         self.sat.add_clause(clause);
         self.propagator.add_clause(clause);
         self.search.add_clause(clause);
