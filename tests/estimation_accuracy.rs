@@ -75,7 +75,7 @@ fn agrees(exact: &Belief, timed: &Belief) -> bool {
 
 /// ½ Σ |p − q| over plant states.
 fn total_variation(exact: &Belief, timed: &Belief) -> f64 {
-    let mut difference: HashMap<Vec<ValueId>, f64> = HashMap::new();
+    let mut difference: HashMap<std::sync::Arc<[ValueId]>, f64> = HashMap::new();
     for e in exact.plant_states() {
         *difference.entry(e.modes).or_default() += e.probability;
     }

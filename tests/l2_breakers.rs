@@ -109,7 +109,7 @@ mod reference {
         plant
             .components()
             .iter()
-            .zip(&estimate.modes)
+            .zip(estimate.modes.iter())
             .map(|(c, &m)| (c.name(), &c.mode(m).name))
             .filter(|(_, mode)| !["on", "off", "nominal"].contains(&mode.as_str()))
             .map(|(name, mode)| format!("{name}={mode}"))

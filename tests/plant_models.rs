@@ -275,14 +275,8 @@ fn a_state_of_the_wrong_shape_is_reported_not_a_panic() {
     let mut theory = plant.theory().expect("theory");
     let idle = Commands::idle(&plant);
     for state in [
-        SystemState {
-            modes: vec![ValueId(0)],
-            clock_starts: vec![Some(0.0)],
-        },
-        SystemState {
-            modes: vec![ValueId(0), ValueId(42)],
-            clock_starts: vec![None],
-        },
+        SystemState::new(vec![ValueId(0)], vec![Some(0.0)]),
+        SystemState::new(vec![ValueId(0), ValueId(42)], vec![None]),
     ] {
         assert!(state.check(&plant).is_err());
         let stepped = step_tcca(&plant, &mut theory, &state, &idle, 0.0, 1.0, |_, _| 0);

@@ -121,7 +121,7 @@ impl KairosStep {
             })
             .collect();
         let estimates: Vec<(f64, Vec<ValueId>)> = (step.estimates.iter().take(handle.estimates))
-            .map(|e| (e.probability, e.modes.clone()))
+            .map(|e| (e.probability, e.modes.to_vec()))
             .collect();
         let fprime = match &handle.binding {
             Some(binding) => {
@@ -143,7 +143,7 @@ impl KairosStep {
             },
             names: Arc::clone(&handle.names),
             commands: step.command.clone(),
-            modes: step.most_likely.clone(),
+            modes: step.most_likely.to_vec(),
             estimates,
             events,
             fprime,

@@ -245,7 +245,7 @@ fn as_json(plant: &Plant, record: &LogRecord, update: &Update, top: usize) -> Va
             let modes = plant
                 .components()
                 .iter()
-                .zip(&estimate.modes)
+                .zip(estimate.modes.iter())
                 .map(|(c, &m)| (c.mode_var(), m));
             json!({ "probability": estimate.probability, "modes": object(plant, modes) })
         })

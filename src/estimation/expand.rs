@@ -54,11 +54,16 @@ use crate::logic::ValueId;
 use crate::opsat::{Cut, Ocsp, SearchOptions, Theory};
 use crate::plant::{
     Commands, Component, Enabled, Observation, Plant, SystemState, component_distribution,
-    enabled_transitions, successor,
+    enabled_transitions, successor_forgetting,
 };
 
 /// Past this many entries a cache starts afresh.
 const CACHE_LIMIT: usize = 20_000;
+
+/// The clockless tier of [`StepMemo`] holds one item per component an entry; past this many
+/// items in all it starts afresh too, so that its memory does not grow with the plant (it is
+/// pure, and refilled from [`Clockless`] by lookups).
+const UNTIMED_ITEMS: usize = 1 << 21;
 
 /// Once more than κ states are merged — the belief will be truncated, an approximation by
 /// design — the expansion may stop when no single further candidate outweighs the κ-th state
@@ -210,6 +215,11 @@ pub(crate) struct Expander {
 /// (modes, μ), one allocation per key, and the entry holds that allocation so the address
 /// cannot be reused; an address therefore names one (modes, μ), which fixes every component's
 /// mode and enabled transitions.
+///
+/// The clockless tier's distributions are themselves shared ([`Clockless`]): a new (modes, μ)
+/// mostly repeats the distributions of states met before, component by component (a breaker
+/// tree's sources differ in one or two breakers), and computing and allocating each component's
+/// afresh for every address was a quarter of a 255-breaker replay's memory.
 #[derive(Default)]
 struct StepMemo {
     /// The step (`from`, `to`) the timed entries belong to, as bits.
@@ -219,6 +229,55 @@ struct StepMemo {
     /// (address of the enabled transitions, step length as bits) → per component, its
     /// distribution without a clock, once computed.
     untimed: FxHashMap<(usize, u64), Untimed>,
+    /// The clockless distributions by their inputs.
+    clockless: Clockless,
+}
+
+/// Clockless distributions by their inputs — component, mode, its enabled transitions and the
+/// step's length — which are all [`component_distribution`] depends on without a clock: an
+/// entry is the very distribution a recomputation would give, shared.
+#[derive(Default)]
+struct Clockless {
+    /// [component, mode, step length as bits, delivered, enabled transitions…] → distribution.
+    by_inputs: FxHashMap<Vec<u64>, Arc<[NextMode]>>,
+    /// The key being looked up (a lookup allocates nothing).
+    key: Vec<u64>,
+}
+
+/// Past this many entries [`Clockless`] starts afresh (an entry is a few dozen bytes).
+const CLOCKLESS_LIMIT: usize = 1 << 17;
+
+impl Clockless {
+    /// Component `c`'s distribution from `mode` without a clock, given its enabled transitions,
+    /// over a step of length `step`.
+    fn get(
+        &mut self,
+        component: &Component,
+        c: usize,
+        mode: ValueId,
+        enabled: &Enabled,
+        step: f64,
+    ) -> Arc<[NextMode]> {
+        self.key.clear();
+        let inputs = [
+            c as u64,
+            u64::from(mode.0),
+            step.to_bits(),
+            enabled.delivered as u64,
+        ];
+        self.key.extend(inputs);
+        self.key
+            .extend(enabled.transitions.iter().map(|&t| t as u64));
+        if let Some(next) = self.by_inputs.get(self.key.as_slice()) {
+            return Arc::clone(next);
+        }
+        if self.by_inputs.len() >= CLOCKLESS_LIMIT {
+            self.by_inputs.clear();
+        }
+        let next = next_modes(component_distribution(component, mode, enabled, None, step));
+        self.by_inputs.insert(self.key.clone(), Arc::clone(&next));
+        next
+    }
 }
 
 /// One memoised distribution of the current step.
@@ -248,7 +307,8 @@ impl StepMemo {
             // Emptied, not dropped: the lists keep their capacity from step to step.
             self.timed.iter_mut().for_each(Vec::clear);
             self.timed.resize_with(plant.components().len(), Vec::new);
-            if self.untimed.len() >= CACHE_LIMIT {
+            let limit = (UNTIMED_ITEMS / plant.components().len().max(1)).clamp(64, CACHE_LIMIT);
+            if self.untimed.len() >= limit {
                 self.untimed.clear();
             }
         }
@@ -490,27 +550,27 @@ impl Expander {
         };
         let enabled = self.enabled(plant, theory, state, commands)?;
         let key = (Arc::as_ptr(&enabled) as usize, step.to_bits());
-        let untimed = self.memo.untimed.entry(key).or_insert_with(|| Untimed {
+        let StepMemo {
+            timed: timed_memos,
+            untimed,
+            clockless,
+            ..
+        } = &mut self.memo;
+        let untimed = untimed.entry(key).or_insert_with(|| Untimed {
             _enabled: Arc::clone(&enabled),
             next: vec![None; plant.components().len()],
         });
         let choices: Arc<Choices> = Arc::new(
             plant
                 .component_ids()
-                .zip(&state.modes)
-                .zip(&mut self.memo.timed)
+                .zip(state.modes.iter())
+                .zip(timed_memos)
                 .zip(&mut untimed.next)
                 .enumerate()
                 .map(|(c, ((((id, component), &mode), memos), untimed))| {
                     match state.clock(id, from) {
                         None => Arc::clone(untimed.get_or_insert_with(|| {
-                            next_modes(component_distribution(
-                                component,
-                                mode,
-                                &enabled[c],
-                                None,
-                                step,
-                            ))
+                            clockless.get(component, c, mode, &enabled[c], step)
                         })),
                         Some(reading) => timed(memos, component, c, mode, &enabled, reading, step),
                     }
@@ -699,5 +759,67 @@ pub(crate) fn successor_from<'a>(
     states: &'a [WeightedState],
     time: f64,
 ) -> impl Fn(usize, Vec<ValueId>) -> SystemState + 'a {
-    move |k, modes| successor(&states[k].state, modes, time).forget_idle_clocks(plant)
+    move |k, modes| successor_forgetting(plant, &states[k].state, modes, time)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnostic::Source;
+
+    /// A component, its mode, its enabled transitions and a step length as bits.
+    type Inputs = (usize, ValueId, Enabled, u64);
+
+    /// [`StepMemo`]'s certificate for the shared clockless distributions: an entry is the very
+    /// distribution `component_distribution` computes from the same inputs (bit for bit), the
+    /// same inputs share one allocation, and inputs that differ in the mode, the enabled
+    /// transitions or the step's length never share one (the breaker tree, whose faults have
+    /// rates, every component in every mode, two step lengths).
+    #[test]
+    fn a_shared_clockless_distribution_is_the_one_computed_from_its_inputs() {
+        let plant = Plant::load(&Source::new(
+            "breakers_15.ron",
+            include_str!("../../models/breakers_15.ron"),
+        ))
+        .expect("the model loads");
+        let mut theory = plant.theory().expect("theory");
+        let idle = Commands::idle(&plant);
+        let mut clockless = Clockless::default();
+        let mut seen: Vec<(Inputs, Arc<[NextMode]>)> = Vec::new();
+        let initial = plant.most_likely_initial();
+        for (c, component) in plant.components().iter().enumerate() {
+            for m in 0..component.modes().len() {
+                let mut modes = initial.clone();
+                modes[c] = ValueId(m as u32);
+                let Ok(enabled) = enabled_transitions(&plant, &mut theory, &modes, &idle) else {
+                    continue;
+                };
+                for step in [0.1, 1.0] {
+                    let (mode, own) = (modes[c], &enabled[c]);
+                    let next = clockless.get(component, c, mode, own, step);
+                    let computed =
+                        next_modes(component_distribution(component, mode, own, None, step));
+                    assert!(
+                        same_bits(&next, &computed),
+                        "component {c} mode {m} step {step}"
+                    );
+                    let again = clockless.get(component, c, mode, own, step);
+                    assert!(Arc::ptr_eq(&next, &again), "the same inputs share one");
+                    let inputs = (c, mode, own.clone(), step.to_bits());
+                    for (other_inputs, other) in &seen {
+                        let same = *other_inputs == inputs;
+                        assert_eq!(Arc::ptr_eq(other, &next), same, "component {c} mode {m}");
+                    }
+                    if !seen.iter().any(|(other_inputs, _)| *other_inputs == inputs) {
+                        seen.push((inputs, next));
+                    }
+                }
+            }
+        }
+        assert!(
+            seen.len() > 40,
+            "the breakers in their modes: {}",
+            seen.len()
+        );
+    }
 }

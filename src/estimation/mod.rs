@@ -52,8 +52,9 @@ pub struct WeightedState {
 /// modes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlantEstimate {
-    /// Mode per component, by [`ComponentId`](crate::plant::ComponentId).
-    pub modes: Vec<ValueId>,
+    /// Mode per component, by [`ComponentId`](crate::plant::ComponentId): its first system
+    /// state's, shared.
+    pub modes: Arc<[ValueId]>,
     /// Summed probability.
     pub probability: f64,
 }
@@ -100,9 +101,19 @@ impl Belief {
     /// A belief from weighted states (normalised here, most probable first). `None` when the
     /// states have no positive total probability or do not fit the plant.
     pub fn new(plant: &Plant, time: f64, states: Vec<WeightedState>) -> Option<Belief> {
-        let fits = states.iter().all(|w| w.state.check(plant).is_ok());
+        if !states.iter().all(|w| w.state.check(plant).is_ok()) {
+            return None;
+        }
+        Belief::made_for(plant, time, states)
+    }
+
+    /// [`Belief::new`] of states known to fit `plant`: estimation's successors of a belief
+    /// checked on entry to the update ([`check_step`]), which keep its shape and take their
+    /// modes from the plant's own distributions. A quiet cycle makes one; checking its states
+    /// again was a fortieth of the Mars lander's quiet cycle.
+    pub(crate) fn made_for(plant: &Plant, time: f64, states: Vec<WeightedState>) -> Option<Belief> {
         let total: f64 = states.iter().map(|w| w.probability).sum();
-        if !(fits && total > 0.0 && total.is_finite() && time.is_finite()) {
+        if !(total > 0.0 && total.is_finite() && time.is_finite()) {
             return None;
         }
         let mut states: Vec<WeightedState> = states
@@ -166,7 +177,7 @@ impl Belief {
             match out.iter_mut().find(|e| e.modes == weighted.state.modes) {
                 Some(estimate) => estimate.probability += weighted.probability,
                 None => out.push(PlantEstimate {
-                    modes: weighted.state.modes.clone(),
+                    modes: Arc::clone(&weighted.state.modes),
                     probability: weighted.probability,
                 }),
             }
@@ -184,7 +195,7 @@ impl Belief {
         Belief::most_likely_among(&self.plant_states())
             .cloned()
             .unwrap_or(PlantEstimate {
-                modes: Vec::new(),
+                modes: Arc::from([]),
                 probability: 0.0,
             })
     }

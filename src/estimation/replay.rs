@@ -60,7 +60,8 @@
 //!    replaces the record), a possible mass only from the shape's cached mask, with the function
 //!    the full step uses;
 //! 7. a candidate's successor (source state s, next modes m) is the one `Expander::step` builds,
-//!    `successor(s, m, t).forget_idle_clocks(plant)`, or a copy of one built in an earlier step
+//!    `successor(s, m, t).forget_idle_clocks(plant)` (built in one pass,
+//!    `plant::successor_forgetting`), or a copy of one built in an earlier step
 //!    of the record's life from a source state equal to s (modes and clock starts bit for bit)
 //!    with the same known solution m, kept only if every component that changed mode had its
 //!    clock forgotten. That successor depends on s and m alone: a component that kept its mode
@@ -652,7 +653,7 @@ fn restarts_no_clock(source: &SystemState, next: &SystemState) -> bool {
     source
         .modes
         .iter()
-        .zip(&next.modes)
-        .zip(&next.clock_starts)
+        .zip(next.modes.iter())
+        .zip(next.clock_starts.iter())
         .all(|((before, after), start)| before == after || start.is_none())
 }

@@ -490,7 +490,7 @@ impl TimedMe {
                 (expansion.states[..kappa].to_vec(), dropped)
             });
             let outside = expansion.outside(&expansion.states, before);
-            let Some(mut next) = Belief::new(plant, input.time, expansion.states) else {
+            let Some(mut next) = Belief::made_for(plant, input.time, expansion.states) else {
                 return Ok(None);
             };
             next.set_outside(outside);
@@ -795,7 +795,7 @@ impl Outcome {
 
     pub(crate) fn into_update(self, plant: &Plant, time: f64, sat_calls: u64) -> Update {
         let states = self.states.len() as u64;
-        let mut belief = Belief::new(plant, time, self.states).unwrap_or_else(|| Belief {
+        let mut belief = Belief::made_for(plant, time, self.states).unwrap_or_else(|| Belief {
             time,
             states: Vec::new(),
             mode_vars: plant.components().iter().map(|c| c.mode_var()).collect(),

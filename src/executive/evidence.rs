@@ -44,11 +44,13 @@ pub(super) fn discrepant(
         Some(belief) => {
             // The belief's states are most probable first: the first with ŝ's modes is its
             // best clock.
-            let Some(state) = (belief.states().iter()).find(|s| s.state.modes == modes) else {
+            let Some(state) = (belief.states().iter()).find(|s| *s.state.modes == *modes) else {
                 return Ok(Vec::new());
             };
             let commands = commands.acknowledged(plant, observation);
-            stepped(plant, theory, &state.state, &commands, belief.time(), now)?.modes
+            stepped(plant, theory, &state.state, &commands, belief.time(), now)?
+                .modes
+                .to_vec()
         }
     };
     Ok(unexplained(plant, theory, &expected, observation))

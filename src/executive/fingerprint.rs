@@ -33,7 +33,7 @@ impl Executive {
             belief.time().to_bits().hash(state);
             for weighted in belief.states() {
                 weighted.state.modes.hash(state);
-                for start in &weighted.state.clock_starts {
+                for start in weighted.state.clock_starts.iter() {
                     start.map(f64::to_bits).hash(state);
                 }
                 ((weighted.probability / PROBABILITY_RESOLUTION).round() as i64).hash(state);

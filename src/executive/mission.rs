@@ -372,7 +372,7 @@ impl MissionControl {
     fn marginals(&mut self, estimates: &[PlantEstimate]) {
         self.beliefs.iter_mut().for_each(|b| b.fill(0.0));
         for estimate in estimates {
-            for (belief, mode) in self.beliefs.iter_mut().zip(&estimate.modes) {
+            for (belief, mode) in self.beliefs.iter_mut().zip(estimate.modes.iter()) {
                 if let Some(p) = belief.get_mut(mode.index()) {
                     *p += estimate.probability;
                 }

@@ -202,8 +202,9 @@ pub struct Step {
     /// The reactive planner's decision; `None` when there is nothing to pursue (no intended
     /// configuration yet, or goal interpretation failed).
     pub action: Option<Action>,
-    /// ŝ(i): the most likely mode of each component, by component index.
-    pub most_likely: Vec<ValueId>,
+    /// ŝ(i): the most likely mode of each component, by component index (shared with the
+    /// executive's own copy).
+    pub most_likely: Arc<[ValueId]>,
     /// The plant states of the belief with their probabilities, most likely first.
     pub estimates: Vec<PlantEstimate>,
     /// How far the belief may be from the exact update's ([`Belief::distance_bound`]).
@@ -345,7 +346,7 @@ impl ExecutiveBuilder {
             source,
             options,
             belief: None,
-            most_likely: Vec::new(),
+            most_likely: Arc::from([]),
             estimates: Vec::new(),
             estimate: VersionedEstimate::default(),
             observed: LastObservation::default(),
@@ -499,7 +500,7 @@ pub struct Executive {
     belief: Option<Belief>,
     /// ŝ of `belief`, computed once per update: the cycle reads it four times (mode changes,
     /// the sequencer's view, reconfiguration, the step's result).
-    most_likely: Vec<ValueId>,
+    most_likely: Arc<[ValueId]>,
     /// The plant states of `belief`, grouped once per update and handed to the step's result.
     estimates: Vec<PlantEstimate>,
     estimate: VersionedEstimate,
@@ -674,8 +675,8 @@ impl Executive {
     }
 
     /// ŝ: the most likely mode per component (empty before the first cycle).
-    pub fn most_likely(&self) -> Vec<ValueId> {
-        self.most_likely.clone()
+    pub fn most_likely(&self) -> Arc<[ValueId]> {
+        Arc::clone(&self.most_likely)
     }
 
     /// Steps 1–2 of the cycle: check the observation, update the belief, report what changed.
@@ -734,8 +735,8 @@ impl Executive {
         // (the belief is set only here), so the cached copies always belong to the belief.
         let estimates = update.belief.plant_states();
         let after = Belief::most_likely_among(&estimates)
-            .map(|e| e.modes.clone())
-            .unwrap_or_default();
+            .map(|e| Arc::clone(&e.modes))
+            .unwrap_or_else(|| Arc::from([]));
         let before = std::mem::replace(&mut self.most_likely, after.clone());
         self.estimates = estimates;
         let previous = self.belief.replace(update.belief);

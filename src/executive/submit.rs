@@ -31,7 +31,7 @@ impl Executive {
         let modes = if self.most_likely.is_empty() {
             self.plant.most_likely_initial()
         } else {
-            self.most_likely.clone()
+            self.most_likely.to_vec()
         };
         // NaN is not at or after anything: refused too.
         let before = |last: &f64| now.partial_cmp(last).is_none_or(|o| o.is_lt());

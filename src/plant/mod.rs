@@ -35,7 +35,7 @@ pub use acknowledgement::{Acknowledgement, Answer};
 pub use step::{
     Commands, Enabled, InputError, Observation, StepError, chosen_successor,
     component_distribution, component_distributions, consistent_state, enabled_transitions,
-    step_tcca, successor, transition_choices,
+    step_tcca, successor, successor_forgetting, transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{BOUND_TOLERANCE, Timing, TransitionLaw, mode_distribution};
@@ -417,32 +417,50 @@ impl Plant {
 /// (when it entered that mode). A clock start is `None` when the component's clock cannot matter
 /// in its current mode ([`Component::clock_matters`]): estimation forgets it so that states
 /// differing only there merge.
+///
+/// Both vectors are shared (`Arc<[_]>`): estimation copies states far more often than it makes
+/// new ones — into the merge, into each belief, into the replay's record, into the plant
+/// estimates — and a quiet step's states are the last step's own (a component that stays keeps
+/// its clock), so a copy is a reference count and most comparisons are one pointer
+/// comparison. A new state is built from vectors ([`SystemState::new`]) or with
+/// `Arc::make_mut`.
 #[derive(Debug, Clone)]
 pub struct SystemState {
     /// Mode per component, by [`ComponentId`].
-    pub modes: Vec<ValueId>,
+    pub modes: Arc<[ValueId]>,
     /// Clock start time per component, seconds, or `None` when it does not matter.
-    pub clock_starts: Vec<Option<f64>>,
+    pub clock_starts: Arc<[Option<f64>]>,
 }
 
 impl SystemState {
+    /// The state of these modes and clock starts.
+    pub fn new(modes: Vec<ValueId>, clock_starts: Vec<Option<f64>>) -> SystemState {
+        SystemState {
+            modes: modes.into(),
+            clock_starts: clock_starts.into(),
+        }
+    }
+
     /// A state where every component entered its mode at `time`, with the clocks that do not
     /// matter forgotten.
     pub fn entered_at(plant: &Plant, modes: Vec<ValueId>, time: f64) -> SystemState {
         let clock_starts = vec![Some(time); modes.len()];
-        SystemState {
-            modes,
-            clock_starts,
-        }
-        .forget_idle_clocks(plant)
+        SystemState::new(modes, clock_starts).forget_idle_clocks(plant)
     }
 
-    /// Forgets the clocks that cannot matter in the components' current modes.
+    /// Forgets the clocks that cannot matter in the components' current modes. A state whose
+    /// idle clocks are already forgotten is returned as it is (still shared).
     pub fn forget_idle_clocks(mut self, plant: &Plant) -> SystemState {
-        let modes = plant.components.iter().zip(&self.modes);
-        for ((component, mode), start) in modes.zip(&mut self.clock_starts) {
-            if !component.clock_matters(*mode) {
-                *start = None;
+        let idle = |(component, mode): (&Component, &ValueId)| !component.clock_matters(*mode);
+        let remembered = (plant.components.iter().zip(self.modes.iter()))
+            .zip(self.clock_starts.iter())
+            .any(|(cm, start)| start.is_some() && idle(cm));
+        if remembered {
+            let modes = plant.components.iter().zip(self.modes.iter());
+            for (cm, start) in modes.zip(Arc::make_mut(&mut self.clock_starts)) {
+                if idle(cm) {
+                    *start = None;
+                }
             }
         }
         self
@@ -480,11 +498,18 @@ impl SystemState {
 /// stopping at the first difference saves nothing there.
 impl PartialEq for SystemState {
     fn eq(&self, other: &Self) -> bool {
-        self.modes.len() == other.modes.len()
-            && self.clock_starts.len() == other.clock_starts.len()
-            && (self.modes.iter().zip(&other.modes)).fold(true, |same, (a, b)| same & (a.0 == b.0))
-            && (self.clock_starts.iter().zip(&other.clock_starts))
-                .all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits))
+        let same_modes = || {
+            self.modes.len() == other.modes.len()
+                && (self.modes.iter().zip(other.modes.iter()))
+                    .fold(true, |same, (a, b)| same & (a.0 == b.0))
+        };
+        let same_starts = || {
+            self.clock_starts.len() == other.clock_starts.len()
+                && (self.clock_starts.iter().zip(other.clock_starts.iter()))
+                    .all(|(a, b)| a.map(f64::to_bits) == b.map(f64::to_bits))
+        };
+        (Arc::ptr_eq(&self.modes, &other.modes) || same_modes())
+            && (Arc::ptr_eq(&self.clock_starts, &other.clock_starts) || same_starts())
     }
 }
 
@@ -493,7 +518,7 @@ impl Eq for SystemState {}
 impl Hash for SystemState {
     fn hash<H: Hasher>(&self, state: &mut H) {
         self.modes.hash(state);
-        for start in &self.clock_starts {
+        for start in self.clock_starts.iter() {
             start.map(f64::to_bits).hash(state);
         }
     }

@@ -154,14 +154,14 @@ mod tests {
             _ => unreachable!(),
         };
         let mut memory = vec![false; condition.slots()];
-        let step = |modes| Step {
+        let step = |modes: Vec<ValueId>| Step {
             cycle: 0,
             time: 0.0,
             command: Vec::new(),
             goal: None,
             goal_state: None,
             action: None,
-            most_likely: modes,
+            most_likely: modes.into(),
             estimates: Vec::new(),
             distance_bound: 0.0,
             marking: Vec::new(),

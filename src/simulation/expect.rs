@@ -14,6 +14,8 @@
 //! its text as the mission log prints it — the goals a refusal names, a forced point's
 //! lateness, the response taken, the tactic chosen and why another was rejected.
 
+use std::sync::Arc;
+
 use super::condition::{Condition, Cycle};
 use super::format::EventName;
 use super::script::{Delay, ScriptedPlant, TIME_EPSILON};
@@ -300,7 +302,7 @@ pub(crate) struct Checker<'a> {
     /// The goal each location asserted, as displayed in its `GoalAsserted` event.
     goals: Vec<(LocationId, String)>,
     /// ŝ at the last cycle seen (for failure reasons).
-    last_modes: Vec<ValueId>,
+    last_modes: Arc<[ValueId]>,
     last_time: Option<f64>,
     /// First diagnosis seen for each `Diagnosed` expectation outside its tolerance.
     late: Vec<Option<f64>>,
@@ -337,7 +339,7 @@ impl<'a> Checker<'a> {
             expectations,
             names,
             goals: Vec::new(),
-            last_modes: Vec::new(),
+            last_modes: Arc::from([]),
             last_time: None,
             active: Vec::new(),
         }
@@ -397,10 +399,14 @@ impl<'a> Checker<'a> {
                     self.progress[i] = self.check_sequence(i, commands, *window, step);
                 }
             } else if self.progress[i] == Progress::Open {
-                self.progress[i] = self.check(i, step, plant);
+                // Written only when it moved: an open expectation stays open on most cycles.
+                match self.check(i, step, plant) {
+                    Progress::Open => {}
+                    moved => self.progress[i] = moved,
+                }
             }
         }
-        self.last_modes.clone_from(&step.most_likely);
+        self.last_modes = Arc::clone(&step.most_likely);
         self.last_time = Some(step.time);
     }
 

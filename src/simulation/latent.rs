@@ -27,6 +27,8 @@
 //! would have shown. A fault whose component leaves the fault mode (a repair, a second fault)
 //! before it is revealed stays unrevealed and is no longer followed.
 
+use std::sync::Arc;
+
 use super::model_cache::ModelCache;
 use super::model_plant::FaultDrawn;
 use crate::logic::{ValueId, VarId};
@@ -104,7 +106,7 @@ impl Latent {
         let mut observed = observation.to_vec();
         observed.sort_unstable();
         let modes = &self.shadow.modes;
-        if (self.checked.as_ref()).is_some_and(|(m, o)| m == modes && *o == observed) {
+        if (self.checked.as_ref()).is_some_and(|(m, o)| m[..] == modes[..] && *o == observed) {
             return Verdict::Latent;
         }
         let mut assumed = (world.cache)
@@ -113,7 +115,7 @@ impl Latent {
             .clone();
         assumed.extend(observed.iter().map(|&(var, value)| Literal::Is(var, value)));
         if world.theory.consistent(&assumed) == Consistency::Consistent {
-            self.checked = Some((modes.clone(), observed));
+            self.checked = Some((modes.to_vec(), observed));
             Verdict::Latent
         } else {
             Verdict::Revealed
@@ -138,6 +140,10 @@ impl Latent {
             world.commands,
         )?;
         let mut next = self.shadow.clone();
+        let (next_modes, next_starts) = (
+            Arc::make_mut(&mut next.modes),
+            Arc::make_mut(&mut next.clock_starts),
+        );
         for (id, component) in world.plant.component_ids() {
             let c = id.index();
             let (mode, clock) = (self.shadow.modes[c], self.shadow.clock(id, from));
@@ -156,8 +162,8 @@ impl Latent {
                         to - from,
                     );
             if undisturbed {
-                next.modes[c] = now.modes[c];
-                next.clock_starts[c] = now.clock_starts[c];
+                next_modes[c] = now.modes[c];
+                next_starts[c] = now.clock_starts[c];
                 continue;
             }
             let likeliest = (expected.iter())
@@ -169,8 +175,8 @@ impl Latent {
             if let Some(&(target, _)) = likeliest
                 && target != mode
             {
-                next.modes[c] = target;
-                next.clock_starts[c] = Some(to);
+                next_modes[c] = target;
+                next_starts[c] = Some(to);
             }
         }
         self.shadow = next;

@@ -29,6 +29,8 @@
 //! The generator is ChaCha8 (`chacha20::ChaCha8Rng`), a named portable algorithm: a seed replays
 //! the same run on every machine.
 
+use std::sync::Arc;
+
 use chacha20::ChaCha8Rng;
 use rand::seq::SliceRandom;
 use rand::{RngExt, SeedableRng};
@@ -231,7 +233,7 @@ impl<'p> ModelPlant<'p> {
 
     /// Every component's mode now (`None` before the first observation).
     pub fn modes(&self) -> Option<&[ValueId]> {
-        self.state.as_ref().map(|s| s.modes.as_slice())
+        self.state.as_ref().map(|s| &*s.modes)
     }
 
     /// The faults so far, oldest first.
@@ -322,8 +324,8 @@ impl<'p> ModelPlant<'p> {
             }
             let c = fault.component.index();
             if state.modes[c] != fault.mode {
-                state.modes[c] = fault.mode;
-                state.clock_starts[c] = Some(time);
+                Arc::make_mut(&mut state.modes)[c] = fault.mode;
+                Arc::make_mut(&mut state.clock_starts)[c] = Some(time);
             }
             self.next_forced += 1;
         }
