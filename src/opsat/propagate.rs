@@ -55,9 +55,6 @@ pub(crate) struct Solver {
     pub(crate) propagator: Propagator,
     /// The fast path for OPSAT's candidate checks ([`Solver::for_search`]).
     pub(crate) search: Propagator,
-    /// How many clauses the solver has been given (answers remembered under fewer may no
-    /// longer hold).
-    pub(crate) clauses: u64,
 }
 
 impl Solver {
@@ -67,7 +64,6 @@ impl Solver {
             sat,
             propagator: Propagator::kept_as_set(),
             search: Propagator::default(),
-            clauses: 0,
         }
     }
 
@@ -87,7 +83,6 @@ impl SatSolver for Solver {
     }
 
     fn add_clause(&mut self, clause: &[SatLit]) {
-        self.clauses += 1;
         self.sat.add_clause(clause);
         self.propagator.add_clause(clause);
         self.search.add_clause(clause);

@@ -12,23 +12,9 @@
 //! itself inconsistent (the *conflict* conflict-directed A* learns from); [`Theory::entails`] is
 //! the refutation of the formula's negation. Clock bounds and confidence atoms are decided
 //! outside the theory ([`Formula::ground`]); a formula that still holds one is refused.
-//!
-//! # Search answers remembered
-//! OPSAT's candidate checks ([`Theory::search_conflict`]) found consistent are remembered, by
-//! their solver literals, until a clause is added (`SearchAnswers`): asked again, the answer
-//! is given without propagation or SAT call. The answer is the one a check would give (the
-//! same clauses, the same assumptions); what changes is that the skipped check leaves the
-//! search closure and the stored model as they were, so later conflicts may be other
-//! inconsistent subsets and the solver may be asked at other moments — which the search's
-//! solutions and their order do not depend on (`search.rs`, "Order"), but the reported SAT call
-//! counts do. Measured on Livingstone 2's 15-breaker log at κ = 10 (1,600 steps): 44 % of the
-//! candidate checks were repeats (fresh enumerations re-finding a shape's known solutions),
-//! 8.208 G → 7.414 G instructions for the whole process, beliefs of every shipped log and
-//! scenario byte-identical but for `sat_calls`; CPU time 0.98 of before (`farm-bench --vs`,
-//! 20 pairs, median; 10 pairs 0.97, 5 pairs 1.02): the checks skipped are the cheap ones.
 
 use petgraph::unionfind::UnionFind;
-use rustc_hash::{FxHashMap, FxHashSet};
+use rustc_hash::FxHashMap;
 
 use super::propagate::{Solver, Value};
 use super::sat::{Outcome, RecordedSolver, SatLit, SatSolver};
@@ -206,53 +192,6 @@ pub struct Theory {
     /// Variables linked by some constraint share a root (OPSAT's decomposition).
     component_root: Vec<usize>,
     stats: TheoryStats,
-    /// Assumption lists OPSAT's search found consistent ([`SearchAnswers`]).
-    search_answers: SearchAnswers,
-}
-
-/// At most this many assumption lists are remembered as consistent; past it the memory starts
-/// afresh.
-const SEARCH_ANSWERS: usize = 1 << 16;
-
-/// The assumption lists (solver literals, in order) that OPSAT's candidate checks found
-/// consistent, while the solver has been given the same clauses: consistency is a function of
-/// the clauses and the assumptions, so asking again would give the same answer. Estimation
-/// asks again often — a stream's fresh enumeration re-finds the solutions its shape already
-/// knows, and sources of one shape in successive steps check the same candidates — 44 % of
-/// the candidate checks on Livingstone 2's breaker log were repeats, all but 0.4 % of them
-/// consistent.
-///
-/// Only "consistent" is remembered: a conflict's answer is a set of assumptions read off the
-/// implication graph of the moment, which the search learns from. Skipping a check leaves the
-/// search closure and the stored model where the previous check left them, so a later
-/// conflict may be read off a different graph (another inconsistent subset) and the solver
-/// asked at other times: the search's solutions and their order do not depend on which
-/// conflicts it learns (`search.rs`, "Order"), but the count of checks and SAT calls does.
-#[derive(Clone, Default)]
-struct SearchAnswers {
-    consistent: FxHashSet<Box<[SatLit]>>,
-    /// The solver's clause count when the set was last valid.
-    clauses: u64,
-}
-
-impl SearchAnswers {
-    /// Whether `assumptions` were found consistent under `clauses` clauses (forgetting every
-    /// answer when the clauses changed since).
-    fn consistent(&mut self, assumptions: &[SatLit], clauses: u64) -> bool {
-        if self.clauses != clauses {
-            self.consistent.clear();
-            self.clauses = clauses;
-        }
-        self.consistent.contains(assumptions)
-    }
-
-    /// Remembers `assumptions` as consistent (under the clauses last looked at).
-    fn remember(&mut self, assumptions: &[SatLit]) {
-        if self.consistent.len() >= SEARCH_ANSWERS {
-            self.consistent.clear();
-        }
-        self.consistent.insert(assumptions.into());
-    }
 }
 
 impl Theory {
@@ -319,7 +258,6 @@ impl Theory {
             defined: FxHashMap::default(),
             component_root,
             stats: TheoryStats::default(),
-            search_answers: SearchAnswers::default(),
         };
         for constraint in constraints {
             theory.assert(constraint)?;
@@ -448,20 +386,7 @@ impl Theory {
     ) -> Consistency {
         self.stats.consistency_checks += 1;
         let sat_assumptions = self.sat_literals(assumptions);
-        let search = propagated_cores;
-        if search {
-            let clauses = self.solver.clauses;
-            if self.search_answers.consistent(&sat_assumptions, clauses) {
-                self.consistent_with.clear();
-                self.consistent_with.extend_from_slice(&sat_assumptions);
-                self.scratch = sat_assumptions;
-                return Consistency::Consistent;
-            }
-        }
         if self.consistent_by_propagation(&sat_assumptions, propagated_cores) {
-            if search {
-                self.search_answers.remember(&sat_assumptions);
-            }
             self.stats.sat_calls += 1;
             self.stats.propagated += 1;
             self.scratch = sat_assumptions;
@@ -477,12 +402,7 @@ impl Theory {
         } else {
             // The solver's core, which OPSAT learns from and the mission log shows.
             match self.solve(&sat_assumptions) {
-                Outcome::Satisfiable => {
-                    if search {
-                        self.search_answers.remember(&sat_assumptions);
-                    }
-                    Consistency::Consistent
-                }
+                Outcome::Satisfiable => Consistency::Consistent,
                 Outcome::Unsatisfiable { core } => {
                     let core = if minimize { self.minimize(core) } else { core };
                     Consistency::Conflict(conflict_of(&core, &sat_assumptions, assumptions))
@@ -962,53 +882,5 @@ mod tests {
             theory.component_root(VarId(0)),
             theory.component_root(VarId(1))
         );
-    }
-
-    proptest::proptest! {
-        #![proptest_config(crate::seeded::config(256))]
-
-        /// Search checks remembered as consistent answer as a fresh theory does (the oracle:
-        /// a new `driver()` per question, which remembers nothing), however often a list is
-        /// asked again and after clauses are added (a formula defined in between); a list
-        /// asked again after a consistent answer makes no SAT call.
-        #[test]
-        fn remembered_search_answers_are_a_fresh_theorys(
-            pool in proptest::collection::vec(
-                proptest::collection::vec((0usize..4, 0usize..3, proptest::bool::ANY), 0..5),
-                1..6,
-            ),
-            asks in proptest::collection::vec((0usize..6, 0usize..8), 1..40),
-        ) {
-            let mut theory = driver();
-            let lists: Vec<Vec<Literal>> = pool
-                .iter()
-                .map(|list| {
-                    list.iter()
-                        .map(|&(x, v, positive)| {
-                            let var = VarId(x as u32);
-                            let size = theory.table().variable(var).values().len();
-                            let literal = Literal::Is(var, ValueId((v % size) as u32));
-                            if positive { literal } else { !literal }
-                        })
-                        .collect()
-                })
-                .collect();
-            let mut consistent_before = vec![false; lists.len()];
-            for (ask, define) in asks {
-                if define == 0 {
-                    theory.define(&formula(&theory, "driver = on | valve = open")).unwrap();
-                    consistent_before.iter_mut().for_each(|c| *c = false);
-                }
-                let k = ask % lists.len();
-                let calls = theory.stats().sat_calls;
-                let answer = theory.search_conflict(&lists[k]);
-                let expected = driver().is_consistent(&lists[k]);
-                proptest::prop_assert_eq!(answer == Consistency::Consistent, expected);
-                if consistent_before[k] {
-                    proptest::prop_assert_eq!(theory.stats().sat_calls, calls);
-                }
-                consistent_before[k] = expected;
-            }
-        }
     }
 }
