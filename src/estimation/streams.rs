@@ -29,7 +29,11 @@
 //! few kilobytes per 8κ expansion, each large enough to make the allocator consolidate its
 //! free lists. Nothing served changes; 7.347 G → 7.301 G instructions on Livingstone 2's
 //! 15-breaker log at κ = 10; with the propagation change before it (`opsat::propagate`, "Cost
-//! per literal") CPU 0.96 of before (`farm-bench --vs`, 10 pairs, median).
+//! per literal") CPU 0.96 of before (`farm-bench --vs`, 10 pairs, median; both measured with a
+//! memory of consistent search checks since rejected, `docs/design/opsat.md`). The three
+//! changes together (this, "Cost per literal" and the lazy list below): 9.048 G → 8.056 G
+//! instructions at κ = 10, 4.392 G → 3.954 G at κ = 5; CPU 0.82 / 0.82 of before at 15
+//! breakers (7 pairs), 0.96 / 0.98 at 255 (3 pairs, load 4–5).
 //!
 //! # The certified list, lazily
 //!

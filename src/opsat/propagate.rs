@@ -40,7 +40,8 @@
 //! [`Propagator::propagate`] reads a falsified literal's binary implications in place, the
 //! propagator's fields borrowed apart, rather than indexing the list afresh for each literal
 //! it forces: the same assignments in the same order, 0.9 % of the instructions of
-//! Livingstone 2's 15-breaker log at κ = 10 (7.414 G → 7.347 G).
+//! Livingstone 2's 15-breaker log at κ = 10 (7.414 G → 7.347 G, measured with a memory of
+//! consistent search checks since measured and rejected, `docs/design/opsat.md`).
 
 use super::sat::{Outcome, RecordedSolver, SatLit, SatSolver};
 
