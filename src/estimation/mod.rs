@@ -454,6 +454,16 @@ mod tests {
         Plant::load(&Source::new(name, text)).expect("the model loads")
     }
 
+    /// `plant`'s theory, a TimedME tracking `kappa` states, and its initial belief, unobserved.
+    fn started(plant: &Plant, kappa: usize) -> (Theory, TimedMe, Belief) {
+        let mut theory = plant.theory().expect("theory");
+        let mut me = TimedMe::new(TimedMeOptions::kappa(kappa));
+        let first = me
+            .initial(plant, &mut theory, 0.0, &Observation::none())
+            .expect("initial belief");
+        (theory, me, first.belief)
+    }
+
     /// The marginals in one pass are each component's marginal asked alone, bit for bit (the
     /// executive records them as §7.2's mode timelines): the Mars lander's belief after a
     /// step, for ŝ's modes and for modes no state has (0, whatever zero the sum gives).
@@ -461,17 +471,13 @@ mod tests {
     fn the_marginals_in_one_pass_are_the_marginals_asked_alone() {
         const LANDER: &str = include_str!("../../models/mars_lander.ron");
         let plant = load("mars_lander.ron", LANDER);
-        let mut theory = plant.theory().expect("theory");
-        let mut me = TimedMe::new(TimedMeOptions::kappa(10));
-        let first = me
-            .initial(&plant, &mut theory, 0.0, &Observation::none())
-            .expect("initial belief");
+        let (mut theory, mut me, first) = started(&plant, 10);
         let idle = Commands::idle(&plant);
         let next = me
             .update(
                 &plant,
                 &mut theory,
-                &first.belief,
+                &first,
                 &idle,
                 &Observation::none(),
                 0.1,
@@ -499,12 +505,8 @@ mod tests {
     fn a_belief_made_for_another_plant_is_checked() {
         const VALVE: &str = include_str!("../../models/driver_valve.ron");
         let valve = load("driver_valve.ron", VALVE);
-        let mut theory = valve.theory().expect("theory");
-        let mut me = TimedMe::new(TimedMeOptions::kappa(3));
-        let first = me
-            .initial(&valve, &mut theory, 0.0, &Observation::none())
-            .expect("initial belief");
-        assert!(Arc::ptr_eq(&first.belief.mode_vars, valve.mode_vars()));
+        let (_, _, first) = started(&valve, 3);
+        assert!(Arc::ptr_eq(&first.mode_vars, valve.mode_vars()));
         let step = |plant: &Plant, belief: &Belief| {
             let mut theory = plant.theory().expect("theory");
             let commands = Commands::idle(plant);
@@ -517,16 +519,16 @@ mod tests {
                 1.0,
             )
         };
-        assert!(step(&valve, &first.belief).is_ok());
+        assert!(step(&valve, &first).is_ok());
         let again = load("driver_valve.ron", VALVE);
-        assert!(!Arc::ptr_eq(&first.belief.mode_vars, again.mode_vars()));
-        assert!(step(&again, &first.belief).is_ok());
+        assert!(!Arc::ptr_eq(&first.mode_vars, again.mode_vars()));
+        assert!(step(&again, &first).is_ok());
         let thermostat = load(
             "thermostat.ron",
             include_str!("../../models/thermostat.ron"),
         );
         assert!(matches!(
-            step(&thermostat, &first.belief),
+            step(&thermostat, &first),
             Err(EstimationError::Input(_))
         ));
     }
