@@ -74,22 +74,24 @@ fn a_replay_log_is_measured_once_per_kappa() {
     }
 }
 
+/// `kairos bench --json` of Livingstone 2's 15-breaker log at `kappa`, with `extra` options:
+/// the report, parsed (the run must succeed).
+fn breaker_bench(kappa: &str, extra: &[&str]) -> Value {
+    let log = "tests/logs/l2_breakers_15.jsonl";
+    let plant = "models/l2_breakers_15.ron";
+    let base = [
+        "bench", "--json", "--plant", plant, "--log", log, "--kappa", kappa,
+    ];
+    let (code, stdout, stderr) = kairos(&[&base[..], extra].concat());
+    assert_eq!(code, 0, "{stderr}");
+    serde_json::from_str(&stdout).expect("one JSON object")
+}
+
 /// Livingstone 2's breaker benchmark commands every cycle: every cycle is busy, and the mean
 /// over all cycles and the satisfiability questions asked per cycle are reported.
 #[test]
 fn a_replay_reports_its_mean_cycle_and_questions_asked() {
-    let (code, stdout, stderr) = kairos(&[
-        "bench",
-        "--json",
-        "--plant",
-        "models/l2_breakers_15.ron",
-        "--log",
-        "tests/logs/l2_breakers_15.jsonl",
-        "--kappa",
-        "3",
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let report: Value = serde_json::from_str(&stdout).expect("one JSON object");
+    let report = breaker_bench("3", &[]);
     let section = &report["sections"][0];
     let busy = check_kind(&section["busy"], &["estimation"]);
     assert_eq!(busy, 1600, "100 cycles of 16 steps, each with a command");
@@ -109,23 +111,7 @@ fn a_replay_reports_its_mean_cycle_and_questions_asked() {
 #[test]
 fn a_replay_is_measured_under_the_rerun_policy_given() {
     let sat_calls = |extra: &[&str]| {
-        let args = [
-            &[
-                "bench",
-                "--json",
-                "--plant",
-                "models/l2_breakers_15.ron",
-                "--log",
-                "tests/logs/l2_breakers_15.jsonl",
-                "--kappa",
-                "5",
-            ][..],
-            extra,
-        ]
-        .concat();
-        let (code, stdout, stderr) = kairos(&args);
-        assert_eq!(code, 0, "{stderr}");
-        let report: Value = serde_json::from_str(&stdout).expect("one JSON object");
+        let report = breaker_bench("5", extra);
         let section = &report["sections"][0];
         let calls = section["all"]["sat_calls"].as_u64().expect("a count");
         (
