@@ -215,6 +215,8 @@ struct Scratch {
     marking: Vec<bool>,
     clocks: Vec<Option<f64>>,
     violated: Vec<bool>,
+    /// Step 9: m_F's locations still to mark.
+    pending: Vec<LocationId>,
 }
 
 /// Hashes optional times by their bits.
@@ -241,7 +243,7 @@ impl Sequencer {
     pub fn new(thca: Thca) -> Self {
         let mut marked = vec![false; thca.locations().len()];
         for &start in thca.starts() {
-            mark_full(&thca, start, &mut marked);
+            mark_full(&thca, start, &mut marked, &mut Vec::new());
         }
         let marked_ids = marked_ids(&thca, &marked);
         let clock_count = thca.table().clocks().len();
@@ -397,7 +399,7 @@ impl Sequencer {
             &self.thca.location(location).transitions[transition].targets
         };
         for &target in scratch.enabled.iter().flat_map(targets) {
-            mark_full(&self.thca, target, &mut marking);
+            mark_full(&self.thca, target, &mut marking, &mut scratch.pending);
         }
         for &target in scratch.enabled.iter().flat_map(targets) {
             mark_composites(&self.thca, target, &mut marking);
@@ -713,8 +715,16 @@ fn mark_composites(thca: &Thca, location: LocationId, marking: &mut [bool]) {
 }
 
 /// m_F: marks a location and, if it is a composite, its start locations, recursively.
-fn mark_full(thca: &Thca, location: LocationId, marking: &mut [bool]) {
-    let mut pending = vec![location];
+/// `pending` is scratch: a program that loops in place takes a transition every quiet cycle,
+/// and a fresh stack each time was 200 of the EDL cruise cycle's instructions.
+fn mark_full(
+    thca: &Thca,
+    location: LocationId,
+    marking: &mut [bool],
+    pending: &mut Vec<LocationId>,
+) {
+    pending.clear();
+    pending.push(location);
     while let Some(l) = pending.pop() {
         if !std::mem::replace(&mut marking[l.index()], true) {
             pending.extend(thca.location(l).starts());
