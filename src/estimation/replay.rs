@@ -55,9 +55,10 @@
 //!    live run;
 //! 5. a stream asked past R_k answers "none" only if the shape is complete and R_k is all of
 //!    its known solutions (exactly when the full stream ends there); otherwise the replay stops;
-//! 6. a factor is served only from the observation model's cache (remembered per known solution
-//!    for the record's life: that cache only grows or starts afresh in a full step, which
-//!    replaces the record), a possible mass only from the shape's cached mask, with the function
+//! 6. a factor is served only as the observation model answers without the theory — 1 with
+//!    nothing observed, else from its cache (remembered per known solution for the record's
+//!    life: that cache only grows or starts afresh in a full step, which replaces the record;
+//!    `observe.rs`) — a possible mass only from the shape's cached mask, with the function
 //!    the full step uses;
 //! 7. a candidate's successor (source state s, next modes m) is the one `Expander::step` builds,
 //!    `successor(s, m, t).forget_idle_clocks(plant)` (built in one pass,
@@ -611,7 +612,7 @@ impl Serve for Replaying<'_> {
             let solutions = &self.cache.known(shape.slot).ok_or(Uncertified)?.solutions;
             let modes = solutions.get(index).ok_or(Uncertified)?;
             *known = observe
-                .cached(modes, &self.replay.observation)
+                .known_of_solution(modes, &self.replay.observation)
                 .ok_or(Uncertified)?;
         }
         Ok(*known)
