@@ -809,6 +809,44 @@ mod tests {
     /// A component, its mode, its enabled transitions and a step length as bits.
     type Inputs = (usize, ValueId, Enabled, u64);
 
+    /// Asserts that `value` is the very allocation of a `seen` value exactly when their keys
+    /// are equal, and remembers it under `key` if its key is new.
+    fn shared_exactly_by_key<K: PartialEq, T: ?Sized>(
+        seen: &mut Vec<(K, Arc<T>)>,
+        key: K,
+        value: Arc<T>,
+        context: &str,
+    ) {
+        for (other_key, other) in seen.iter() {
+            let same = *other_key == key;
+            assert_eq!(Arc::ptr_eq(other, &value), same, "{context}");
+        }
+        if !seen.iter().any(|(other_key, _)| *other_key == key) {
+            seen.push((key, value));
+        }
+    }
+
+    /// Mode vectors as (the component moved, its mode, the modes).
+    type Variants = Vec<(usize, u32, Vec<ValueId>)>;
+
+    /// A model of `models/`, its theory, μ idle, and every mode vector that moves one
+    /// component of the most likely initial state to one of its modes.
+    fn one_mode_changed(name: &str, text: &str) -> (Plant, Theory, Commands, Variants) {
+        let plant = Plant::load(&Source::new(name, text)).expect("the model loads");
+        let theory = plant.theory().expect("theory");
+        let idle = Commands::idle(&plant);
+        let initial = plant.most_likely_initial();
+        let variants = (plant.components().iter().enumerate())
+            .flat_map(|(c, component)| (0..component.modes().len() as u32).map(move |m| (c, m)))
+            .map(|(c, m)| {
+                let mut modes = initial.clone();
+                modes[c] = ValueId(m);
+                (c, m, modes)
+            })
+            .collect();
+        (plant, theory, idle, variants)
+    }
+
     /// [`StepMemo`]'s certificate for the shared clockless distributions: an entry is the very
     /// distribution `component_distribution` computes from the same inputs (bit for bit), the
     /// same inputs share one allocation, and inputs that differ in the mode, the enabled
@@ -816,43 +854,27 @@ mod tests {
     /// rates, every component in every mode, two step lengths).
     #[test]
     fn a_shared_clockless_distribution_is_the_one_computed_from_its_inputs() {
-        let plant = Plant::load(&Source::new(
-            "breakers_15.ron",
-            include_str!("../../models/breakers_15.ron"),
-        ))
-        .expect("the model loads");
-        let mut theory = plant.theory().expect("theory");
-        let idle = Commands::idle(&plant);
+        let text = include_str!("../../models/breakers_15.ron");
+        let (plant, mut theory, idle, variants) = one_mode_changed("breakers_15.ron", text);
         let mut clockless = Clockless::default();
         let mut seen: Vec<(Inputs, Arc<[NextMode]>)> = Vec::new();
-        let initial = plant.most_likely_initial();
-        for (c, component) in plant.components().iter().enumerate() {
-            for m in 0..component.modes().len() {
-                let mut modes = initial.clone();
-                modes[c] = ValueId(m as u32);
-                let Ok(enabled) = enabled_transitions(&plant, &mut theory, &modes, &idle) else {
-                    continue;
-                };
-                for step in [0.1, 1.0] {
-                    let (mode, own) = (modes[c], &enabled[c]);
-                    let next = clockless.get(component, c, mode, own, step);
-                    let computed =
-                        next_modes(component_distribution(component, mode, own, None, step));
-                    assert!(
-                        same_bits(&next, &computed),
-                        "component {c} mode {m} step {step}"
-                    );
-                    let again = clockless.get(component, c, mode, own, step);
-                    assert!(Arc::ptr_eq(&next, &again), "the same inputs share one");
-                    let inputs = (c, mode, own.clone(), step.to_bits());
-                    for (other_inputs, other) in &seen {
-                        let same = *other_inputs == inputs;
-                        assert_eq!(Arc::ptr_eq(other, &next), same, "component {c} mode {m}");
-                    }
-                    if !seen.iter().any(|(other_inputs, _)| *other_inputs == inputs) {
-                        seen.push((inputs, next));
-                    }
-                }
+        for (c, m, modes) in variants {
+            let component = &plant.components()[c];
+            let Ok(enabled) = enabled_transitions(&plant, &mut theory, &modes, &idle) else {
+                continue;
+            };
+            for step in [0.1, 1.0] {
+                let (mode, own) = (modes[c], &enabled[c]);
+                let next = clockless.get(component, c, mode, own, step);
+                let computed = next_modes(component_distribution(component, mode, own, None, step));
+                assert!(
+                    same_bits(&next, &computed),
+                    "component {c} mode {m} step {step}"
+                );
+                let again = clockless.get(component, c, mode, own, step);
+                assert!(Arc::ptr_eq(&next, &again), "the same inputs share one");
+                let inputs = (c, mode, own.clone(), step.to_bits());
+                shared_exactly_by_key(&mut seen, inputs, next, &format!("{c} {m} {step}"));
             }
         }
         assert!(
@@ -869,53 +891,38 @@ mod tests {
     /// every breaker in every mode).
     #[test]
     fn a_state_without_clocks_shares_its_whole_choices() {
-        let plant = Plant::load(&Source::new(
-            "l2_breakers_15.ron",
-            include_str!("../../models/l2_breakers_15.ron"),
-        ))
-        .expect("the model loads");
-        let mut theory = plant.theory().expect("theory");
-        let idle = Commands::idle(&plant);
+        let text = include_str!("../../models/l2_breakers_15.ron");
+        let (plant, mut theory, idle, variants) = one_mode_changed("l2_breakers_15.ron", text);
         let mut expander = Expander::default();
         let initial = plant.most_likely_initial();
         let mut seen: Vec<(Vec<ValueId>, Arc<Choices>)> = Vec::new();
-        for (c, component) in plant.components().iter().enumerate() {
-            for m in 0..component.modes().len() {
-                let mut modes = initial.clone();
-                modes[c] = ValueId(m as u32);
-                let state = SystemState::new(modes.clone(), vec![None; modes.len()]);
-                let Ok(first) = expander.choices(&plant, &mut theory, &state, &idle, 0.0, 1.0)
-                else {
-                    continue;
-                };
-                // Steps on until the recent entry is dropped: the whole choices remain.
-                let other = SystemState::new(initial.clone(), vec![None; initial.len()]);
-                for t in 1..=RECENT_STEPS + 1 {
-                    let t = t as f64 * 10.0;
-                    let made = expander.choices(&plant, &mut theory, &other, &idle, t, t + 1.0);
-                    made.expect("choices");
-                }
-                assert!(expander.recent.pool.iter().all(|r| r.state != state) || modes == initial);
-                let later = expander.choices(&plant, &mut theory, &state, &idle, 500.0, 501.0);
-                let later = later.expect("choices");
-                assert!(Arc::ptr_eq(&first, &later), "component {c} mode {m}");
-                let enabled = enabled_transitions(&plant, &mut theory, &modes, &idle);
-                let enabled = enabled.expect("enabled transitions");
-                let computed = plant::component_distributions(&plant, &state, &enabled, 0.0, 1.0);
-                assert_eq!(first.len(), computed.len());
-                for (next, computed) in first.iter().zip(computed) {
-                    assert!(
-                        same_bits(next, &next_modes(computed)),
-                        "component {c} mode {m}"
-                    );
-                }
-                for (other, choices) in &seen {
-                    assert_eq!(Arc::ptr_eq(choices, &first), *other == modes, "{c} {m}");
-                }
-                if !seen.iter().any(|(other, _)| *other == modes) {
-                    seen.push((modes, first));
-                }
+        for (c, m, modes) in variants {
+            let state = SystemState::new(modes.clone(), vec![None; modes.len()]);
+            let Ok(first) = expander.choices(&plant, &mut theory, &state, &idle, 0.0, 1.0) else {
+                continue;
+            };
+            // Steps on until the recent entry is dropped: the whole choices remain.
+            let other = SystemState::new(initial.clone(), vec![None; initial.len()]);
+            for t in 1..=RECENT_STEPS + 1 {
+                let t = t as f64 * 10.0;
+                let made = expander.choices(&plant, &mut theory, &other, &idle, t, t + 1.0);
+                made.expect("choices");
             }
+            assert!(expander.recent.pool.iter().all(|r| r.state != state) || modes == initial);
+            let later = expander.choices(&plant, &mut theory, &state, &idle, 500.0, 501.0);
+            let later = later.expect("choices");
+            assert!(Arc::ptr_eq(&first, &later), "component {c} mode {m}");
+            let enabled = enabled_transitions(&plant, &mut theory, &modes, &idle);
+            let enabled = enabled.expect("enabled transitions");
+            let computed = plant::component_distributions(&plant, &state, &enabled, 0.0, 1.0);
+            assert_eq!(first.len(), computed.len());
+            for (next, computed) in first.iter().zip(computed) {
+                assert!(
+                    same_bits(next, &next_modes(computed)),
+                    "component {c} mode {m}"
+                );
+            }
+            shared_exactly_by_key(&mut seen, modes, first, &format!("{c} {m}"));
         }
         assert!(
             seen.len() > 40,
