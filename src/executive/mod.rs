@@ -74,7 +74,7 @@ use crate::sequencer::{self, ConfigurationGoal, LocationId, Sense, SequencerErro
 use control::Program;
 use faithful::Faithful;
 use monitoring::Monitoring;
-use observations::LastObservation;
+use observations::{LastObservation, Report};
 use oracle::{AnswerCache, CachedOracle, VersionedEstimate};
 use reconfigure::Purpose;
 
@@ -612,6 +612,23 @@ impl Executive {
     /// cycle (see the module documentation). Observations that do not fit the plant are
     /// reported as events and ignored; errors are only for times that do not increase.
     pub fn step(&mut self, now: f64, observed: &[NamedValue]) -> Result<Step, StepError> {
+        self.cycle_with(now, Report::Borrowed(observed))
+    }
+
+    /// [`Executive::step`] with a shared report. A monitor that hands over the same `Arc` as
+    /// last cycle when nothing changed (a simulation's quiet cycles) spares the executive
+    /// comparing the report with the last one: the same allocation, kept alive by the
+    /// executive, is the same report.
+    pub fn step_shared(
+        &mut self,
+        now: f64,
+        observed: &Arc<[NamedValue]>,
+    ) -> Result<Step, StepError> {
+        self.cycle_with(now, Report::Shared(observed))
+    }
+
+    /// One cycle (see [`Executive::step`]).
+    fn cycle_with(&mut self, now: f64, observed: Report<'_>) -> Result<Step, StepError> {
         let previous = self.last_time.unwrap_or(f64::NEG_INFINITY);
         if !now.is_finite() || now <= previous {
             return Err(StepError::TimeNotAfter { previous, now });
@@ -686,7 +703,7 @@ impl Executive {
     fn estimate(
         &mut self,
         now: f64,
-        observed: &[NamedValue],
+        observed: Report<'_>,
         log: &mut EventLog,
     ) -> Result<(), StepError> {
         let monitored;
@@ -694,11 +711,9 @@ impl Executive {
             observed
         } else {
             let mut events = Vec::new();
-            monitored = self
-                .monitoring
-                .apply(&self.plant, now, observed, &mut events);
+            monitored = (self.monitoring).apply(&self.plant, now, observed.values(), &mut events);
             events.into_iter().for_each(|kind| log.push(kind));
-            &monitored
+            Report::Borrowed(&monitored)
         };
         let (checked, observation, repeated) = self
             .observed

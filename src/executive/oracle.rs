@@ -6,6 +6,10 @@
 //! guards entailed?). Entailment by the model and ŝ depends only on ŝ, so answers are cached
 //! per estimate *version*, which the executive bumps whenever ŝ (or a belief the program's
 //! confidence atoms read) changes. Consistency of goals with the model never changes.
+//!
+//! The same version is the sequencer's [`Entailment::revision`]: it keeps its answers across
+//! cycles too, and skips even this cache's look-up (hashing the grounded formula) while the
+//! version and the clock atoms' truth values stay the same (`sequencer/evaluate.rs`).
 
 use rustc_hash::FxHashMap;
 
@@ -58,5 +62,11 @@ impl Entailment for CachedOracle<'_> {
         let answer = TheoryOracle::new(self.theory).consistent(formula);
         self.cache.consistent.insert(formula.clone(), answer);
         answer
+    }
+
+    /// The version: the executive bumps it whenever ŝ or a belief the program reads changes,
+    /// and never reuses one, so one version means one estimate, hence the same answers.
+    fn revision(&self, estimate: &VersionedEstimate) -> Option<u64> {
+        Some(estimate.version)
     }
 }

@@ -11,7 +11,10 @@
 //! - [`dot`]: Graphviz drawings of an automaton and a marking.
 
 pub mod dot;
+mod evaluate;
 mod oracle;
+#[cfg(test)]
+mod reference;
 mod step;
 pub mod thca;
 

@@ -25,6 +25,16 @@ pub trait Entailment {
     /// Is `formula` consistent with the plant model (can some plant state satisfy it)? Used to
     /// detect contradictory goals asserted by concurrent threads.
     fn consistent(&mut self, formula: &Formula) -> bool;
+
+    /// A name for what `estimate` entails: whenever two calls return the same `Some(n)`,
+    /// [`Entailment::entailed`] answers every formula the same for both estimates. The
+    /// sequencer then keeps its answers from one cycle to the next while the revision and the
+    /// clock atoms' truth values stay the same (`evaluate.rs`). `None` (the default): every
+    /// question is asked.
+    fn revision(&self, estimate: &Self::Estimate) -> Option<u64> {
+        let _ = estimate;
+        None
+    }
 }
 
 /// Entailment of a formula some of whose atoms nobody can decide (a clock not yet started, a

@@ -153,7 +153,7 @@ pub fn run(
     let stop = loop {
         let observation = plant.observe(time);
         let refused = submit_due(plant.rules_mut(), &mut executive, time);
-        let mut step = executive.step(time, &observation)?;
+        let mut step = executive.step_shared(time, &observation)?;
         report_refusals(&mut step, refused);
         let command: Vec<NamedValue> = step
             .command
