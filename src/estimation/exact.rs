@@ -124,8 +124,8 @@ impl ModeEstimator for BeliefUpdate {
         let mut outcome = Outcome::from_states(posterior, candidates);
         if outcome.is_empty() {
             with_fault_jumps(plant, &mut sources);
-            let next = |k: usize, modes: Vec<ValueId>| {
-                successor(&belief.states()[k].state, modes, time).forget_idle_clocks(plant)
+            let next = |k: usize, modes: &[ValueId]| {
+                successor(&belief.states()[k].state, modes.to_vec(), time).forget_idle_clocks(plant)
             };
             let jumps =
                 self.expander

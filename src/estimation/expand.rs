@@ -671,7 +671,7 @@ impl Expander {
         sources: &[SourceChoices],
         observation: &Observation,
         limits: Limits,
-        successor: impl Fn(usize, Vec<ValueId>) -> SystemState,
+        successor: impl Fn(usize, &[ValueId]) -> SystemState,
     ) -> Result<Expansion, EstimationError> {
         self.expand_in_full(
             plant,
@@ -743,7 +743,7 @@ impl Expander {
         sources: &[SourceChoices],
         observation: &Observation,
         limits: Limits,
-        successor: impl Fn(usize, Vec<ValueId>) -> SystemState,
+        successor: impl Fn(usize, &[ValueId]) -> SystemState,
         record: bool,
     ) -> Result<Expansion, EstimationError> {
         self.replay = None;
@@ -796,7 +796,7 @@ pub(crate) fn successor_from<'a>(
     plant: &'a Plant,
     states: &'a [WeightedState],
     time: f64,
-) -> impl Fn(usize, Vec<ValueId>) -> SystemState + 'a {
+) -> impl Fn(usize, &[ValueId]) -> SystemState + 'a {
     move |k, modes| successor_forgetting(plant, &states[k].state, modes, time)
 }
 

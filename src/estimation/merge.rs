@@ -55,7 +55,7 @@ pub(crate) trait Serve {
         merged: &mut Merged,
         candidate: Self::Candidate,
         weight: f64,
-        successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+        successor: &impl Fn(usize, &[ValueId]) -> SystemState,
     );
 }
 
@@ -81,10 +81,11 @@ impl Serve for Live<'_, '_, '_> {
             .cost(k, i, self.plant, self.sources, self.observation, theory))
     }
 
-    type Candidate = (usize, Vec<ValueId>);
+    /// (source, solution index): the modes are read from the streams where they are kept.
+    type Candidate = (usize, usize);
 
-    fn candidate(&self, k: usize, i: usize) -> (usize, Vec<ValueId>) {
-        (k, self.streams.modes(k, i))
+    fn candidate(&self, k: usize, i: usize) -> (usize, usize) {
+        (k, i)
     }
 
     fn possible_mass(&mut self, k: usize, theory: &mut Theory) -> Result<f64, Self::Error> {
@@ -95,19 +96,20 @@ impl Serve for Live<'_, '_, '_> {
         &mut self,
         observe: &mut ObservationModel,
         theory: &mut Theory,
-        (_, modes): &(usize, Vec<ValueId>),
+        &(k, i): &(usize, usize),
     ) -> Result<f64, Self::Error> {
+        let modes = self.streams.modes(k, i);
         Ok(observe.factor_of_solution(self.plant, theory, modes, self.observation)?)
     }
 
     fn merge(
         &mut self,
         merged: &mut Merged,
-        (k, modes): (usize, Vec<ValueId>),
+        (k, i): (usize, usize),
         weight: f64,
-        successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+        successor: &impl Fn(usize, &[ValueId]) -> SystemState,
     ) {
-        merged.add(successor(k, modes), weight);
+        merged.add(successor(k, self.streams.modes(k, i)), weight);
     }
 }
 
@@ -133,7 +135,7 @@ pub(super) fn merge<S: Serve>(
     sources: &[SourceChoices],
     limits: Limits,
     serve: &mut S,
-    successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+    successor: &impl Fn(usize, &[ValueId]) -> SystemState,
 ) -> Result<u64, S::Error> {
     let Buffers {
         unseen,

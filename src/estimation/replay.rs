@@ -623,7 +623,7 @@ impl Serve for Replaying<'_> {
         merged: &mut Merged,
         (k, index): (usize, usize),
         weight: f64,
-        successor: &impl Fn(usize, Vec<ValueId>) -> SystemState,
+        successor: &impl Fn(usize, &[ValueId]) -> SystemState,
     ) {
         if let Some(Some((state, hash))) = self.replay.sources[k].successors.built.get(index) {
             merged.add_known(state, *hash, weight);
@@ -633,8 +633,7 @@ impl Serve for Replaying<'_> {
             .known(k)
             .ok()
             .and_then(|known| known.solutions.get(index))
-            .cloned()
-            .unwrap_or_default();
+            .map_or(&[][..], Vec::as_slice);
         let state = successor(k, modes);
         let hash = state_hash(&state);
         let source = &self.states[k].state;

@@ -763,13 +763,13 @@ impl<'o> Streams<'o> {
     }
 
     /// The next modes of solution `i` of source `k` (which [`Streams::cost`] has fetched).
-    pub(crate) fn modes(&self, k: usize, i: usize) -> Vec<ValueId> {
+    /// Borrowed: the known solutions only grow while the streams live (the cache starts afresh
+    /// in [`Streams::take`] and [`Streams::put_back`] alone), so a served index stays valid.
+    pub(crate) fn modes(&self, k: usize, i: usize) -> &[ValueId] {
         let stream = &self.streams[k];
-        stream
-            .served
-            .get(i)
-            .map(|&(index, _)| self.known[stream.shape].solutions[index].clone())
-            .unwrap_or_default()
+        stream.served.get(i).map_or(&[], |&(index, _)| {
+            &self.known[stream.shape].solutions[index]
+        })
     }
 
     /// The cost of solution `i` of source `k`, cheapest first, fetching it if needed; `None`

@@ -648,7 +648,8 @@ pub(crate) fn initial_belief(
         probability: 1.0,
         choices: Arc::new(choices_from(initial)),
     }];
-    let entered = |_: usize, modes: Vec<ValueId>| SystemState::entered_at(plant, modes, time);
+    let entered =
+        |_: usize, modes: &[ValueId]| SystemState::entered_at(plant, modes.to_vec(), time);
     let expansion = expander.expand(plant, theory, &sources, observation, limits, entered)?;
     let mut outcome = Outcome::new(expansion, 0.0);
     if outcome.is_empty() {

@@ -492,7 +492,7 @@ pub fn successor(source: &SystemState, targets: Vec<ValueId>, to: f64) -> System
 pub fn successor_forgetting(
     plant: &Plant,
     source: &SystemState,
-    targets: Vec<ValueId>,
+    targets: &[ValueId],
     to: f64,
 ) -> SystemState {
     if *source.modes == *targets {
@@ -731,7 +731,7 @@ mod tests {
                         for t in 0..other.modes().len() as u32 {
                             let mut targets = modes.clone();
                             targets[d] = ValueId(t);
-                            let fused = successor_forgetting(&plant, &source, targets.clone(), 9.5);
+                            let fused = successor_forgetting(&plant, &source, &targets, 9.5);
                             let composed =
                                 successor(&source, targets, 9.5).forget_idle_clocks(&plant);
                             assert_eq!(fused.modes, composed.modes);
