@@ -983,19 +983,19 @@ mod tests {
         );
     }
 
-    /// A completion found by deciding is a model: the stored model afterwards satisfies every
-    /// clause and holds every literal of the closure, and the closure is as it was. Random
-    /// clauses satisfied by a planted assignment (the first stored model), random assumptions.
-    #[test]
-    fn a_completion_found_by_deciding_is_a_model_of_the_assumptions() {
-        const VARS: u32 = 40;
-        let mut rng = Xorshift(0x2545_f491_4f6c_dd1d);
-        let planted: Vec<bool> = (0..VARS).map(|_| rng.below(2) == 0).collect();
+    /// A random assignment of `vars` variables and `count` random clauses of two to four
+    /// literals that it satisfies (the assignment drawn first, then the clauses, from `rng`).
+    fn planted_clauses(
+        rng: &mut Xorshift,
+        vars: u32,
+        count: usize,
+    ) -> (Vec<bool>, Vec<Vec<SatLit>>) {
+        let planted: Vec<bool> = (0..vars).map(|_| rng.below(2) == 0).collect();
         let mut clauses = Vec::new();
-        while clauses.len() < 90 {
+        while clauses.len() < count {
             let len = 2 + rng.below(3) as usize;
             let clause: Vec<SatLit> = (0..len)
-                .map(|_| lit(rng.below(VARS as u64) as u32, rng.below(2) == 0))
+                .map(|_| lit(rng.below(u64::from(vars)) as u32, rng.below(2) == 0))
                 .collect();
             if clause
                 .iter()
@@ -1004,6 +1004,17 @@ mod tests {
                 clauses.push(clause);
             }
         }
+        (planted, clauses)
+    }
+
+    /// A completion found by deciding is a model: the stored model afterwards satisfies every
+    /// clause and holds every literal of the closure, and the closure is as it was. Random
+    /// clauses satisfied by a planted assignment (the first stored model), random assumptions.
+    #[test]
+    fn a_completion_found_by_deciding_is_a_model_of_the_assumptions() {
+        const VARS: u32 = 40;
+        let mut rng = Xorshift(0x2545_f491_4f6c_dd1d);
+        let (planted, clauses) = planted_clauses(&mut rng, VARS, 90);
         let mut p = kept_as_set_with(&clauses);
         p.set_model(planted);
         let mut completed = 0;
@@ -1040,20 +1051,7 @@ mod tests {
     fn the_agreement_kept_with_the_model_changes_no_completion() {
         const VARS: u32 = 40;
         let mut rng = Xorshift(0x5851_f42d_4c95_7f2d);
-        let planted: Vec<bool> = (0..VARS).map(|_| rng.below(2) == 0).collect();
-        let mut clauses = Vec::new();
-        while clauses.len() < 80 {
-            let len = 2 + rng.below(3) as usize;
-            let clause: Vec<SatLit> = (0..len)
-                .map(|_| lit(rng.below(VARS as u64) as u32, rng.below(2) == 0))
-                .collect();
-            if clause
-                .iter()
-                .any(|l| planted[l.var() as usize] == l.is_positive())
-            {
-                clauses.push(clause);
-            }
-        }
+        let (planted, clauses) = planted_clauses(&mut rng, VARS, 80);
         for as_set in [false, true] {
             let build = || {
                 let mut p = if as_set {

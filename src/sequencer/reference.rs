@@ -94,11 +94,10 @@ impl Plain {
         let mut events = Vec::new();
         for location in thca.locations() {
             let i = location.id.index();
-            if let Some(p) = location
+            if location
                 .parent
-                .filter(|p| inside[p.index()] || violated[p.index()])
+                .is_some_and(|p| inside[p.index()] || violated[p.index()])
             {
-                let _ = p;
                 inside[i] = true;
                 self.marked[i] = false;
                 continue;
@@ -108,23 +107,7 @@ impl Plain {
             };
             if self.marked[i] && !holds(thca, &clocks, current, oracle, maintenance) {
                 violated[i] = true;
-                let (span, construct) = (location.origin.span.clone(), location.origin.construct);
-                let (location, condition) = (location.id, maintenance.clone());
-                events.push(if thca.location(location).is_composite() {
-                    Event::Preempted {
-                        location,
-                        span,
-                        construct,
-                        condition,
-                    }
-                } else {
-                    Event::MaintenanceViolated {
-                        location,
-                        span,
-                        construct,
-                        condition,
-                    }
-                });
+                events.push(Event::maintenance_failed(location, maintenance.clone()));
             }
         }
         let mut started: Vec<(ClockId, f64)> = Vec::new();

@@ -674,27 +674,34 @@ fn check_maintenance<E: Entailment>(
         };
         if !evaluator.holds(maintenance) {
             violated[i] = true;
-            let (span, construct) = (location.origin.span.clone(), location.origin.construct);
-            let condition = maintenance.clone();
-            let location = location.id;
-            events.push(if thca.location(location).is_composite() {
-                Event::Preempted {
-                    location,
-                    span,
-                    construct,
-                    condition,
-                }
-            } else {
-                Event::MaintenanceViolated {
-                    location,
-                    span,
-                    construct,
-                    condition,
-                }
-            });
+            events.push(Event::maintenance_failed(location, maintenance.clone()));
         }
     }
     unmarked
+}
+
+impl Event {
+    /// `location`'s maintenance condition failed (Figure 5-3 step 2): a composite is preempted,
+    /// a primitive location's maintenance is violated.
+    pub(super) fn maintenance_failed(location: &Location, condition: Condition) -> Event {
+        let (span, construct) = (location.origin.span.clone(), location.origin.construct);
+        let id = location.id;
+        if location.is_composite() {
+            Event::Preempted {
+                location: id,
+                span,
+                construct,
+                condition,
+            }
+        } else {
+            Event::MaintenanceViolated {
+                location: id,
+                span,
+                construct,
+                condition,
+            }
+        }
+    }
 }
 
 /// The marked locations of `marked`, ascending.
