@@ -594,23 +594,36 @@ impl Merged {
         self.add_hashed(state, hash, weight);
     }
 
-    /// [`Merged::add`] of `state`, whose hash ([`state_hash`]) is `hash`.
-    pub(crate) fn add_hashed(&mut self, state: SystemState, hash: u64, weight: f64) {
+    /// [`Merged::add`] of `state`, whose hash ([`state_hash`]) is `hash`; returns its index
+    /// among the states merged.
+    pub(crate) fn add_hashed(&mut self, state: SystemState, hash: u64, weight: f64) -> usize {
         self.total += weight;
         match self.find(hash, &state) {
-            Some(i) => self.grow(i, weight),
+            Some(i) => {
+                self.grow(i, weight);
+                i
+            }
             None => self.push(hash, state, weight),
         }
     }
 
     /// [`Merged::add`] of a copy of `state`, whose hash ([`state_hash`]) is `hash`, copied only
-    /// if it is new.
-    pub(crate) fn add_known(&mut self, state: &SystemState, hash: u64, weight: f64) {
+    /// if it is new; returns its index among the states merged.
+    pub(crate) fn add_known(&mut self, state: &SystemState, hash: u64, weight: f64) -> usize {
         self.total += weight;
         match self.find(hash, state) {
-            Some(i) => self.grow(i, weight),
+            Some(i) => {
+                self.grow(i, weight);
+                i
+            }
             None => self.push(hash, state.clone(), weight),
         }
+    }
+
+    /// State `i` of the states merged (an index [`Merged::add_hashed`] or
+    /// [`Merged::add_known`] returned in this merge).
+    pub(crate) fn state(&self, i: usize) -> &SystemState {
+        &self.states[i].state
     }
 
     /// Adds `weight` to state `i`.
@@ -629,13 +642,15 @@ impl Merged {
         }
     }
 
-    fn push(&mut self, hash: u64, state: SystemState, weight: f64) {
-        self.at_least.weighs(self.states.len(), weight);
-        self.index.entry(hash).or_insert(self.states.len());
+    fn push(&mut self, hash: u64, state: SystemState, weight: f64) -> usize {
+        let at = self.states.len();
+        self.at_least.weighs(at, weight);
+        self.index.entry(hash).or_insert(at);
         self.states.push(WeightedState {
             state,
             probability: weight,
         });
+        at
     }
 
     /// Whether the `k`-th largest weight (0 with fewer than `k` states) is at least `weight`

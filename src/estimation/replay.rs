@@ -84,6 +84,20 @@
 //! unaffected. When a condition fails the replay stops, having changed nothing but its own
 //! scratch, and the step is expanded in full (and recorded afresh).
 //!
+//! # Shared successors
+//!
+//! A successor kept under condition 7 is stored as the state it was merged into: when the merge
+//! already held an equal state (modes and clock starts bit for bit: `SystemState`'s equality,
+//! which `Merged::find` asks), the kept copy takes that state's allocations, and a kept copy
+//! found again but merged into an equal state held in other allocations is made to share them
+//! too. The value is the same, so conditions 1–7 and the answer are untouched; what changes is
+//! that the states a quiet step compares (a candidate found again among the merged states, a
+//! source against its kept successors and its recent choices, the plant states grouped by
+//! modes) are the same allocations from step to step, and equality is a pointer comparison
+//! where it compared a vector of modes and one of clock starts. On the Mars lander's quiet
+//! cycle, where several sources reach the same next state, it took 42.4 k → 41.2 k
+//! instructions and 4 % off the nominal EDL's CPU time.
+//!
 //! The record's bound on the other solutions is computed once per record (it costs a pass over
 //! the shape's known solutions, what `take` does every step), at the first replay. A source's
 //! preparation (its shape, L, O, its R ordered and, once asked, its possible mass) is a
@@ -625,8 +639,10 @@ impl Serve for Replaying<'_> {
         weight: f64,
         successor: &impl Fn(usize, &[ValueId]) -> SystemState,
     ) {
-        if let Some(Some((state, hash))) = self.replay.sources[k].successors.built.get(index) {
-            merged.add_known(state, *hash, weight);
+        let built = &mut self.replay.sources[k].successors.built;
+        if let Some(Some((state, hash))) = built.get_mut(index) {
+            let at = merged.add_known(state, *hash, weight);
+            share(state, merged.state(at));
             return;
         }
         let modes = self
@@ -636,13 +652,24 @@ impl Serve for Replaying<'_> {
             .map_or(&[][..], Vec::as_slice);
         let state = successor(k, modes);
         let hash = state_hash(&state);
-        let source = &self.states[k].state;
-        if restarts_no_clock(source, &state)
-            && let Some(slot) = self.replay.sources[k].successors.built.get_mut(index)
-        {
-            *slot = Some((state.clone(), hash));
+        let keep = restarts_no_clock(&self.states[k].state, &state);
+        let at = merged.add_hashed(state, hash, weight);
+        let built = &mut self.replay.sources[k].successors.built;
+        if keep && let Some(slot) = built.get_mut(index) {
+            *slot = Some((merged.state(at).clone(), hash));
         }
-        merged.add_hashed(state, hash, weight);
+    }
+}
+
+/// Makes `kept`, a successor kept for later steps, share the allocations of `merged`, the state
+/// it was merged into (equal to it: modes and clock starts bit for bit), where it does not
+/// already: the same value, so what later steps build from it is unchanged, but comparing the
+/// two next time is a pointer comparison (the module documentation, "Shared successors").
+fn share(kept: &mut SystemState, merged: &SystemState) {
+    if !Arc::ptr_eq(&kept.modes, &merged.modes)
+        || !Arc::ptr_eq(&kept.clock_starts, &merged.clock_starts)
+    {
+        *kept = merged.clone();
     }
 }
 
@@ -656,4 +683,32 @@ fn restarts_no_clock(source: &SystemState, next: &SystemState) -> bool {
         .zip(next.modes.iter())
         .zip(next.clock_starts.iter())
         .all(|((before, after), start)| before == after || start.is_none())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn state(modes: &[u32], starts: &[Option<f64>]) -> SystemState {
+        SystemState::new(modes.iter().map(|&m| ValueId(m)).collect(), starts.to_vec())
+    }
+
+    /// "Shared successors": a kept successor takes the allocations of the equal state it was
+    /// merged into, keeping its value bit for bit, and is left alone when it shares them
+    /// already.
+    #[test]
+    fn a_kept_successor_shares_the_merged_states_allocations() {
+        let merged = state(&[1, 0, 2], &[None, Some(0.25), None]);
+        let mut kept = state(&[1, 0, 2], &[None, Some(0.25), None]);
+        assert!(!Arc::ptr_eq(&kept.modes, &merged.modes));
+        let (hash, before) = (state_hash(&kept), kept.clone());
+        share(&mut kept, &merged);
+        assert!(Arc::ptr_eq(&kept.modes, &merged.modes));
+        assert!(Arc::ptr_eq(&kept.clock_starts, &merged.clock_starts));
+        assert_eq!(kept, before);
+        assert_eq!(state_hash(&kept), hash);
+        let shared = kept.clone();
+        share(&mut kept, &merged);
+        assert!(Arc::ptr_eq(&kept.modes, &shared.modes));
+    }
 }
