@@ -171,19 +171,9 @@ impl Belief {
     /// The plant states (system states with equal modes summed), most probable first; ties keep
     /// the order of their most probable system state.
     pub fn plant_states(&self) -> Vec<PlantEstimate> {
-        // At most one plant state per system state: sized once rather than grown step by step.
-        let mut out: Vec<PlantEstimate> = Vec::with_capacity(self.states.len());
-        for weighted in &self.states {
-            match out.iter_mut().find(|e| e.modes == weighted.state.modes) {
-                Some(estimate) => estimate.probability += weighted.probability,
-                None => out.push(PlantEstimate {
-                    modes: Arc::clone(&weighted.state.modes),
-                    probability: weighted.probability,
-                }),
-            }
-        }
-        out.sort_by(|a, b| b.probability.total_cmp(&a.probability));
-        out
+        let mut groups = Vec::with_capacity(self.states.len());
+        group_by_modes(&self.states, &mut groups);
+        summed_by_group(&self.states, &groups)
     }
 
     /// ŝ: the most likely plant state, the marginal over system states with equal modes
@@ -244,10 +234,12 @@ impl Belief {
         out.resize(known, none);
         for weighted in &self.states {
             let here = weighted.state.modes.iter().zip(modes);
+            let p = weighted.probability;
+            // A state that says otherwise adds −0.0, which leaves every sum as it is, bit for
+            // bit (x + −0.0 = x for every x, −0.0 and +0.0 included): the same sums as adding
+            // only where it agrees, without a branch per component.
             for (sum, (mode, wanted)) in out.iter_mut().zip(here) {
-                if mode == wanted {
-                    *sum += weighted.probability;
-                }
+                *sum += if mode == wanted { p } else { -0.0 };
             }
         }
         out.resize(modes.len(), 0.0);
@@ -278,6 +270,79 @@ impl Belief {
             total += weighted.probability * factor;
         }
         Ok(total)
+    }
+}
+
+/// Per state of `states`, into `groups`, the index of its plant state among the distinct mode
+/// vectors in order of first appearance (each state compared with the first state of every
+/// plant state before it); returns how many there are.
+fn group_by_modes(states: &[WeightedState], groups: &mut Vec<usize>) -> usize {
+    // The first state of each plant state, by index.
+    let mut firsts: Vec<usize> = Vec::with_capacity(states.len());
+    groups.clear();
+    for weighted in states {
+        let modes = &weighted.state.modes;
+        match firsts.iter().position(|&f| states[f].state.modes == *modes) {
+            Some(g) => groups.push(g),
+            None => {
+                groups.push(firsts.len());
+                firsts.push(groups.len() - 1);
+            }
+        }
+    }
+    firsts.len()
+}
+
+/// The plant states of `states` grouped as `groups` says ([`group_by_modes`]): each one's modes
+/// its first state's, its probability the sum of its states' in order; most probable first, ties
+/// in order of first appearance ([`Belief::plant_states`]).
+fn summed_by_group(states: &[WeightedState], groups: &[usize]) -> Vec<PlantEstimate> {
+    // At most one plant state per system state: sized once rather than grown step by step.
+    let mut out: Vec<PlantEstimate> = Vec::with_capacity(states.len());
+    for (weighted, &g) in states.iter().zip(groups) {
+        match out.get_mut(g) {
+            Some(estimate) => estimate.probability += weighted.probability,
+            None => out.push(PlantEstimate {
+                modes: Arc::clone(&weighted.state.modes),
+                probability: weighted.probability,
+            }),
+        }
+    }
+    out.sort_by(|a, b| b.probability.total_cmp(&a.probability));
+    out
+}
+
+/// [`Belief::plant_states`] for a caller that asks it of one belief after another (the executive,
+/// every cycle), remembering how the last belief's states grouped by modes.
+///
+/// Exact: the grouping is a function of which states' mode vectors are equal. When the new
+/// belief's states hold the very mode vectors of the last one's, in the same order (the same
+/// `Arc`s, held here so that their addresses name them; a mode vector never changes once
+/// made), every equality among them is what it was, so the grouping is too, and the sums and
+/// the sort are computed from it by the same code as [`Belief::plant_states`]: the same numbers
+/// in the same order. A quiet estimation step keeps its states' allocations (`replay.rs`, "Shared
+/// successors"), so what this spares — comparing each state's modes with every plant state's
+/// before it — is most of the grouping's cost on the Mars lander's quiet cycle.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PlantGrouping {
+    /// The last belief's states' mode vectors, in order.
+    modes: Vec<Arc<[ValueId]>>,
+    /// Per state, its plant state's index in order of first appearance.
+    groups: Vec<usize>,
+}
+
+impl PlantGrouping {
+    /// `belief.plant_states()`, the same bit for bit.
+    pub(crate) fn plant_states(&mut self, belief: &Belief) -> Vec<PlantEstimate> {
+        let states = belief.states();
+        let same = self.modes.len() == states.len()
+            && (self.modes.iter().zip(states)).all(|(m, w)| Arc::ptr_eq(m, &w.state.modes));
+        if !same {
+            group_by_modes(states, &mut self.groups);
+            self.modes.clear();
+            (self.modes).extend(states.iter().map(|w| Arc::clone(&w.state.modes)));
+        }
+        summed_by_group(states, &self.groups)
     }
 }
 
@@ -449,6 +514,72 @@ fn check_values(plant: &Plant, values: &[(VarId, ValueId)]) -> Result<(), InputE
 mod tests {
     use super::*;
     use crate::diagnostic::Source;
+    use crate::seeded;
+    use proptest::prelude::*;
+
+    /// A belief of `states` as (mode vector, probability), taken as given (no plant).
+    fn belief_of(states: &[(Arc<[ValueId]>, f64)]) -> Belief {
+        let states = states
+            .iter()
+            .map(|(modes, probability)| WeightedState {
+                state: SystemState {
+                    modes: Arc::clone(modes),
+                    clock_starts: vec![None; modes.len()].into(),
+                },
+                probability: *probability,
+            })
+            .collect();
+        Belief {
+            time: 0.0,
+            states,
+            mode_vars: Arc::from([]),
+            issued: None,
+            outside: 0.0,
+        }
+    }
+
+    proptest! {
+        #![proptest_config(seeded::config(256))]
+
+        /// `PlantGrouping` (the executive's plant states, DESIGN.md §3 step 4) gives what
+        /// `Belief::plant_states` gives, bit for bit and sharing the same mode vectors, over a
+        /// run of beliefs that keep their states' mode vectors (reweighed: the remembered
+        /// grouping is used), reorder them, or bring equal ones in other allocations.
+        #[test]
+        fn the_remembered_grouping_gives_the_plant_states(
+            steps in proptest::collection::vec(
+                (any::<bool>(), proptest::collection::vec((0usize..8, 1u32..64), 1..9)),
+                1..12,
+            ),
+        ) {
+            // Four mode vectors, each in two allocations: 0–3 and 4–7 are equal in turn.
+            let pool: Vec<Arc<[ValueId]>> = (0..8u32)
+                .map(|i| Arc::from([ValueId(i % 4), ValueId(i % 2), ValueId(0)]))
+                .collect();
+            let mut grouping = PlantGrouping::default();
+            let mut last: Vec<(Arc<[ValueId]>, f64)> = Vec::new();
+            for (reweigh, states) in steps {
+                let these: Vec<(Arc<[ValueId]>, f64)> = if reweigh && !last.is_empty() {
+                    (last.iter().zip(states.iter().cycle()))
+                        .map(|((modes, _), &(_, w))| (Arc::clone(modes), f64::from(w) / 7.0))
+                        .collect()
+                } else {
+                    (states.iter())
+                        .map(|&(i, w)| (Arc::clone(&pool[i]), f64::from(w) / 7.0))
+                        .collect()
+                };
+                let belief = belief_of(&these);
+                let expected = belief.plant_states();
+                let remembered = grouping.plant_states(&belief);
+                prop_assert_eq!(remembered.len(), expected.len());
+                for (a, b) in remembered.iter().zip(&expected) {
+                    prop_assert!(Arc::ptr_eq(&a.modes, &b.modes));
+                    prop_assert_eq!(a.probability.to_bits(), b.probability.to_bits());
+                }
+                last = these;
+            }
+        }
+    }
 
     fn load(name: &str, text: &str) -> Plant {
         Plant::load(&Source::new(name, text)).expect("the model loads")

@@ -61,8 +61,8 @@ pub use timeline::{Interval, IssuedCommand, ObservationChange, Retention, Timeli
 
 use crate::diagnostic::Source;
 use crate::estimation::{
-    Belief, DEFAULT_HISTORY, EstimationError, EstimationEvent, ModeEstimator, PlantEstimate, Rerun,
-    TimedMe, TimedMeOptions,
+    Belief, DEFAULT_HISTORY, EstimationError, EstimationEvent, ModeEstimator, PlantEstimate,
+    PlantGrouping, Rerun, TimedMe, TimedMeOptions,
 };
 use crate::logic::{Formula, ValueId, VarId, VarTable};
 use crate::opsat::{Budget, Theory, TheoryError};
@@ -348,6 +348,7 @@ impl ExecutiveBuilder {
             belief: None,
             most_likely: Arc::from([]),
             estimates: Vec::new(),
+            grouping: PlantGrouping::default(),
             marginals: Vec::new(),
             estimate: VersionedEstimate::default(),
             observed: LastObservation::default(),
@@ -504,6 +505,9 @@ pub struct Executive {
     most_likely: Arc<[ValueId]>,
     /// The plant states of `belief`, grouped once per update and handed to the step's result.
     estimates: Vec<PlantEstimate>,
+    /// How the last belief's states grouped into plant states (kept: a quiet cycle's group
+    /// the same way).
+    grouping: PlantGrouping,
     /// Each component's marginal of ŝ's mode, refilled every update (kept for its room).
     marginals: Vec<f64>,
     estimate: VersionedEstimate,
@@ -751,7 +755,7 @@ impl Executive {
         }
         // ŝ and the plant states are derived here, where the belief changes, and nowhere else
         // (the belief is set only here), so the cached copies always belong to the belief.
-        let estimates = update.belief.plant_states();
+        let estimates = self.grouping.plant_states(&update.belief);
         let after = Belief::most_likely_among(&estimates)
             .map(|e| Arc::clone(&e.modes))
             .unwrap_or_else(|| Arc::from([]));
