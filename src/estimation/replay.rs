@@ -665,6 +665,7 @@ impl Serve for Replaying<'_> {
 /// it was merged into (equal to it: modes and clock starts bit for bit), where it does not
 /// already: the same value, so what later steps build from it is unchanged, but comparing the
 /// two next time is a pointer comparison (the module documentation, "Shared successors").
+#[inline]
 fn share(kept: &mut SystemState, merged: &SystemState) {
     if !Arc::ptr_eq(&kept.modes, &merged.modes)
         || !Arc::ptr_eq(&kept.clock_starts, &merged.clock_starts)

@@ -230,6 +230,43 @@ pub enum ExpectationKind {
 }
 
 impl ExpectationKind {
+    /// The earliest time at which a cycle can move this expectation or change anything the
+    /// checker keeps for it: before it, checking it returns [`Progress::Open`] and touches
+    /// nothing, so the checker does not ask ([`Checker::observe`]).
+    ///
+    /// Exact: a windowed kind's check is `Open` and effect-free outside its window, and a cycle
+    /// at `t` is outside it when `t < from − ε` — `Window::contains`'s first clause, the same
+    /// subtraction — and `EstimatedAt` and `XGoalActive` return `Open` at once while
+    /// `t < time − ε`. `AnyOf` waits for its first member; `Always` updates its condition's
+    /// `Once` flags at every cycle, in its window or not, and `CommandsInOrder` is checked on
+    /// its own path: both are asked from the start.
+    fn opens_at(&self) -> f64 {
+        use ExpectationKind as K;
+        match self {
+            K::Estimated { window, .. }
+            | K::NeverEstimated { window, .. }
+            | K::Commanded { window, .. }
+            | K::NeverCommanded { window, .. }
+            | K::Diagnosed { window, .. }
+            | K::Achieved { window, .. }
+            | K::GoalFailed { window, .. }
+            | K::Completed { window }
+            | K::Reported { window, .. }
+            | K::NeverReported { window, .. }
+            | K::Fired { window, .. }
+            | K::NeverFired { window, .. }
+            | K::Failed { window, .. }
+            | K::NeverFailed { window, .. }
+            | K::Recovered { window, .. }
+            | K::NeverXGoalActive { window, .. } => window.from - TIME_EPSILON,
+            K::EstimatedAt { time, .. } | K::XGoalActive { time, .. } => time - TIME_EPSILON,
+            K::AnyOf { members } => (members.iter())
+                .map(ExpectationKind::opens_at)
+                .fold(f64::INFINITY, f64::min),
+            K::Always { .. } | K::CommandsInOrder { .. } => f64::NEG_INFINITY,
+        }
+    }
+
     /// True for the kinds that must be shown by some cycle (the run goes on while one is open).
     pub fn is_eventual(&self) -> bool {
         !matches!(
@@ -313,6 +350,17 @@ pub(crate) struct Checker<'a> {
     active: Vec<ActiveXGoal>,
     /// Per expectation, the flags of its condition's `Once`s (`Always` only).
     memory: Vec<Vec<bool>>,
+    /// Per expectation, [`ExpectationKind::opens_at`]: an open expectation is not checked
+    /// before. A long run's expectations mostly wait for windows far ahead (the nominal EDL's
+    /// 55 through a 16,000 s cruise): asking each of them every cycle was the checker's cost.
+    opens: Vec<f64>,
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Set by a test to check every open expectation at every cycle, as before the agenda
+    /// (`opens`), to compare the two.
+    pub(crate) static WITHOUT_AGENDA: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
 /// An XGoal active on a state variable, as its dispatch reported it.
@@ -331,7 +379,17 @@ impl<'a> Checker<'a> {
                 _ => Vec::new(),
             })
             .collect();
+        let opens = expectations.iter().map(|e| e.kind.opens_at());
+        #[cfg(test)]
+        let opens = opens.map(|at| {
+            if WITHOUT_AGENDA.get() {
+                f64::NEG_INFINITY
+            } else {
+                at
+            }
+        });
         Checker {
+            opens: opens.collect(),
             progress: vec![Progress::Open; expectations.len()],
             late: vec![None; expectations.len()],
             matched: vec![0; expectations.len()],
@@ -398,7 +456,7 @@ impl<'a> Checker<'a> {
                 if !matches!(self.progress[i], Progress::Failed(_)) {
                     self.progress[i] = self.check_sequence(i, commands, *window, step);
                 }
-            } else if self.progress[i] == Progress::Open {
+            } else if self.progress[i] == Progress::Open && step.time >= self.opens[i] {
                 // Written only when it moved: an open expectation stays open on most cycles.
                 match self.check(i, step, plant) {
                     Progress::Open => {}

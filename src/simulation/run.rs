@@ -377,6 +377,50 @@ mod tests {
         run(&scenario, RunOptions::default(), &mut |_| {}).expect("the run goes")
     }
 
+    /// `expect.rs`, `ExpectationKind::opens_at`: the checker's agenda — an open expectation not
+    /// asked before its window opens — changes no verdict, no cycle count and no stop, over
+    /// shipped scenarios that use every kind of expectation between them (met, failed and
+    /// never shown; `Always` invariants; `AnyOf`; missions' XGoals and time points).
+    #[test]
+    fn the_checkers_agenda_changes_no_verdict() {
+        const SCENARIOS: &[&str] = &[
+            "scenarios/driver_valve/valve_stuck.ron",
+            "scenarios/driver_valve/nominal.ron",
+            "scenarios/power/nominal.ron",
+            "scenarios/power/both_regulators_fail.ron",
+            "scenarios/power/mission_regulator_a_fails.ron",
+            "scenarios/power/campaign.ron",
+            "scenarios/propulsion/nominal.ron",
+            "scenarios/engine_camera/nominal.ron",
+            "scenarios/rover/mission_blocked.ron",
+            "scenarios/rover/mission_traverse.ron",
+            "scenarios/thermostat/switch1_stuck_open_mission.ron",
+            "scenarios/thermostat/know_all.ron",
+            "scenarios/thermostat/sensor_dropouts.ron",
+            "scenarios/thermostat/backup_heater_after_a_stuck_switch.ron",
+            "scenarios/thermostat/explore_a_stuck_switch.ron",
+            "tests/scenarios/failing_expectation.ron",
+            "tests/scenarios/invariant_safes_with_a_working_heater.ron",
+        ];
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        for name in SCENARIOS {
+            let scenario = crate::simulation::load(&root.join(name)).expect("the scenario loads");
+            let mut runs = [false, true].map(|without| {
+                super::super::expect::WITHOUT_AGENDA.set(without);
+                run(&scenario, RunOptions::default(), &mut |_| {}).expect("the run goes")
+            });
+            super::super::expect::WITHOUT_AGENDA.set(false);
+            let [with, without] = &mut runs;
+            assert!(!with.verdicts.is_empty(), "{name}: expectations to check");
+            assert_eq!(with.verdicts, without.verdicts, "{name}");
+            assert_eq!(
+                (with.cycles, with.last_time.to_bits(), with.stop),
+                (without.cycles, without.last_time.to_bits(), without.stop),
+                "{name}"
+            );
+        }
+    }
+
     fn reason(verdict: &Verdict) -> &str {
         match &verdict.outcome {
             Outcome::Failed { reason } => reason,
