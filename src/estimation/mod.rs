@@ -323,26 +323,84 @@ fn summed_by_group(states: &[WeightedState], groups: &[usize]) -> Vec<PlantEstim
 /// in the same order. A quiet estimation step keeps its states' allocations (`replay.rs`, "Shared
 /// successors"), so what this spares — comparing each state's modes with every plant state's
 /// before it — is most of the grouping's cost on the Mars lander's quiet cycle.
+///
+/// It also gives the marginals of one mode vector ([`PlantGrouping::marginals`]) from the
+/// grouping: a state's modes differ from ŝ's in a few components (a fault or two), which are the
+/// same for every state of its plant state, so each state adds its probability to the runs of
+/// components between them — contiguous additions the compiler vectorises — instead of comparing
+/// every component's mode.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct PlantGrouping {
     /// The last belief's states' mode vectors, in order.
     modes: Vec<Arc<[ValueId]>>,
     /// Per state, its plant state's index in order of first appearance.
     groups: Vec<usize>,
+    /// The mode vector `differing` was computed against, if any.
+    against: Option<Arc<[ValueId]>>,
+    /// Per plant state, the components whose mode differs from `against`'s, ascending.
+    differing: Vec<Vec<usize>>,
 }
 
 impl PlantGrouping {
     /// `belief.plant_states()`, the same bit for bit.
     pub(crate) fn plant_states(&mut self, belief: &Belief) -> Vec<PlantEstimate> {
         let states = belief.states();
-        let same = self.modes.len() == states.len()
-            && (self.modes.iter().zip(states)).all(|(m, w)| Arc::ptr_eq(m, &w.state.modes));
-        if !same {
-            group_by_modes(states, &mut self.groups);
+        if !self.holds(states) {
+            let groups = group_by_modes(states, &mut self.groups);
             self.modes.clear();
             (self.modes).extend(states.iter().map(|w| Arc::clone(&w.state.modes)));
+            self.against = None;
+            self.differing.resize_with(groups, Vec::new);
         }
         summed_by_group(states, &self.groups)
+    }
+
+    /// Whether the grouping is `states`': they hold the mode vectors it was made from, in order.
+    fn holds(&self, states: &[WeightedState]) -> bool {
+        self.modes.len() == states.len()
+            && (self.modes.iter().zip(states)).all(|(m, w)| Arc::ptr_eq(m, &w.state.modes))
+    }
+
+    /// `belief.component_marginals(modes, out)`, the same bit for bit: each component's sum
+    /// still receives the probability of every state that agrees with `modes` there, in the
+    /// states' order, and nothing else. From the grouping when it is `belief`'s
+    /// ([`PlantGrouping::plant_states`] was asked of it) and every mode vector has one mode per
+    /// component of the belief; otherwise by [`Belief::component_marginals`].
+    pub(crate) fn marginals(
+        &mut self,
+        belief: &Belief,
+        modes: &Arc<[ValueId]>,
+        out: &mut Vec<f64>,
+    ) {
+        let states = belief.states();
+        let components = belief.mode_vars.len();
+        if !self.holds(states)
+            || modes.len() != components
+            || self.modes.iter().any(|m| m.len() != components)
+        {
+            return belief.component_marginals(modes, out);
+        }
+        if !self.against.as_ref().is_some_and(|a| Arc::ptr_eq(a, modes)) {
+            for (g, differing) in self.differing.iter_mut().enumerate() {
+                let first = self.groups.iter().position(|&h| h == g);
+                let group = first.map_or(&[][..], |f| &states[f].state.modes[..]);
+                differing.clear();
+                (differing).extend((0..components).filter(|&c| group[c] != modes[c]));
+            }
+            self.against = Some(Arc::clone(modes));
+        }
+        let none: f64 = std::iter::empty::<f64>().sum();
+        out.clear();
+        out.resize(components, none);
+        for (weighted, &g) in states.iter().zip(&self.groups) {
+            let p = weighted.probability;
+            let mut from = 0;
+            for &c in &self.differing[g] {
+                out[from..c].iter_mut().for_each(|sum| *sum += p);
+                from = c + 1;
+            }
+            out[from..].iter_mut().for_each(|sum| *sum += p);
+        }
     }
 }
 
@@ -532,7 +590,7 @@ mod tests {
         Belief {
             time: 0.0,
             states,
-            mode_vars: Arc::from([]),
+            mode_vars: Arc::from([VarId(0), VarId(1), VarId(2)]),
             issued: None,
             outside: 0.0,
         }
@@ -551,6 +609,7 @@ mod tests {
                 (any::<bool>(), proptest::collection::vec((0usize..8, 1u32..64), 1..9)),
                 1..12,
             ),
+            marginals in 0usize..8,
         ) {
             // Four mode vectors, each in two allocations: 0–3 and 4–7 are equal in turn.
             let pool: Vec<Arc<[ValueId]>> = (0..8u32)
@@ -575,6 +634,19 @@ mod tests {
                 for (a, b) in remembered.iter().zip(&expected) {
                     prop_assert!(Arc::ptr_eq(&a.modes, &b.modes));
                     prop_assert_eq!(a.probability.to_bits(), b.probability.to_bits());
+                }
+                // The marginals of ŝ's modes (as the executive asks), of another state's, and
+                // of a vector no state has, twice each (the second from what the first kept).
+                let best = Belief::most_likely_among(&expected).map(|e| Arc::clone(&e.modes));
+                let others = [Arc::clone(&pool[marginals % 8]), Arc::from([ValueId(3); 3])];
+                for modes in best.into_iter().chain(others) {
+                    for _ in 0..2 {
+                        let (mut fast, mut plain) = (Vec::new(), Vec::new());
+                        grouping.marginals(&belief, &modes, &mut fast);
+                        belief.component_marginals(&modes, &mut plain);
+                        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                        prop_assert_eq!(bits(&fast), bits(&plain));
+                    }
                 }
                 last = these;
             }

@@ -766,7 +766,7 @@ impl Executive {
         self.refresh_estimate(&after, before != after);
         let mut marginals = std::mem::take(&mut self.marginals);
         match &self.belief {
-            Some(belief) => belief.component_marginals(&after, &mut marginals),
+            Some(belief) => self.grouping.marginals(belief, &after, &mut marginals),
             None => marginals.clear(),
         }
         for (c, &mode) in after.iter().enumerate() {
