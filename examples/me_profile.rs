@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! cargo build --release --example me_profile
-//! target/release/examples/me_profile CASE [--kappa K] [--steps N] [--warmup W] [--dump FILE]
+//! target/release/examples/me_profile CASE [--kappa K] [--history H] [--steps N] [--warmup W] [--dump FILE]
 //! valgrind --tool=callgrind --toggle-collect='*measured_step*' \
 //!     --callgrind-out-file=cg.out target/release/examples/me_profile cruise --steps 200
 //! ```
@@ -22,6 +22,10 @@
 //! - `events`: every cycle whose observation changed or that follows a command (mode changes),
 //!   over the whole EDL (quiet stretches replayed on a 600 s grid, not measured);
 //! - `edl`: the whole EDL, every 0.1 s cycle (≈ 171,600 steps); prints the total.
+//!
+//! `--history H` sets the window TimedME may re-run (default 16; 0: none). The summary counts the
+//! steps re-run at 8κ: on the `events` case's 600 s grid most of its time is those re-runs, not
+//! the event steps themselves (`--history 0` measures the steps alone).
 //!
 //! `--dump FILE` writes every step's belief (modes, clock starts and probabilities, exactly) so
 //! that two builds can be compared for identical answers.
@@ -95,6 +99,7 @@ fn whole(plant: &Plant) -> Case {
 struct Args {
     case: String,
     kappa: usize,
+    history: usize,
     steps: usize,
     warmup: usize,
     dump: Option<String>,
@@ -104,6 +109,7 @@ fn args() -> Args {
     let mut args = Args {
         case: String::new(),
         kappa: 10,
+        history: kairos::estimation::DEFAULT_HISTORY,
         steps: 200,
         warmup: 50,
         dump: None,
@@ -113,6 +119,7 @@ fn args() -> Args {
         let mut value = || it.next().expect("a value after the option");
         match arg.as_str() {
             "--kappa" => args.kappa = value().parse().expect("κ"),
+            "--history" => args.history = value().parse().expect("history steps"),
             "--steps" => args.steps = value().parse().expect("steps"),
             "--warmup" => args.warmup = value().parse().expect("warm-up steps"),
             "--dump" => args.dump = Some(value()),
@@ -190,7 +197,11 @@ fn main() {
         other => panic!("unknown case `{other}`: cruise, heating, entry, events or edl"),
     };
     let mut theory = plant.theory().expect("theory");
-    let mut estimator = TimedMe::new(TimedMeOptions::kappa(args.kappa));
+    let options = TimedMeOptions {
+        history: args.history,
+        ..TimedMeOptions::kappa(args.kappa)
+    };
+    let mut estimator = TimedMe::new(options);
     let mut out = args
         .dump
         .as_ref()
@@ -201,7 +212,7 @@ fn main() {
         .expect("initial")
         .belief;
     let (mut count, mut sat_calls, mut propagated, mut events) = (0u64, 0u64, 0u64, 0usize);
-    let mut replayed = 0u64;
+    let (mut replayed, mut rerun) = (0u64, 0u64);
     let mut times: Vec<Duration> = Vec::new();
     for (pair, &measure) in case.records.windows(2).zip(&case.measured) {
         let (before, now) = (&pair[0], &pair[1]);
@@ -213,6 +224,7 @@ fn main() {
             count += 1;
             sat_calls += update.stats.sat_calls;
             replayed += u64::from(update.stats.replayed);
+            rerun += u64::from(update.stats.rerun);
             propagated += theory.stats().propagated - propagated_before;
             update
         } else {
@@ -228,7 +240,7 @@ fn main() {
     times.sort_unstable();
     let median = times.get(times.len() / 2).copied().unwrap_or_default();
     println!(
-        "case {} kappa {}: {count} measured steps of {}; total {:.3} s, mean {:.1} us, median {:.1} us, max {:.1} us; {:.1} SAT calls per step ({:.1} of them answered by unit propagation); {replayed} replayed; {events} estimation events",
+        "case {} kappa {}: {count} measured steps of {}; total {:.3} s, mean {:.1} us, median {:.1} us, max {:.1} us; {:.1} SAT calls per step ({:.1} of them answered by unit propagation); {replayed} replayed; {rerun} steps re-run; {events} estimation events",
         args.case,
         args.kappa,
         case.records.len() - 1,
