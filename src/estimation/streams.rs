@@ -155,7 +155,11 @@ pub(crate) struct SolutionCache {
 
 /// Which modes can appear in a feasible solution under one observation: `component = mode`
 /// consistent with the theory and the observation (a necessary condition), decided lazily and
-/// remembered until the observation changes.
+/// remembered until the observation changes. Measured and rejected: keeping the answers of the
+/// last four observations (Livingstone 2's logs alternate between nothing observed and a
+/// reading) — exact, and 5–10 % fewer SAT questions, but the ones saved were answered by
+/// propagation: 0.4 % fewer instructions on the 15-breaker log, 0.2 % in the 1,023-breaker
+/// tree's first cycle, for SAT counts that differ from every earlier run's.
 #[derive(Default)]
 struct Possible {
     observation: Observation,

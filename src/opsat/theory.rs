@@ -12,6 +12,25 @@
 //! itself inconsistent (the *conflict* conflict-directed A* learns from); [`Theory::entails`] is
 //! the refutation of the formula's negation. Clock bounds and confidence atoms are decided
 //! outside the theory ([`Formula::ground`]); a formula that still holds one is refused.
+//!
+//! # A search check's model, by deciding
+//! OPSAT's candidate checks ([`Theory::search_conflict`]) are answered by the search's own
+//! closure when it reaches a conflict or completes to a model with the stored one; the rest went
+//! to the SAT solver. On Livingstone 2's breaker logs every such question was satisfiable (701
+//! at 255 breakers, κ = 10; 2,263 on the 15-breaker log) and each cost the solver a search over
+//! the whole theory — 2.6 M instructions at 255 breakers, 6 % of the replay. Such a check now
+//! first goes to the other closure, the one kept as a set, which may decide up to
+//! [`DECISIONS`] literals to complete its model (`propagate.rs`, "Two closures, kept apart"):
+//! at 255 and 15 breakers it completes every one. The answer is exact — a completion found is a
+//! model of every clause and assumption — and the search's closure is not touched, so the
+//! conflicts later read off it, and with them every search, are what they were. What changes is
+//! who answered: the solver, asked less, may return another core for a later inconsistent check
+//! that propagation leaves open — another conflict, the same solutions in the same order
+//! (`search.rs`, "Order") — and the search closure keeps its own model where the solver's used
+//! to replace it. Beliefs and SAT calls are byte-identical on every shipped log and scenario.
+//! Measured: Livingstone 2's 15-breaker log at κ = 10 6.935 G → 6.714 G instructions (CPU 0.94,
+//! 0.89–1.13, 7 pairs); 255 breakers κ = 10 CPU 0.97 (0.92–1.01, 9 pairs, load 2–3); the quiet
+//! EDL cycle unchanged (42.4 k instructions).
 
 use petgraph::unionfind::UnionFind;
 use rustc_hash::FxHashMap;
@@ -22,8 +41,16 @@ use crate::logic::{Atom, Formula, ValueId, VarId, VarTable};
 
 /// How many literals unit propagation may decide, one at a time, to complete the stored model
 /// into one of a question's assumptions before the SAT solver is asked instead
-/// ([`Propagator::completes_by_deciding`]).
-const DECISIONS: usize = 16;
+/// ([`Propagator::completes_by_deciding`]). Each decision costs a propagation and a check of
+/// the clauses the completion changed; a SAT call assigns the whole theory, so its cost grows
+/// with the plant while a completion's grows with the distance from the stored model. At 16,
+/// Livingstone 2's 1,023-breaker tree sent 35 questions a step to the solver (10.7 M
+/// instructions each: 40 % of its first cycle with `--history 0`, where estimation asks whether
+/// each mode is possible under a new observation); at 64 the completions found make that
+/// cycle 24.50 G → 13.43 G instructions (256 gives the same), CPU 0.90 of before at κ = 10
+/// (the 28-step log, 2 pairs), 0.98 at 255 breakers (5 pairs), the 15-breaker log 6.714 G →
+/// 6.712 G. Answers, beliefs and SAT calls are byte-identical: a completion is a model.
+const DECISIONS: usize = 64;
 
 /// Above this many values, "at most one" is the product encoding rather than one clause per
 /// pair: a control with 5,000 values made 12.5 million clauses and 917 MB.
@@ -192,6 +219,10 @@ pub struct Theory {
     /// Variables linked by some constraint share a root (OPSAT's decomposition).
     component_root: Vec<usize>,
     stats: TheoryStats,
+    /// Search checks the set-kept closure proved consistent ("A search check's model, by
+    /// deciding"), for the tests to see the path taken.
+    #[cfg(test)]
+    decided_checks: u64,
 }
 
 impl Theory {
@@ -258,6 +289,8 @@ impl Theory {
             defined: FxHashMap::default(),
             component_root,
             stats: TheoryStats::default(),
+            #[cfg(test)]
+            decided_checks: 0,
         };
         for constraint in constraints {
             theory.assert(constraint)?;
@@ -393,6 +426,21 @@ impl Theory {
             return Consistency::Consistent;
         }
         let propagated = propagated_cores && self.propagation && self.solver.search.in_conflict();
+        if propagated_cores
+            && !propagated
+            && self.consistent_by_propagation(&sat_assumptions, false)
+        {
+            // A search check propagation left open, proved consistent by the other closure
+            // ("A search check's model, by deciding"): the search closure is untouched.
+            #[cfg(test)]
+            {
+                self.decided_checks += 1;
+            }
+            self.stats.sat_calls += 1;
+            self.stats.propagated += 1;
+            self.scratch = sat_assumptions;
+            return Consistency::Consistent;
+        }
         let answer = if propagated {
             self.stats.sat_calls += 1;
             self.stats.propagated += 1;
@@ -882,5 +930,73 @@ mod tests {
             theory.component_root(VarId(0)),
             theory.component_root(VarId(1))
         );
+    }
+    /// "A search check's model, by deciding": on random theories, OPSAT-like runs of candidate
+    /// checks (one value per decision variable — half of them, the others free as a plant's
+    /// connections are — each list changing one or two of the last one's, with
+    /// yes/no questions in between that move the set-kept closure) get the SAT solver's answer
+    /// with propagation off, every conflict is a subset of the candidate and inconsistent, and
+    /// the set-kept closure answers some of the checks the search closure left open.
+    #[test]
+    fn search_checks_the_set_closure_decides_are_the_solvers_answers() {
+        use chacha20::ChaCha8Rng;
+        use rand::{RngExt, SeedableRng};
+        let mut rng = ChaCha8Rng::seed_from_u64(29);
+        let mut decided = 0;
+        for _ in 0..300 {
+            let domains: Vec<u32> = (0..8).map(|_| rng.random_range(2..4)).collect();
+            let mut table = VarTable::new();
+            for (x, &n) in domains.iter().enumerate() {
+                let values: Vec<String> = (0..n).map(|v| format!("v{v}")).collect();
+                table.add_variable(format!("x{x}"), values).unwrap();
+            }
+            let atom = |rng: &mut ChaCha8Rng| {
+                let x = rng.random_range(0..domains.len());
+                let v = rng.random_range(0..domains[x]);
+                let not = if rng.random_bool(0.5) { "not " } else { "" };
+                format!("{not}x{x} = v{v}")
+            };
+            let constraints: Vec<Formula> = (0..rng.random_range(4..16))
+                .map(|_| {
+                    let atoms: Vec<String> = (0..rng.random_range(2..4))
+                        .map(|_| atom(&mut rng))
+                        .collect();
+                    parse_formula(&atoms.join(" or "), &table).unwrap()
+                })
+                .collect();
+            let mut theory = Theory::new(table.clone(), &constraints).unwrap();
+            let mut oracle = Theory::new(table, &constraints).unwrap();
+            oracle.set_propagation(false);
+            let mut candidate: Vec<u32> = vec![0; domains.len() / 2];
+            for _ in 0..30 {
+                for _ in 0..rng.random_range(1..3) {
+                    let x = rng.random_range(0..candidate.len());
+                    candidate[x] = rng.random_range(0..domains[x]);
+                }
+                let list: Vec<Literal> = (candidate.iter().enumerate())
+                    .map(|(x, &v)| Literal::Is(VarId(x as u32), ValueId(v)))
+                    .collect();
+                let expected = oracle.consistent(&list).is_consistent();
+                match theory.search_conflict(&list) {
+                    Consistency::Consistent => assert!(expected, "{list:?}"),
+                    Consistency::Conflict(conflict) => {
+                        assert!(!expected, "{list:?}");
+                        assert!(conflict.iter().all(|l| list.contains(l)), "{conflict:?}");
+                        assert!(!oracle.consistent(&conflict).is_consistent());
+                    }
+                }
+                if rng.random_bool(0.5) {
+                    let some: Vec<Literal> = list
+                        .iter()
+                        .copied()
+                        .filter(|_| rng.random_bool(0.5))
+                        .collect();
+                    let expected = oracle.consistent(&some).is_consistent();
+                    assert_eq!(theory.is_consistent(&some), expected, "{some:?}");
+                }
+            }
+            decided += theory.decided_checks;
+        }
+        assert!(decided > 0, "the set-kept closure answered no search check");
     }
 }
