@@ -171,19 +171,9 @@ impl Belief {
     /// The plant states (system states with equal modes summed), most probable first; ties keep
     /// the order of their most probable system state.
     pub fn plant_states(&self) -> Vec<PlantEstimate> {
-        // At most one plant state per system state: sized once rather than grown step by step.
-        let mut out: Vec<PlantEstimate> = Vec::with_capacity(self.states.len());
-        for weighted in &self.states {
-            match out.iter_mut().find(|e| e.modes == weighted.state.modes) {
-                Some(estimate) => estimate.probability += weighted.probability,
-                None => out.push(PlantEstimate {
-                    modes: Arc::clone(&weighted.state.modes),
-                    probability: weighted.probability,
-                }),
-            }
-        }
-        out.sort_by(|a, b| b.probability.total_cmp(&a.probability));
-        out
+        summed(&self.states, |out, _, weighted| {
+            out.iter().position(|e| e.modes == weighted.state.modes)
+        })
     }
 
     /// ŝ: the most likely plant state, the marginal over system states with equal modes
@@ -307,11 +297,25 @@ fn group_by_modes(states: &[WeightedState], groups: &mut Vec<usize>) -> usize {
 /// its first state's, its probability the sum of its states' in order; most probable first, ties
 /// in order of first appearance ([`Belief::plant_states`]).
 fn summed_by_group(states: &[WeightedState], groups: &[usize]) -> Vec<PlantEstimate> {
+    summed(states, |out, i, _| {
+        groups.get(i).copied().filter(|&g| g < out.len())
+    })
+}
+
+/// The plant states of `states`, each state's probability added, in order, to the plant state
+/// `group` names (given the plant states so far, the state's index and the state), or opening a
+/// new one with its modes; most probable first, ties in order of first appearance. The two
+/// callers differ only in how they find a state's group: by comparing modes
+/// ([`Belief::plant_states`], the reference) or by the remembered grouping.
+fn summed(
+    states: &[WeightedState],
+    mut group: impl FnMut(&[PlantEstimate], usize, &WeightedState) -> Option<usize>,
+) -> Vec<PlantEstimate> {
     // At most one plant state per system state: sized once rather than grown step by step.
     let mut out: Vec<PlantEstimate> = Vec::with_capacity(states.len());
-    for (weighted, &g) in states.iter().zip(groups) {
-        match out.get_mut(g) {
-            Some(estimate) => estimate.probability += weighted.probability,
+    for (i, weighted) in states.iter().enumerate() {
+        match group(&out, i, weighted) {
+            Some(g) => out[g].probability += weighted.probability,
             None => out.push(PlantEstimate {
                 modes: Arc::clone(&weighted.state.modes),
                 probability: weighted.probability,
