@@ -13,6 +13,18 @@
 //! `Reported` and `NeverReported` may say what the event must say (`saying: "…"`): a part of
 //! its text as the mission log prints it — the goals a refusal names, a forced point's
 //! lateness, the response taken, the tactic chosen and why another was rejected.
+//!
+//! # The agenda
+//!
+//! A cycle asks only the expectations that can still move: each waits until its window opens
+//! ([`ExpectationKind::opens_at`]) and leaves the agenda once decided or once a cycle past its
+//! window's end ([`ExpectationKind::closes_at`]) has asked it. Exact: outside its window a
+//! check is `Open` and touches nothing, a decided expectation was never asked again, and the
+//! checks of one cycle touch only their own expectation's records (after the events have
+//! updated the goals and XGoals they all read), so leaving some out changes no other.
+//! Measured on the nominal Mars EDL (55 expectations, 171,577 cycles, its cruise asking 18):
+//! closing the windows took the run from 8,384 M to 8,204 M instructions (−2.1 %); the
+//! crate's tests compare every verdict with a checker asking every open expectation.
 
 use std::sync::Arc;
 
@@ -267,6 +279,74 @@ impl ExpectationKind {
         }
     }
 
+    /// The latest time at which a cycle can move this expectation or change anything the
+    /// checker keeps for it: after it, checking it returns [`Progress::Open`] and touches
+    /// nothing, so the checker stops asking ([`Checker::observe`]).
+    ///
+    /// Exact: a cycle's time is after every earlier cycle's, and a windowed kind's check is
+    /// `Open` and effect-free at a time outside its window — `t > to + ε` is
+    /// `Window::contains`'s second clause failing, the same addition (every arm of
+    /// [`Checker::check_kind`] asks `window.contains(t)` before it fails, meets or notes a
+    /// late diagnosis). An `AnyOf` closes with its last member. `EstimatedAt` and
+    /// `XGoalActive` are decided at their time, `Always` updates its `Once` flags at every
+    /// cycle and `CommandsInOrder` is checked on its own path: they never close.
+    fn closes_at(&self) -> f64 {
+        use ExpectationKind as K;
+        match self {
+            K::Estimated { window, .. }
+            | K::NeverEstimated { window, .. }
+            | K::Commanded { window, .. }
+            | K::NeverCommanded { window, .. }
+            | K::Diagnosed { window, .. }
+            | K::Achieved { window, .. }
+            | K::GoalFailed { window, .. }
+            | K::Completed { window }
+            | K::Reported { window, .. }
+            | K::NeverReported { window, .. }
+            | K::Fired { window, .. }
+            | K::NeverFired { window, .. }
+            | K::Failed { window, .. }
+            | K::NeverFailed { window, .. }
+            | K::Recovered { window, .. }
+            | K::NeverXGoalActive { window, .. } => window.to + TIME_EPSILON,
+            K::AnyOf { members } => (members.iter())
+                .map(ExpectationKind::closes_at)
+                .fold(f64::NEG_INFINITY, f64::max),
+            K::EstimatedAt { .. }
+            | K::XGoalActive { .. }
+            | K::Always { .. }
+            | K::CommandsInOrder { .. } => f64::INFINITY,
+        }
+    }
+
+    /// The windows of this kind and of its `AnyOf` members, to move them in tests.
+    #[cfg(test)]
+    pub(crate) fn windows_mut(&mut self) -> Vec<&mut Window> {
+        use ExpectationKind as K;
+        match self {
+            K::Estimated { window, .. }
+            | K::NeverEstimated { window, .. }
+            | K::Commanded { window, .. }
+            | K::CommandsInOrder { window, .. }
+            | K::NeverCommanded { window, .. }
+            | K::Diagnosed { window, .. }
+            | K::Achieved { window, .. }
+            | K::GoalFailed { window, .. }
+            | K::Completed { window }
+            | K::Reported { window, .. }
+            | K::NeverReported { window, .. }
+            | K::Fired { window, .. }
+            | K::NeverFired { window, .. }
+            | K::Failed { window, .. }
+            | K::NeverFailed { window, .. }
+            | K::Recovered { window, .. }
+            | K::NeverXGoalActive { window, .. }
+            | K::Always { window, .. } => vec![window],
+            K::AnyOf { members } => members.iter_mut().flat_map(K::windows_mut).collect(),
+            K::EstimatedAt { .. } | K::XGoalActive { .. } => Vec::new(),
+        }
+    }
+
     /// True for the kinds that must be shown by some cycle (the run goes on while one is open).
     pub fn is_eventual(&self) -> bool {
         !matches!(
@@ -354,6 +434,18 @@ pub(crate) struct Checker<'a> {
     /// before. A long run's expectations mostly wait for windows far ahead (the nominal EDL's
     /// 55 through a 16,000 s cruise): asking each of them every cycle was the checker's cost.
     opens: Vec<f64>,
+    /// Per expectation, [`ExpectationKind::closes_at`]: nor is it checked after.
+    closes: Vec<f64>,
+    /// The expectations whose window has not opened yet, latest opening first (the next to
+    /// open is last).
+    waiting: Vec<usize>,
+    /// The expectations asked at each cycle, ascending: opened, not closed, and still open
+    /// (a `CommandsInOrder`: not failed). Walking only these, not all expectations, is what
+    /// the agenda saves: the nominal EDL's cruise asks 18 of its 55.
+    asked: Vec<usize>,
+    /// The earliest [`ExpectationKind::closes_at`] in `asked`: `asked` is looked over when a
+    /// cycle is past it, or when one of its expectations was decided.
+    first_close: f64,
 }
 
 #[cfg(test)]
@@ -380,16 +472,34 @@ impl<'a> Checker<'a> {
             })
             .collect();
         let opens = expectations.iter().map(|e| e.kind.opens_at());
+        let closes = expectations.iter().map(|e| e.kind.closes_at());
         #[cfg(test)]
-        let opens = opens.map(|at| {
-            if WITHOUT_AGENDA.get() {
-                f64::NEG_INFINITY
+        let (opens, closes) = {
+            let without = WITHOUT_AGENDA.get();
+            let opens = opens.map(move |at| if without { f64::NEG_INFINITY } else { at });
+            (
+                opens,
+                closes.map(move |at| if without { f64::INFINITY } else { at }),
+            )
+        };
+        let opens: Vec<f64> = opens.collect();
+        let mut waiting: Vec<usize> = (0..expectations.len()).collect();
+        // Stable: expectations opening together are taken in ascending order.
+        // (A time that is not a number opens nothing, as `t >= NaN` never holds: last.)
+        let key = |i: usize| {
+            if opens[i].is_nan() {
+                f64::INFINITY
             } else {
-                at
+                opens[i]
             }
-        });
+        };
+        waiting.sort_by(|&a, &b| key(b).total_cmp(&key(a)).then(b.cmp(&a)));
         Checker {
-            opens: opens.collect(),
+            opens,
+            closes: closes.collect(),
+            waiting,
+            asked: Vec::new(),
+            first_close: f64::INFINITY,
             progress: vec![Progress::Open; expectations.len()],
             late: vec![None; expectations.len()],
             matched: vec![0; expectations.len()],
@@ -449,23 +559,78 @@ impl<'a> Checker<'a> {
         for event in &step.events {
             self.track(&event.kind);
         }
-        for i in 0..self.expectations.len() {
+        self.open_due(step.time);
+        let mut asked = std::mem::take(&mut self.asked);
+        // Whether one of them was decided (a sequence: failed) and leaves the agenda.
+        let mut decided = false;
+        for &i in &asked {
             if let ExpectationKind::CommandsInOrder { commands, window } =
                 &self.expectations[i].kind
             {
-                if !matches!(self.progress[i], Progress::Failed(_)) {
-                    self.progress[i] = self.check_sequence(i, commands, *window, step);
-                }
-            } else if self.progress[i] == Progress::Open && step.time >= self.opens[i] {
+                let progress = self.check_sequence(i, commands, *window, step);
+                decided |= matches!(progress, Progress::Failed(_));
+                self.progress[i] = progress;
+            } else {
                 // Written only when it moved: an open expectation stays open on most cycles.
                 match self.check(i, step, plant) {
                     Progress::Open => {}
-                    moved => self.progress[i] = moved,
+                    moved => {
+                        self.progress[i] = moved;
+                        decided = true;
+                    }
                 }
             }
         }
+        // Looked over only when one was decided or a window closed: most cycles neither.
+        if decided || step.time > self.first_close {
+            asked.retain(|&i| self.still_asked(i, step.time));
+            self.first_close = self.first_close_of(&asked);
+        }
+        self.asked = asked;
         self.last_modes = Arc::clone(&step.most_likely);
         self.last_time = Some(step.time);
+    }
+
+    /// Moves the expectations whose window opens by `time` from `waiting` to `asked`, keeping
+    /// `asked` ascending.
+    fn open_due(&mut self, time: f64) {
+        let before = self.asked.len();
+        while let Some(&i) = self.waiting.last() {
+            if !self.opens_by(i, time) {
+                break;
+            }
+            self.waiting.pop();
+            // One opened at `time` may be past its window already (a window shorter than a
+            // cycle): asked once, as before the agenda, then let go.
+            self.asked.push(i);
+            self.first_close = self.first_close.min(self.closes[i]);
+        }
+        if self.asked.len() != before {
+            self.asked.sort_unstable();
+        }
+    }
+
+    /// The earliest [`ExpectationKind::closes_at`] of these expectations.
+    fn first_close_of(&self, asked: &[usize]) -> f64 {
+        (asked.iter())
+            .map(|&i| self.closes[i])
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Whether expectation `i`'s window has opened at `time`.
+    fn opens_by(&self, i: usize, time: f64) -> bool {
+        time >= self.opens[i]
+    }
+
+    /// Whether expectation `i`, asked at `time`, is to be asked again: a sequence until it
+    /// fails, any other while it is open and its window has not closed.
+    fn still_asked(&self, i: usize, time: f64) -> bool {
+        match self.expectations[i].kind {
+            ExpectationKind::CommandsInOrder { .. } => {
+                !matches!(self.progress[i], Progress::Failed(_))
+            }
+            _ => self.progress[i] == Progress::Open && time <= self.closes[i],
+        }
     }
 
     /// Keeps the goals the program asserts and the mission's active XGoals up to date.

@@ -367,8 +367,8 @@ mod tests {
     //! Runs of the engine/camera scenario with expectations that hold and that do not.
 
     use super::*;
-    use crate::simulation::Outcome;
     use crate::simulation::testing::engine_camera;
+    use crate::simulation::{Outcome, Window};
 
     fn outcome(rest: &str) -> RunOutcome {
         let scenario = engine_camera(&format!(
@@ -417,6 +417,68 @@ mod tests {
                 (with.cycles, with.last_time.to_bits(), with.stop),
                 (without.cycles, without.last_time.to_bits(), without.stop),
                 "{name}"
+            );
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(crate::seeded::config(48))]
+
+        /// `expect.rs`, `ExpectationKind::closes_at`: the agenda's closing — an expectation
+        /// not asked after its window closed — changes no verdict, no cycle count and no stop
+        /// either. The windows of shipped scenarios' expectations (every kind with a window,
+        /// `AnyOf` members, `Always`, `CommandsInOrder`) are moved to start and end at the
+        /// times of cycles where something happened, a fraction of ε = `TIME_EPSILON` either
+        /// side or exactly, and
+        /// the run with the agenda is compared with the run that asks every open expectation
+        /// at every cycle.
+        #[test]
+        fn closing_windows_change_no_verdict(
+            which in 0usize..4,
+            ends in proptest::collection::vec((0usize..400, 0usize..400, 0usize..7, 0usize..7), 32),
+        ) {
+            const SCENARIOS: &[&str] = &[
+                "scenarios/thermostat/sensor_dropouts.ron",
+                "scenarios/power/mission_regulator_a_fails.ron",
+                "scenarios/driver_valve/valve_stuck.ron",
+                "tests/scenarios/invariant_safes_with_a_working_heater.ron",
+            ];
+            const SHIFTS: [f64; 7] = [-2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0];
+            let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+            let mut scenario =
+                crate::simulation::load(&root.join(SCENARIOS[which])).expect("the scenario loads");
+            // The cycles where something happened (events, a command, ŝ moved): where a
+            // window's end decides a verdict.
+            let mut times = Vec::new();
+            let mut last: Option<Arc<[ValueId]>> = None;
+            run(&scenario, RunOptions::default(), &mut |c| {
+                let moved = last.as_ref() != Some(&c.step.most_likely);
+                if moved || !c.step.events.is_empty() || !c.step.command.is_empty() {
+                    times.push(c.step.time);
+                }
+                last = Some(Arc::clone(&c.step.most_likely));
+            })
+            .expect("the run goes");
+            let at = |k: usize, shift: usize| {
+                times[k % times.len()] + SHIFTS[shift] * TIME_EPSILON
+            };
+            let windows = (scenario.expectations.iter_mut())
+                .flat_map(|e| e.kind.windows_mut());
+            for (window, &(a, b, sa, sb)) in windows.zip(ends.iter().cycle()) {
+                let (from, to) = (at(a, sa), at(b, sb));
+                *window = Window { from: from.min(to), to: from.max(to) };
+            }
+            let mut runs = [false, true].map(|without| {
+                super::super::expect::WITHOUT_AGENDA.set(without);
+                let outcome = run(&scenario, RunOptions::default(), &mut |_| {});
+                super::super::expect::WITHOUT_AGENDA.set(false);
+                outcome.expect("the run goes")
+            });
+            let [with, without] = &mut runs;
+            proptest::prop_assert_eq!(&with.verdicts, &without.verdicts);
+            proptest::prop_assert_eq!(
+                (with.cycles, with.last_time.to_bits(), with.stop),
+                (without.cycles, without.last_time.to_bits(), without.stop)
             );
         }
     }
