@@ -574,7 +574,7 @@ where
     C: IntoIterator<Item = I>,
     I: IntoIterator<Item = (ValueId, f64)>,
 {
-    let mut ocsp = Ocsp::new();
+    let mut ocsp = Ocsp::with_capacity(plant.components().len());
     for (component, next) in plant.components().iter().zip(costs) {
         let options = next.into_iter().filter(|(_, cost)| cost.is_finite());
         if ocsp.decide(component.mode_var(), options).is_err() {
