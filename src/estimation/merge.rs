@@ -7,7 +7,6 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::hash::{Hash, Hasher};
-use std::sync::Arc;
 
 use rustc_hash::{FxHashMap, FxHasher};
 
@@ -308,7 +307,7 @@ fn order(cost: f64) -> u64 {
 /// refute on their own, which leaves out the mass of refuted faults that no stream will ever
 /// hand out. An exhausted stream has nothing left.
 ///
-/// The product Π Σ p is remembered per `Arc<Choices>` ([`Combinations`]): a quiet step's
+/// The product Π Σ p is remembered per version of choices ([`Combinations`]): a quiet step's
 /// sources keep their very choices from step to step (`expand.rs`, `Recents`), and the
 /// product, a pass over every component's next modes, was 6 % of the Mars lander's quiet cycle.
 ///
@@ -331,24 +330,24 @@ struct Unseen {
     untightened: usize,
 }
 
-/// Π_components Σ p(next mode) of choices already met, by the address of their `Arc`. Exact:
-/// each entry holds its `Arc`, so while it lives the address names that allocation alone, and
-/// the choices in it cannot change (`Arc::make_mut` copies a shared allocation, and nothing else
-/// writes through an `Arc<Choices>`); the product is a function of them alone, computed by the
-/// same code in the same order, so a remembered one is the very number a recomputation gives.
+/// Π_components Σ p(next mode) of choices already met, by their version. Exact: a version
+/// names one content for good (`expand.rs`, `Choices`: every value made or written gets a
+/// version never handed out before), and the product is a function of the choices alone,
+/// computed by the same code in the same order, so a remembered one is the very number a
+/// recomputation gives. Nothing is held but the number: the choices' `Arc` stays free to be
+/// written in place.
 #[derive(Default)]
-struct Combinations(FxHashMap<usize, (Arc<Choices>, f64)>);
+struct Combinations(FxHashMap<u64, f64>);
 
 /// Past this many entries [`Combinations`] starts afresh: a quiet step meets κ choices, new
-/// ones only where a source changed. Its entries keep their choices alive (a plant of 1,500
-/// components has 24 KB of them per source), so the limit also bounds what it can hold on to.
+/// ones where a source changed (on the Mars lander, every source every step: a clock runs).
 const COMBINATIONS_LIMIT: usize = 256;
 
 impl Combinations {
     /// Π_components Σ p(next mode) of `choices`.
-    fn of(&mut self, choices: &Arc<Choices>) -> f64 {
-        let key = Arc::as_ptr(choices) as usize;
-        if let Some((_, product)) = self.0.get(&key) {
+    fn of(&mut self, choices: &Choices) -> f64 {
+        let key = choices.version();
+        if let Some(product) = self.0.get(&key) {
             return *product;
         }
         let product: f64 = choices
@@ -358,7 +357,7 @@ impl Combinations {
         if self.0.len() >= COMBINATIONS_LIMIT {
             self.0.clear();
         }
-        self.0.insert(key, (Arc::clone(choices), product));
+        self.0.insert(key, product);
         product
     }
 }

@@ -70,10 +70,11 @@
 //!    restart its clock at t but has it forgotten, by its new mode alone, whatever t. So the
 //!    copy equals what the full step builds, bit for bit, and it is merged under the same hash
 //!    (`expand::state_hash` of an equal state) by the same `Merged` code. "Equal to s" is
-//!    checked by comparing the states, or by the source's `Arc<Choices>` being one already seen
-//!    with the state compared: `Expander::choices` hands an `Arc<Choices>` out only for states
-//!    equal (modes and clock starts bit for bit) to the one it was made for (`expand.rs`,
-//!    `Recents`), and the record holds the `Arc`, so its address names that state.
+//!    checked by comparing the states, or by the source's choices having a version already
+//!    seen with the state compared: `Expander::choices` hands a version of choices out only
+//!    for states equal (modes and clock starts bit for bit) to the one it was made for
+//!    (`expand.rs`, `Recents`), and a version is never handed out for other choices
+//!    (`expand.rs`, `Choices`), so it names that state.
 //!
 //! Under 1–7 the merge — the same function in both cases (`expand::merge`) — sees the same
 //! costs, modes, factors and masses in the same order as in the full step, so it examines the
@@ -102,10 +103,12 @@
 //! the shape's known solutions, what `take` does every step), at the first replay. A source's
 //! preparation (its shape, L, O, its R ordered and, once asked, its possible mass) is a
 //! function of its choices while the record lives, so it is kept per source for the last few
-//! distinct `Arc<Choices>` (a quiet
-//! source keeps its very `Arc` from step to step, `expand.rs` `Recents`) and a source whose
-//! choices are one of those allocations (`Arc::ptr_eq`; the preparation holds the `Arc`, so the
-//! address cannot be reused) is not prepared again.
+//! versions of choices (a quiet source keeps its very choices from step to step, `expand.rs`
+//! `Recents`) and a source whose choices have one of those versions (a version names one
+//! content for good, `expand.rs` `Choices`) is not prepared again. Only the record's reference
+//! choices c_ref are held (their content is read); the rest is keyed by version and holds no
+//! `Arc`, so a source whose one running clock moved has its choices written in place rather
+//! than copied (`expand.rs`, `Choices`), which took 5 % off the nominal Mars EDL's CPU time.
 
 use std::sync::Arc;
 
@@ -199,8 +202,8 @@ struct Variants {
 struct Successors {
     /// The source state and the shape (its index in [`Replay::shapes`]) they were built from.
     from: Option<(SystemState, usize)>,
-    /// Choices handed out for that state (at most [`VARIANTS`], one per step length).
-    seen: Vec<Arc<Choices>>,
+    /// Versions of choices handed out for that state (at most [`VARIANTS`]).
+    seen: Vec<u64>,
     /// Per known solution of the shape.
     built: Vec<Option<(SystemState, u64)>>,
 }
@@ -208,13 +211,13 @@ struct Successors {
 impl Successors {
     /// Keeps what was built if it was built from `source` of shape `shape`, else starts afresh
     /// for a shape of `solutions` known solutions. `choices` are `source`'s: `Expander::choices`
-    /// hands an `Arc<Choices>` out again only for a state equal to the one it was made for
-    /// (`expand.rs`, `Recents`), so choices already seen with the state built from (and held
-    /// here, so that the address is not reused) spare comparing the states.
+    /// hands a version of choices out again only for a state equal to the one it was made for
+    /// (`expand.rs`, `Recents`), so a version already seen with the state built from spares
+    /// comparing the states.
     fn keep_for(
         &mut self,
         source: &SystemState,
-        choices: &Arc<Choices>,
+        choices: &Choices,
         shape: usize,
         solutions: usize,
     ) {
@@ -224,7 +227,7 @@ impl Successors {
         if *at != shape {
             return self.start(source, choices, shape, solutions);
         }
-        if self.seen.iter().any(|seen| Arc::ptr_eq(seen, choices)) {
+        if self.seen.contains(&choices.version()) {
             return;
         }
         if state != source {
@@ -233,19 +236,13 @@ impl Successors {
         if self.seen.len() >= VARIANTS {
             self.seen.remove(0);
         }
-        self.seen.push(Arc::clone(choices));
+        self.seen.push(choices.version());
     }
 
-    fn start(
-        &mut self,
-        source: &SystemState,
-        choices: &Arc<Choices>,
-        shape: usize,
-        solutions: usize,
-    ) {
+    fn start(&mut self, source: &SystemState, choices: &Choices, shape: usize, solutions: usize) {
         self.from = Some((source.clone(), shape));
         self.seen.clear();
-        self.seen.push(Arc::clone(choices));
+        self.seen.push(choices.version());
         self.built.clear();
         self.built.resize(solutions, None);
     }
@@ -259,11 +256,9 @@ impl Variants {
 
     /// Selects the preparation made from `choices` if there is one (true), else an entry to
     /// prepare, emptied (false).
-    fn select(&mut self, choices: &Arc<Choices>) -> bool {
-        let made = self
-            .prepared
-            .iter()
-            .position(|p| p.choices.as_ref().is_some_and(|c| Arc::ptr_eq(c, choices)));
+    fn select(&mut self, choices: &Choices) -> bool {
+        let version = Some(choices.version());
+        let made = self.prepared.iter().position(|p| p.choices == version);
         if let Some(at) = made {
             self.current = at;
             return true;
@@ -286,9 +281,10 @@ impl Variants {
 
 /// One source of this step, prepared.
 struct Prepared {
-    /// The choices it was prepared from: everything below is a function of them while the
-    /// record lives, so a source with the very same choices (`Arc::ptr_eq`) is prepared already.
-    choices: Option<Arc<Choices>>,
+    /// The version of the choices it was prepared from: everything below is a function of
+    /// them while the record lives, so a source whose choices have this version is prepared
+    /// already.
+    choices: Option<u64>,
     /// Index of its shape in [`Replay::shapes`].
     shape: usize,
     /// R's solutions with their costs under this step's choices, dearest first (served from
@@ -465,7 +461,7 @@ impl Replay {
                 shape,
                 &source.choices,
             )?;
-            prepared.choices = Some(Arc::clone(&source.choices));
+            prepared.choices = Some(source.choices.version());
         }
         Ok(())
     }

@@ -357,6 +357,7 @@ impl ExecutiveBuilder {
             interpretation: None,
             ambiguity: Ambiguity::default(),
             intended: None,
+            intended_settled_on: None,
             faithful: Faithful::new(plant.components().len()),
             reported: Reported::default(),
             confidence_atoms,
@@ -520,6 +521,9 @@ pub struct Executive {
     /// The hypotheses other than ŝ acted on for the current goal.
     ambiguity: Ambiguity,
     intended: Option<GoalState>,
+    /// The ŝ `intended` was last settled on (`reconfigure.rs`): while ŝ is the same, settling
+    /// it again would change nothing. Set wherever `intended` is written.
+    intended_settled_on: Option<Arc<[ValueId]>>,
     /// Helpers to bring back, recent commanded moves, the last contradiction reported
     /// (`faithful.rs`).
     faithful: Faithful,

@@ -2,6 +2,16 @@
 //! goal g(i) on the estimate ŝ, the planner's next action toward the intended configuration,
 //! the command issued (checked against the active goals, `faithful`), and the retry or failure
 //! when a goal stays unreached. Every action is reported with what it serves.
+//!
+//! The intended configuration is settled on ŝ every cycle (a reached transient goal mode
+//! replaced by where the component goes by itself, a kept mode left for good by where it is),
+//! but only when ŝ differs from the one it was last settled on: settling is idempotent
+//! (`GoalState::settle`, with its argument and property test), and nothing else writes the
+//! intended configuration without settling it on the ŝ of that cycle. On the Mars lander's
+//! quiet cruise cycle (the same ŝ for thousands of cycles) that took 38.9 k → 38.3 k
+//! instructions (−645) and 4 % off the nominal EDL's CPU time (median of 7 pairs, noisy).
+
+use std::sync::Arc;
 
 use super::control::Program;
 use super::{EventKind, EventLog, Executive, Interpretation, Served};
@@ -23,7 +33,23 @@ impl Executive {
         // it leaves it for by itself, also as the configuration a new goal keeps
         // (docs/design/reconfiguration.md, "The intended configuration").
         if let Some(intended) = &mut self.intended {
-            self.reconfiguration.settle_in_place(intended, &modes);
+            // Settling is idempotent (`GoalState::settle`): a goal state settled on this very ŝ
+            // (`intended_settled_on`) is settled already.
+            let on = &mut self.intended_settled_on;
+            if !on
+                .as_ref()
+                .is_some_and(|on| Arc::ptr_eq(on, &modes) || **on == *modes)
+            {
+                self.reconfiguration.settle_in_place(intended, &modes);
+                *on = Some(Arc::clone(&modes));
+            }
+            // The crate's tests check what the skip relies on, with settling's own code.
+            #[cfg(test)]
+            assert_eq!(
+                &self.reconfiguration.settle(intended, &modes),
+                intended,
+                "the intended configuration is settled on ŝ"
+            );
             self.faithful.settle(&modes, intended.modes());
         }
         if log
@@ -42,6 +68,7 @@ impl Executive {
             Ok(goal_state) => {
                 self.reported.goal_failure = None;
                 self.intended = Some(self.reconfiguration.settle(&goal_state, &modes));
+                self.intended_settled_on = Some(Arc::clone(&modes));
             }
             Err(failed) => return self.retry_or_fail(goal, &modes, &failed, log),
         }

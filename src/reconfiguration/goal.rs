@@ -101,6 +101,22 @@ impl GoalState {
     /// mode may be irreversible (a repair mode that leads only into a committing mode), and the
     /// planner takes such a step only toward a named mode. The reward, the sum of the modes',
     /// is summed again only if a mode changed (the same modes give the same sum).
+    ///
+    /// Idempotent: settling a goal state settled on the same `current` changes nothing, so a
+    /// caller that keeps a goal state settled on ŝ need not settle it again while ŝ is the same
+    /// (the executive skips it then). Component by component, with `here` its current mode:
+    /// - named, goal = here: the goal becomes s = `settles_in(here)`, or `here`. If s = here the
+    ///   second pass takes this branch again and gives `settles_in(here)` or `here` — s both
+    ///   ways. If s ≠ here, the goal is no longer `here`, and a named goal takes no other branch
+    ///   that moves it: it stays s.
+    /// - not named, left for good: the goal becomes `here`; the second pass asks whether `here`
+    ///   was left for good for `here`, which `left_for_good` denies (its kept mode must differ),
+    ///   so it stays.
+    /// - otherwise the goal is unchanged, and so are the inputs of the second pass: the same
+    ///   branch, unchanged again.
+    ///
+    /// No mode changes in the second pass, so neither does the reward; `named` and `leaving`
+    /// are never written. (Property test: `settling_twice_is_settling_once`.)
     pub(crate) fn settle(&mut self, reconfiguration: &Reconfiguration, current: &[ValueId]) {
         let plant = reconfiguration.plant();
         let policies = reconfiguration.policies();
@@ -760,10 +776,55 @@ mod tests {
     use super::super::Action;
     use super::super::Reconfiguration;
     use super::super::testing::{
-        SWITCH_GADGET, TRANSIENT_REPAIR, component, load, mode, model, state,
+        SWITCH_GADGET, TRANSIENT_CHAIN, TRANSIENT_REPAIR, component, load, mode, model, state,
     };
     use super::{FailureCause, GoalState, named_modes};
-    use crate::logic::parse_formula;
+    use crate::logic::{ValueId, parse_formula};
+    use crate::plant::ComponentId;
+    use crate::seeded;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(seeded::config(256))]
+
+        /// `GoalState::settle` is idempotent (its documentation's argument; docs/design/
+        /// reconfiguration.md, "The intended configuration"): on plants with transient modes
+        /// (in a chain, `TRANSIENT_CHAIN`) and modes left for good (it, the Mars lander's EDL,
+        /// the engine and camera, the spacecraft's deployment), any goal modes, any named
+        /// components and any current state, settling the settled goal on the same state gives
+        /// it back, reward bit for bit.
+        #[test]
+        fn settling_twice_is_settling_once(
+            which in 0usize..4,
+            goal in proptest::collection::vec((0u32..16, any::<bool>()), 40),
+            current in proptest::collection::vec(0u32..16, 40),
+            here_is_goal in proptest::collection::vec(any::<bool>(), 40),
+        ) {
+            let plant = match which {
+                0 => load(TRANSIENT_CHAIN),
+                1 => model("mars_lander"),
+                2 => model("engine_camera"),
+                _ => model("spacecraft_deployment"),
+            };
+            let reconfiguration = Reconfiguration::compile(&plant).expect("compiles");
+            let modes_of = |c: usize| plant.components()[c].modes().len() as u32;
+            let n = plant.components().len();
+            let goal_modes: Vec<ValueId> =
+                (0..n).map(|c| ValueId(goal[c].0 % modes_of(c))).collect();
+            let named: Vec<ComponentId> =
+                (0..n).filter(|&c| goal[c].1).map(|c| ComponentId(c as u32)).collect();
+            // Half the components where the goal has them, so the named branch is taken.
+            let current: Vec<ValueId> = (0..n)
+                .map(|c| if here_is_goal[c] { goal_modes[c] } else { ValueId(current[c] % modes_of(c)) })
+                .collect();
+            let goal = GoalState::new(&plant, goal_modes, &named);
+            let once = reconfiguration.settle(&goal, &current);
+            let twice = reconfiguration.settle(&once, &current);
+            prop_assert_eq!(twice.modes(), once.modes());
+            prop_assert_eq!(twice.reward().to_bits(), once.reward().to_bits());
+            prop_assert_eq!(&twice, &once);
+        }
+    }
 
     #[test]
     fn only_positive_mode_atoms_are_named() {

@@ -123,6 +123,45 @@ pub const TRANSIENT_REPAIR: &str = r#"Plant(
     controls: { "gadget.cmd": "none" },
 )"#;
 
+/// Transient modes in a chain (`t1` leaves by itself for `t2`, `t2` for `c`) and a mode left
+/// for good (`c`, which nothing brings back to `a` or `t1`), next to a switch: what settling a
+/// goal state follows in one step and must not follow further in a second.
+pub const TRANSIENT_CHAIN: &str = r#"Plant(
+    name: "transient_chain",
+    components: [
+        Component(
+            name: "gadget",
+            attributes: { "cmd": ["none", "go", "fix"] },
+            modes: [
+                Mode(name: "a"),
+                Mode(name: "t1"),
+                Mode(name: "t2"),
+                Mode(name: "c"),
+                Mode(name: "broken", kind: Fault, reward: -10),
+            ],
+            initial: { "a": 1.0 },
+            transitions: [
+                (from: "a", to: "t1", guard: "gadget.cmd = go", probability: 1.0),
+                (from: "t1", to: "t2", after: Uniform(1.0, 2.0)),
+                (from: "t2", to: "c", after: Uniform(1.0, 2.0)),
+                (from: "broken", to: "a", guard: "gadget.cmd = fix", probability: 1.0),
+                (from: "*", to: "broken", rate: 0.001),
+            ],
+        ),
+        Component(
+            name: "switch",
+            attributes: { "cmd": ["none", "on", "off"] },
+            modes: [Mode(name: "off"), Mode(name: "on")],
+            initial: { "off": 1.0 },
+            transitions: [
+                (from: "off", to: "on", guard: "switch.cmd = on", probability: 1.0),
+                (from: "on", to: "off", guard: "switch.cmd = off", probability: 1.0),
+            ],
+        ),
+    ],
+    controls: { "gadget.cmd": "none", "switch.cmd": "none" },
+)"#;
+
 /// A plant from RON text (the texts above are valid).
 pub fn load(text: &str) -> Plant {
     Plant::load(&Source::new("test.ron", text)).unwrap_or_else(|e| panic!("{e}"))

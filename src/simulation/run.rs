@@ -421,6 +421,27 @@ mod tests {
         }
     }
 
+    /// `executive/reconfigure.rs`: the intended configuration, settled only when ŝ changed
+    /// (settling is idempotent), is settled on every cycle's ŝ — which the executive checks
+    /// each cycle in the crate's tests, with settling's own code — over shipped scenarios
+    /// whose goals name transient modes (the camera's picture) or keep modes the plant leaves
+    /// for good (the spacecraft's deployment).
+    #[test]
+    fn the_intended_configuration_is_settled_on_every_cycles_estimate() {
+        const SCENARIOS: &[&str] = &[
+            "scenarios/engine_camera/nominal.ron",
+            "scenarios/engine_camera/flameout.ron",
+            "scenarios/spacecraft_deployment/arrays_first.ron",
+            "scenarios/thermostat/backup_heater_after_a_stuck_switch.ron",
+        ];
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        for name in SCENARIOS {
+            let scenario = crate::simulation::load(&root.join(name)).expect("the scenario loads");
+            let outcome = run(&scenario, RunOptions::default(), &mut |_| {}).expect("the run goes");
+            assert!(outcome.cycles > 0, "{name}");
+        }
+    }
+
     fn reason(verdict: &Verdict) -> &str {
         match &verdict.outcome {
             Outcome::Failed { reason } => reason,
