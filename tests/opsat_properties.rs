@@ -112,15 +112,13 @@ fn brute_consistent(problem: &RandomOcsp, literals: &[Literal]) -> bool {
 fn narrowed(ocsp: &Ocsp, keep: &[bool]) -> Ocsp {
     let mut marks = keep.iter().cycle();
     let mut out = Ocsp::new();
-    for decision in ocsp.decisions() {
-        let mut kept: Vec<(ValueId, f64)> = decision
-            .choices
-            .iter()
+    for (d, decision) in ocsp.decisions().iter().enumerate() {
+        let mut kept: Vec<(ValueId, f64)> = (ocsp.choices(d).iter())
             .filter(|_| *marks.next().unwrap_or(&true))
             .map(|c| (c.value, c.cost))
             .collect();
         if kept.is_empty() {
-            kept.extend(decision.choices.first().map(|c| (c.value, c.cost)));
+            kept.extend(ocsp.choices(d).first().map(|c| (c.value, c.cost)));
         }
         out.decide(decision.var, kept).expect("distinct variables");
     }

@@ -253,7 +253,7 @@ impl<'a> Enumeration<'a> {
             let part = &stream.found[i as usize];
             cost += part.cost;
             for (&d, &c) in stream.search.members().iter().zip(&part.choices) {
-                assignment[d].1 = decisions[d].choices[c as usize].value;
+                assignment[d].1 = self.ocsp.choices(d)[c as usize].value;
             }
         }
         Solution { assignment, cost }

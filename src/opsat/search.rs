@@ -63,7 +63,7 @@ use std::rc::Rc;
 
 use rustc_hash::{FxHashMap, FxHasher};
 
-use super::ocsp::{Cut, Meter, Ocsp};
+use super::ocsp::{Choice, Cut, Meter, Ocsp};
 use super::shared::ConflictStore;
 use super::theory::{Consistency, Literal, Theory};
 use crate::logic::VarId;
@@ -305,6 +305,10 @@ pub(crate) struct PartialSolution {
 pub(crate) struct ComponentSearch {
     /// Indices into the OCSP's decisions.
     members: Vec<usize>,
+    /// Per member, where its choices lie in the OCSP's list of all choices (first, count):
+    /// summing a node's cost reads a member's choice there directly, the innermost loop of
+    /// the search (`Ocsp`, "All choices in one list").
+    stretches: Vec<(u32, u32)>,
     position: FxHashMap<VarId, usize>,
     frontier: BinaryHeap<Queued>,
     /// Conflicts of two or more pairs.
@@ -327,14 +331,16 @@ impl ComponentSearch {
         let refuted = vec![Vec::new(); members.len()];
         let nonnegative = members
             .iter()
-            .all(|&d| ocsp.decisions()[d].choices.iter().all(|c| c.cost >= 0.0));
+            .all(|&d| ocsp.choices(d).iter().all(|c| c.cost >= 0.0));
         let position = members
             .iter()
             .enumerate()
             .map(|(p, &d)| (ocsp.decisions()[d].var, p))
             .collect();
+        let stretches = members.iter().map(|&d| ocsp.stretch(d)).collect();
         let mut search = ComponentSearch {
             members,
+            stretches,
             position,
             frontier: BinaryHeap::new(),
             conflicts: Vec::new(),
@@ -470,7 +476,7 @@ impl ComponentSearch {
         if let [(p, c)] = conflict[..] {
             let refuted = &mut self.refuted[p];
             if refuted.is_empty() {
-                refuted.resize(ocsp.decisions()[self.members[p]].choices.len(), false);
+                refuted.resize(ocsp.choices(self.members[p]).len(), false);
             }
             refuted[c as usize] = true;
         } else {
@@ -531,15 +537,15 @@ impl ComponentSearch {
             return None;
         };
         let &p = self.position.get(&var)?;
-        let choices = &ocsp.decisions()[self.members[p]].choices;
+        let choices = ocsp.choices(self.members[p]);
         let c = choices.iter().position(|c| c.value == value)?;
         Some((p, c as u32))
     }
 
     /// The literal stating that member `p` takes its choice `c`.
     fn literal(&self, ocsp: &Ocsp, (p, c): (usize, u32)) -> Literal {
-        let decision = &ocsp.decisions()[self.members[p]];
-        Literal::Is(decision.var, decision.choices[c as usize].value)
+        let d = self.members[p];
+        Literal::Is(ocsp.decisions()[d].var, ocsp.choices(d)[c as usize].value)
     }
 
     /// The theory's conflict restricted to the candidate's own assignments. The per-problem
@@ -599,10 +605,7 @@ impl ComponentSearch {
             at = p;
             let raised = self.unrefuted_from(p, candidate[p] + 1);
             // A member with no choice left makes the child empty: it is not queued.
-            let Some(choice) = ocsp.decisions()[self.members[p]]
-                .choices
-                .get(raised as usize)
-            else {
+            let Some(choice) = self.choice(ocsp, p, raised) else {
                 continue;
             };
             let (cost, exact) = if self.nonnegative {
@@ -666,9 +669,22 @@ impl ComponentSearch {
         choices: impl Iterator<Item = u32>,
     ) -> Option<f64> {
         let mut cost = start;
-        for (&d, c) in self.members[from..].iter().zip(choices) {
-            cost += ocsp.decisions()[d].choices.get(c as usize)?.cost;
+        for (&(first, count), c) in self.stretches[from..].iter().zip(choices) {
+            if c >= count {
+                return None;
+            }
+            cost += ocsp.all_choices().get((first + c) as usize)?.cost;
         }
         Some(cost)
+    }
+
+    /// Member `p`'s `c`-th cheapest choice, if it has one.
+    fn choice<'o>(&self, ocsp: &'o Ocsp, p: usize, c: u32) -> Option<&'o Choice> {
+        let (first, count) = self.stretches[p];
+        if c < count {
+            ocsp.all_choices().get((first + c) as usize)
+        } else {
+            None
+        }
     }
 }
