@@ -773,10 +773,7 @@ impl Executive {
             Some(belief) => self.grouping.marginals(belief, &after, &mut marginals),
             None => marginals.clear(),
         }
-        for (c, &mode) in after.iter().enumerate() {
-            let probability = marginals.get(c).copied().unwrap_or(0.0);
-            self.timelines.record_state(c, now, mode, probability);
-        }
+        self.timelines.record_states(now, &after, &marginals);
         self.marginals = marginals;
         Ok(())
     }

