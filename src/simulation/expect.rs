@@ -254,43 +254,22 @@ impl ExpectationKind {
     /// its own path: both are asked from the start.
     fn opens_at(&self) -> f64 {
         use ExpectationKind as K;
+        if let Some(window) = self.window() {
+            return window.from - TIME_EPSILON;
+        }
         match self {
-            K::Estimated { window, .. }
-            | K::NeverEstimated { window, .. }
-            | K::Commanded { window, .. }
-            | K::NeverCommanded { window, .. }
-            | K::Diagnosed { window, .. }
-            | K::Achieved { window, .. }
-            | K::GoalFailed { window, .. }
-            | K::Completed { window }
-            | K::Reported { window, .. }
-            | K::NeverReported { window, .. }
-            | K::Fired { window, .. }
-            | K::NeverFired { window, .. }
-            | K::Failed { window, .. }
-            | K::NeverFailed { window, .. }
-            | K::Recovered { window, .. }
-            | K::NeverXGoalActive { window, .. } => window.from - TIME_EPSILON,
             K::EstimatedAt { time, .. } | K::XGoalActive { time, .. } => time - TIME_EPSILON,
             K::AnyOf { members } => (members.iter())
                 .map(ExpectationKind::opens_at)
                 .fold(f64::INFINITY, f64::min),
-            K::Always { .. } | K::CommandsInOrder { .. } => f64::NEG_INFINITY,
+            // Asked from the start: the safe answer for any kind not named above.
+            _ => f64::NEG_INFINITY,
         }
     }
 
-    /// The latest time at which a cycle can move this expectation or change anything the
-    /// checker keeps for it: after it, checking it returns [`Progress::Open`] and touches
-    /// nothing, so the checker stops asking ([`Checker::observe`]).
-    ///
-    /// Exact: a cycle's time is after every earlier cycle's, and a windowed kind's check is
-    /// `Open` and effect-free at a time outside its window — `t > to + ε` is
-    /// `Window::contains`'s second clause failing, the same addition (every arm of
-    /// [`Checker::check_kind`] asks `window.contains(t)` before it fails, meets or notes a
-    /// late diagnosis). An `AnyOf` closes with its last member. `EstimatedAt` and
-    /// `XGoalActive` are decided at their time, `Always` updates its `Once` flags at every
-    /// cycle and `CommandsInOrder` is checked on its own path: they never close.
-    fn closes_at(&self) -> f64 {
+    /// The window of a windowed kind (one checked only while a cycle's time is in it);
+    /// `None` for `EstimatedAt`, `XGoalActive`, `AnyOf`, `Always` and `CommandsInOrder`.
+    fn window(&self) -> Option<&Window> {
         use ExpectationKind as K;
         match self {
             K::Estimated { window, .. }
@@ -308,14 +287,37 @@ impl ExpectationKind {
             | K::Failed { window, .. }
             | K::NeverFailed { window, .. }
             | K::Recovered { window, .. }
-            | K::NeverXGoalActive { window, .. } => window.to + TIME_EPSILON,
+            | K::NeverXGoalActive { window, .. } => Some(window),
+            K::EstimatedAt { .. }
+            | K::XGoalActive { .. }
+            | K::AnyOf { .. }
+            | K::Always { .. }
+            | K::CommandsInOrder { .. } => None,
+        }
+    }
+
+    /// The latest time at which a cycle can move this expectation or change anything the
+    /// checker keeps for it: after it, checking it returns [`Progress::Open`] and touches
+    /// nothing, so the checker stops asking ([`Checker::observe`]).
+    ///
+    /// Exact: a cycle's time is after every earlier cycle's, and a windowed kind's check is
+    /// `Open` and effect-free at a time outside its window — `t > to + ε` is
+    /// `Window::contains`'s second clause failing, the same addition (every arm of
+    /// [`Checker::check_kind`] asks `window.contains(t)` before it fails, meets or notes a
+    /// late diagnosis). An `AnyOf` closes with its last member. `EstimatedAt` and
+    /// `XGoalActive` are decided at their time, `Always` updates its `Once` flags at every
+    /// cycle and `CommandsInOrder` is checked on its own path: they never close.
+    fn closes_at(&self) -> f64 {
+        use ExpectationKind as K;
+        if let Some(window) = self.window() {
+            return window.to + TIME_EPSILON;
+        }
+        match self {
             K::AnyOf { members } => (members.iter())
                 .map(ExpectationKind::closes_at)
                 .fold(f64::NEG_INFINITY, f64::max),
-            K::EstimatedAt { .. }
-            | K::XGoalActive { .. }
-            | K::Always { .. }
-            | K::CommandsInOrder { .. } => f64::INFINITY,
+            // Never closes: the safe answer for any kind not named above.
+            _ => f64::INFINITY,
         }
     }
 
