@@ -241,6 +241,68 @@ pub enum ExpectationKind {
     },
 }
 
+/// The pattern of the windowed kinds (checked only while a cycle's time is in their window),
+/// binding the window to `$window`: one list for [`ExpectationKind::window`] and the tests'
+/// `windows_mut`, which needs it by `&mut`.
+macro_rules! windowed {
+    ($window:ident) => {
+        ExpectationKind::Estimated {
+            window: $window,
+            ..
+        } | ExpectationKind::NeverEstimated {
+            window: $window,
+            ..
+        } | ExpectationKind::Commanded {
+            window: $window,
+            ..
+        } | ExpectationKind::NeverCommanded {
+            window: $window,
+            ..
+        } | ExpectationKind::Diagnosed {
+            window: $window,
+            ..
+        } | ExpectationKind::Achieved {
+            window: $window,
+            ..
+        } | ExpectationKind::GoalFailed {
+            window: $window,
+            ..
+        } | ExpectationKind::Completed { window: $window }
+            | ExpectationKind::Reported {
+                window: $window,
+                ..
+            }
+            | ExpectationKind::NeverReported {
+                window: $window,
+                ..
+            }
+            | ExpectationKind::Fired {
+                window: $window,
+                ..
+            }
+            | ExpectationKind::NeverFired {
+                window: $window,
+                ..
+            }
+            | ExpectationKind::Failed {
+                window: $window,
+                ..
+            }
+            | ExpectationKind::NeverFailed {
+                window: $window,
+                ..
+            }
+            | ExpectationKind::Recovered {
+                window: $window,
+                ..
+            }
+            | ExpectationKind::NeverXGoalActive {
+                window: $window,
+                ..
+            }
+    };
+}
+
 impl ExpectationKind {
     /// The earliest time at which a cycle can move this expectation or change anything the
     /// checker keeps for it: before it, checking it returns [`Progress::Open`] and touches
@@ -272,22 +334,7 @@ impl ExpectationKind {
     fn window(&self) -> Option<&Window> {
         use ExpectationKind as K;
         match self {
-            K::Estimated { window, .. }
-            | K::NeverEstimated { window, .. }
-            | K::Commanded { window, .. }
-            | K::NeverCommanded { window, .. }
-            | K::Diagnosed { window, .. }
-            | K::Achieved { window, .. }
-            | K::GoalFailed { window, .. }
-            | K::Completed { window }
-            | K::Reported { window, .. }
-            | K::NeverReported { window, .. }
-            | K::Fired { window, .. }
-            | K::NeverFired { window, .. }
-            | K::Failed { window, .. }
-            | K::NeverFailed { window, .. }
-            | K::Recovered { window, .. }
-            | K::NeverXGoalActive { window, .. } => Some(window),
+            windowed!(window) => Some(window),
             K::EstimatedAt { .. }
             | K::XGoalActive { .. }
             | K::AnyOf { .. }
@@ -326,24 +373,9 @@ impl ExpectationKind {
     pub(crate) fn windows_mut(&mut self) -> Vec<&mut Window> {
         use ExpectationKind as K;
         match self {
-            K::Estimated { window, .. }
-            | K::NeverEstimated { window, .. }
-            | K::Commanded { window, .. }
-            | K::CommandsInOrder { window, .. }
-            | K::NeverCommanded { window, .. }
-            | K::Diagnosed { window, .. }
-            | K::Achieved { window, .. }
-            | K::GoalFailed { window, .. }
-            | K::Completed { window }
-            | K::Reported { window, .. }
-            | K::NeverReported { window, .. }
-            | K::Fired { window, .. }
-            | K::NeverFired { window, .. }
-            | K::Failed { window, .. }
-            | K::NeverFailed { window, .. }
-            | K::Recovered { window, .. }
-            | K::NeverXGoalActive { window, .. }
-            | K::Always { window, .. } => vec![window],
+            windowed!(window) | K::CommandsInOrder { window, .. } | K::Always { window, .. } => {
+                vec![window]
+            }
             K::AnyOf { members } => members.iter_mut().flat_map(K::windows_mut).collect(),
             K::EstimatedAt { .. } | K::XGoalActive { .. } => Vec::new(),
         }
