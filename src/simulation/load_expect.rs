@@ -2,7 +2,7 @@
 
 use super::ScenarioProgram;
 use super::condition::Condition;
-use super::expect::{Expectation, ExpectationKind, Window};
+use super::expectation::{Expectation, ExpectationKind, Window};
 use super::format::{ConditionFile, DelayFile, EventName, ExpectFile};
 use super::load::{FileCtx, VarClasses, Vars, formula};
 use super::script::{Delay, Script};

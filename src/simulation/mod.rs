@@ -307,6 +307,7 @@
 
 mod condition;
 mod expect;
+mod expectation;
 mod format;
 mod latent;
 mod load;
@@ -323,7 +324,7 @@ use std::time::Duration;
 
 pub use condition::Condition;
 pub(crate) use expect::{Checker, Names};
-pub use expect::{Expectation, ExpectationKind, Outcome, Verdict, Window};
+pub use expectation::{Expectation, ExpectationKind, Outcome, Verdict, Window};
 pub use format::EventName;
 pub use load::{DEFAULT_KAPPA, MAX_CYCLES, load, load_source};
 pub use model_plant::{FaultDrawn, ForcedFault, ModelPlant, ModelPlantConfig};

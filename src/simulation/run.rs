@@ -6,7 +6,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::Scenario;
-use super::expect::{Checker, Names, Verdict};
+use super::expect::{Checker, Names};
+use super::expectation::Verdict;
 use super::model_plant::{FaultDrawn, ModelPlant};
 use super::script::{PlantEvent, ScriptedPlant, TIME_EPSILON};
 use crate::executive::adapters::{Clock, ControlAdapter, MonitorAdapter, SimulatedClock};
