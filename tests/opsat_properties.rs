@@ -7,8 +7,7 @@ mod support;
 mod seeded;
 use kairos::logic::{Formula, ValueId, VarId};
 use kairos::opsat::{
-    Budget, ConflictStore, Consistency, Cut, KnownSolutions, Literal, Ocsp, SearchOptions,
-    Solution, TheoryOptions,
+    Budget, ConflictStore, Consistency, Cut, Literal, Ocsp, SearchOptions, Solution, TheoryOptions,
 };
 use proptest::prelude::*;
 use support::random_ocsp::{RandomOcsp, random_ocsp, random_ocsp_with_assumptions};
@@ -129,15 +128,6 @@ fn narrowed(ocsp: &Ocsp, keep: &[bool]) -> Ocsp {
     out
 }
 
-/// Full assignments known to be solutions, by value per decision.
-struct Listed(Vec<Vec<ValueId>>);
-
-impl KnownSolutions for Listed {
-    fn contains(&self, values: &[ValueId]) -> bool {
-        self.0.iter().any(|known| known == values)
-    }
-}
-
 proptest! {
     #![proptest_config(seeded::config(96))]
 
@@ -180,56 +170,6 @@ proptest! {
                     let alone = SearchOptions { use_conflicts, ..options };
                     let found = ocsp.best_with(&mut fresh, usize::MAX, alone);
                     prop_assert_eq!(&found.solutions, shared, "decompose {}", decompose);
-                }
-            }
-        }
-    }
-
-    /// Solutions known from other searches under the same assumptions (src/opsat/search.rs,
-    /// "Candidates known to be solutions") change neither the solutions nor their order: narrowed
-    /// copies of one OCSP, each enumerated knowing the solutions every copy has alone, give
-    /// exactly what each gives alone on a fresh theory. Without conflicts (every candidate
-    /// checked alone, so the same candidates whatever the theory answers) an undecomposed search
-    /// asks the theory exactly one check fewer per solution, all of them being known.
-    #[test]
-    fn known_solutions_change_no_solution_and_no_order(
-        problem in random_ocsp_with_assumptions(7, 3, 10, 3),
-        keeps in prop::collection::vec(prop::collection::vec(any::<bool>(), 1..12), 1..5),
-    ) {
-        let (_, base) = problem.build(TheoryOptions::default());
-        let ocsps: Vec<Ocsp> = keeps.iter().map(|keep| narrowed(&base, keep)).collect();
-        for (decompose, use_conflicts) in [(true, true), (false, true), (false, false)] {
-            let options = SearchOptions { decompose, use_conflicts, ..SearchOptions::default() };
-            let alone: Vec<(Vec<Solution>, u64)> = ocsps
-                .iter()
-                .map(|ocsp| {
-                    let mut fresh = problem.build(TheoryOptions::default()).0;
-                    let found = ocsp.best_with(&mut fresh, usize::MAX, options).solutions;
-                    (found, fresh.stats().consistency_checks)
-                })
-                .collect();
-            let known = Listed(
-                alone
-                    .iter()
-                    .flat_map(|(found, _)| found.iter())
-                    .map(|s| s.assignment.iter().map(|&(_, v)| v).collect())
-                    .collect(),
-            );
-            for (ocsp, (expected, checks)) in ocsps.iter().zip(&alone) {
-                let mut theory = problem.build(TheoryOptions::default()).0;
-                let mut enumeration = ocsp.enumerate(&theory, options);
-                let mut found = Vec::new();
-                loop {
-                    match enumeration.next_knowing(&mut theory, None, Some(&known)) {
-                        Ok(Some(solution)) => found.push(solution),
-                        Ok(None) => break,
-                        Err(cut) => prop_assert!(false, "no budget, yet cut: {:?}", cut),
-                    }
-                }
-                prop_assert_eq!(&found, expected, "{:?}", options);
-                if !decompose && !use_conflicts {
-                    let asked = theory.stats().consistency_checks;
-                    prop_assert_eq!(asked, checks - expected.len() as u64);
                 }
             }
         }

@@ -79,24 +79,6 @@
 //! the heap alone (no same-cost path) costed three quarters of the list all the same — the
 //! symmetric breakers' plateaus of equal cost — and saved 1 % of the instructions.
 
-//! # Known solutions, not checked again
-//!
-//! A live enumeration's search may meet, as a candidate, a solution some shape of the
-//! expansion already knows: another source's search found it, or an earlier cycle's. Every
-//! shape of an expansion has the expansion's observation, and a source's OCSP assumes that
-//! and nothing else, so such a candidate is feasible for every source that can choose it; the
-//! search takes it as a solution without asking the theory (`opsat::KnownSolutions`;
-//! `opsat/search.rs`, "Candidates known to be solutions"). The expansion lists its shapes'
-//! known solutions by fingerprint ([`Solved`], when a live enumeration first runs, and each
-//! new one as it is learned), and a candidate is known when the solution listed under its
-//! fingerprint equals it. Beliefs are byte-identical; the SAT-question counts are not: fewer
-//! questions are asked (`kairos estimate --json`'s `sat_calls`), and the conflicts the search
-//! closure gives later may differ. Measured (callgrind, whole process, κ = 10): Livingstone
-//! 2's 15-breaker log 7.005 G → 6.612 G instructions; one cycle at 255 breakers 11.207 G →
-//! 11.024 G (search checks 17,327 → 13,996 — nearly every check there is a solution, and the
-//! ones left are all distinct); CPU 0.98 at 15 breakers (11 pairs), 0.96 at 255 (3 cycles,
-//! 7 pairs), `farm-bench --vs`, medians, load ≈ 5.
-
 use std::cell::OnceCell;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -108,9 +90,7 @@ use std::sync::Arc;
 
 use super::expand::{Choices, Limits, SourceChoices};
 use crate::logic::ValueId;
-use crate::opsat::{
-    ConflictStore, Cut, Enumeration, KnownSolutions, Literal, Ocsp, SearchOptions, Theory,
-};
+use crate::opsat::{ConflictStore, Cut, Enumeration, Literal, Ocsp, SearchOptions, Theory};
 use crate::plant::{Observation, Plant, target_ocsp};
 
 /// Past this many shapes the cache starts afresh.
@@ -280,8 +260,6 @@ pub(crate) struct Streams<'o> {
     possible: Possible,
     /// The cache's conflicts, taken out for the expansion when the searches share them.
     conflicts: Option<ConflictStore>,
-    /// The known solutions of every shape, listed when a live enumeration first runs.
-    solved: Option<Solved>,
 }
 
 /// The shape of a source's OCSP, into `key`: the allowed values per component and the
@@ -587,20 +565,17 @@ impl Known {
     /// finds it, but compared in full only where the fingerprints are equal.
     fn index_of(&mut self, modes: Vec<ValueId>, choices: &Choices) -> usize {
         let print = fingerprint(&modes);
-        self.find(&modes, print).unwrap_or_else(|| {
+        let found = self
+            .fingerprints
+            .iter()
+            .zip(&self.solutions)
+            .position(|(&p, s)| p == print && *s == modes);
+        found.unwrap_or_else(|| {
             self.positions.push(positions_of(choices, &modes));
             self.solutions.push(modes);
             self.fingerprints.push(print);
             self.solutions.len() - 1
         })
-    }
-
-    /// The index of the first known solution equal to `modes`, whose fingerprint is `print`.
-    fn find(&self, modes: &[ValueId], print: u64) -> Option<usize> {
-        self.fingerprints
-            .iter()
-            .zip(&self.solutions)
-            .position(|(&p, s)| p == print && *s == modes)
     }
 
     /// The known solutions servable under `choices`' costs before any unknown one, to be
@@ -648,45 +623,6 @@ impl Known {
     }
 }
 
-/// The known solutions of an expansion's shapes, by fingerprint: one (shape, index) per
-/// fingerprint, which is enough — a second solution with the same fingerprint is only missed,
-/// and then checked by the theory ("Known solutions, not checked again").
-#[derive(Default)]
-struct Solved {
-    by_print: FxHashMap<u64, (u32, u32)>,
-}
-
-impl Solved {
-    /// Lists solution `index` of `shape`, unless its fingerprint is listed already.
-    fn list(&mut self, print: u64, shape: usize, index: usize) {
-        self.by_print
-            .entry(print)
-            .or_insert((shape as u32, index as u32));
-    }
-}
-
-/// [`Solved`] with the shapes it points into: a search's view of every known solution under
-/// the expansion's observation.
-struct SolvedView<'a> {
-    solved: &'a Solved,
-    known: &'a [Known],
-}
-
-/// Every shape of an expansion has its observation, and a source's OCSP assumes nothing else:
-/// a solution known for one shape is consistent with the theory and the assumptions of every
-/// source's OCSP ("Known solutions, not checked again").
-impl KnownSolutions for SolvedView<'_> {
-    fn contains(&self, values: &[ValueId]) -> bool {
-        let print = fingerprint(values);
-        self.solved
-            .by_print
-            .get(&print)
-            .is_some_and(|&(shape, index)| {
-                self.known[shape as usize].solutions[index as usize] == values
-            })
-    }
-}
-
 impl<'o> Streams<'o> {
     /// Streams for `sources`, with the cache's knowledge of their shapes taken out of it.
     /// `ocsps` holds one lazily built OCSP per source.
@@ -721,7 +657,6 @@ impl<'o> Streams<'o> {
             cut: None,
             possible: Possible::default(),
             conflicts,
-            solved: None,
         };
         for (k, source) in sources.iter().enumerate() {
             shape_key(&source.choices, observation, &mut cache.key);
@@ -893,38 +828,24 @@ impl<'o> Streams<'o> {
                 self.live.len() - 1
             }
         };
-        let solved = self.solved.get_or_insert_with(|| {
-            let mut solved = Solved::default();
-            for (shape, known) in self.known.iter().enumerate() {
-                for (index, &print) in known.fingerprints.iter().enumerate() {
-                    solved.list(print, shape, index);
-                }
-            }
-            solved
-        });
         let enumeration = &mut self.live[at].1;
         let stream = &mut self.streams[k];
+        let known = &mut self.known[stream.shape];
         let wanted = stream.served.len();
         let mut target = f64::INFINITY;
         let mut beyond = f64::INFINITY;
         loop {
-            let view = SolvedView {
-                solved,
-                known: &self.known,
+            let next = match self.conflicts.as_mut() {
+                Some(conflicts) => enumeration.next_sharing(theory, conflicts),
+                None => enumeration.next(theory),
             };
-            let next = enumeration.next_knowing(theory, self.conflicts.as_mut(), Some(&view));
-            let known = &mut self.known[stream.shape];
             match next {
                 Ok(Some(solution)) => {
                     let cost = solution.cost;
                     let modes: Vec<ValueId> =
                         solution.assignment.into_iter().map(|(_, v)| v).collect();
                     stream.live_bound = Some(cost);
-                    let learned = known.solutions.len();
                     let index = known.index_of(modes, &stream.choices);
-                    if index == learned {
-                        solved.list(known.fingerprints[index], stream.shape, index);
-                    }
                     // A fresh enumeration re-finds what was served from the certificate.
                     if stream.served.iter().any(|&(served, _)| served == index) {
                         continue;

@@ -21,9 +21,7 @@ use petgraph::unionfind::UnionFind;
 use priority_queue::PriorityQueue;
 
 use super::ocsp::{Cut, Meter, Ocsp, SearchOptions, SearchStats, Solution};
-use super::search::{
-    Aids, ComponentSearch, Cost, FxBuildHasher, KnownSolutions, PartialSolution, Priority,
-};
+use super::search::{ComponentSearch, Cost, FxBuildHasher, PartialSolution, Priority};
 use super::shared::ConflictStore;
 use super::theory::{Consistency, Literal, Theory};
 
@@ -41,14 +39,14 @@ impl Stream {
         ocsp: &Ocsp,
         theory: &mut Theory,
         options: &SearchOptions,
-        mut aids: Aids<'_>,
+        mut shared: Option<&mut ConflictStore>,
         meter: &mut Meter,
     ) -> Result<bool, Cut> {
         while self.found.len() <= index && !self.done {
-            let aids = aids.reborrow();
+            let shared = shared.as_deref_mut();
             match self
                 .search
-                .next(ocsp, theory, options.use_conflicts, aids, meter)?
+                .next(ocsp, theory, options.use_conflicts, shared, meter)?
             {
                 Some(solution) => self.found.push(solution),
                 None => self.done = true,
@@ -126,7 +124,7 @@ impl<'a> Enumeration<'a> {
     /// The next solution, cheapest first; `Ok(None)` when there are no more; `Err(cut)` when the
     /// budget ran out (call [`Enumeration::renew_budget`] to go on).
     pub fn next(&mut self, theory: &mut Theory) -> Result<Option<Solution>, Cut> {
-        self.advance(theory, Aids::default())
+        self.advance(theory, None)
     }
 
     /// [`Enumeration::next`], reading and extending `shared` with conflicts when it is a store
@@ -137,33 +135,17 @@ impl<'a> Enumeration<'a> {
         theory: &mut Theory,
         shared: &mut ConflictStore,
     ) -> Result<Option<Solution>, Cut> {
-        self.next_knowing(theory, Some(shared), None)
-    }
-
-    /// [`Enumeration::next_sharing`] with an optional store, and `known`: full assignments
-    /// known to be solutions of an OCSP with this one's assumptions (another source's, in
-    /// estimation), which the search takes as consistent when it meets them instead of asking
-    /// the theory. The same solutions come out in the same order (`search.rs`, "Candidates
-    /// known to be solutions"); fewer questions are asked.
-    pub fn next_knowing(
-        &mut self,
-        theory: &mut Theory,
-        shared: Option<&mut ConflictStore>,
-        known: Option<&dyn KnownSolutions>,
-    ) -> Result<Option<Solution>, Cut> {
-        let use_conflicts = self.options.use_conflicts;
-        let shared =
-            shared.filter(|store| use_conflicts && store.assumptions() == self.ocsp.assumptions());
-        self.advance(theory, Aids { shared, known })
+        let applies = self.options.use_conflicts && shared.assumptions() == self.ocsp.assumptions();
+        self.advance(theory, applies.then_some(shared))
     }
 
     fn advance(
         &mut self,
         theory: &mut Theory,
-        mut aids: Aids<'_>,
+        mut shared: Option<&mut ConflictStore>,
     ) -> Result<Option<Solution>, Cut> {
         if self.state == State::NotStarted {
-            self.start(theory, aids.reborrow())?;
+            self.start(theory, shared.as_deref_mut())?;
         }
         if self.state == State::Exhausted {
             return Ok(None);
@@ -185,7 +167,7 @@ impl<'a> Enumeration<'a> {
                         self.ocsp,
                         theory,
                         &self.options,
-                        aids.reborrow(),
+                        shared.as_deref_mut(),
                         &mut self.meter,
                     );
                     match fetched {
@@ -203,16 +185,20 @@ impl<'a> Enumeration<'a> {
         }
     }
 
-    fn start(&mut self, theory: &mut Theory, mut aids: Aids<'_>) -> Result<(), Cut> {
+    fn start(
+        &mut self,
+        theory: &mut Theory,
+        mut shared: Option<&mut ConflictStore>,
+    ) -> Result<(), Cut> {
         self.meter.stats.consistency_checks += 1;
         if let Consistency::Conflict(_) = theory.consistent(self.ocsp.assumptions()) {
             self.state = State::Exhausted;
             return Ok(());
         }
         for j in 0..self.streams.len() {
-            let aids = aids.reborrow();
+            let shared = shared.as_deref_mut();
             let stream = &mut self.streams[j];
-            if !stream.ensure(0, self.ocsp, theory, &self.options, aids, &mut self.meter)? {
+            if !stream.ensure(0, self.ocsp, theory, &self.options, shared, &mut self.meter)? {
                 self.state = State::Exhausted;
                 return Ok(());
             }

@@ -28,7 +28,6 @@ pub use ocsp::{
     Budget, Choice, Cut, Decision, Ocsp, OcspError, SearchOptions, SearchStats, Solution, Solutions,
 };
 pub(crate) use search::Cost;
-pub use search::KnownSolutions;
 pub use shared::ConflictStore;
 pub use theory::{
     Consistency, Definition, Literal, Theory, TheoryError, TheoryOptions, TheoryStats,

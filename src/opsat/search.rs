@@ -48,18 +48,6 @@
 //! first, since every other node's exact place is at or after its queued one. Most children of
 //! a solution's split raise a member to a fault far dearer than the front and are never summed.
 //!
-//! # Candidates known to be solutions
-//! A caller may hand the search full assignments it knows to be solutions of an OCSP with the
-//! same assumptions ([`KnownSolutions`]: estimation's sources all assume the observation and
-//! nothing else, and the solutions one source's search found are feasible for every source that
-//! can choose them). A candidate among them is consistent, so the search takes it as a solution
-//! without asking the theory, and splits it as it splits any solution. Feasibility is all the
-//! theory's answer told the search, so the nodes, the solutions and their order are the same; what
-//! changes is the search closure's history (the skipped check's literals are not propagated),
-//! and with it the conflicts read off later — other conflicts, the same solutions in the same
-//! order (see "Order") — and the count of questions asked. Only a search over every decision
-//! has full assignments to look up; a decomposed one's sub-problems ask the theory as before.
-//!
 //! Ties used to follow node creation order, which depends on the conflict tree. Colexicographic
 //! is the order a split creates its children in (child `j` raises the `j`-th free member of the
 //! conflict, leaving the later ones at their indices), so it is the order ties came out in on
@@ -78,7 +66,7 @@ use rustc_hash::{FxHashMap, FxHasher};
 use super::ocsp::{Choice, Cut, Meter, Ocsp};
 use super::shared::ConflictStore;
 use super::theory::{Consistency, Literal, Theory};
-use crate::logic::{ValueId, VarId};
+use crate::logic::VarId;
 
 /// A cost ordered totally (costs are never NaN; [`Ocsp::decide`] refuses them).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -303,36 +291,6 @@ impl PartialEq for Queued {
 
 impl Eq for Queued {}
 
-/// Full assignments of an OCSP's decisions known to be solutions — consistent with the theory
-/// and the OCSP's assumptions — such as those an earlier search of an OCSP with the same
-/// assumptions returned. A search that meets one as a candidate takes it as consistent
-/// without asking the theory ("Candidates known to be solutions" in the module
-/// documentation).
-pub trait KnownSolutions {
-    /// Whether `values` (one per decision, in the OCSP's order) is a known solution.
-    fn contains(&self, values: &[ValueId]) -> bool;
-}
-
-/// What a search may consult besides the theory.
-#[derive(Default)]
-pub(crate) struct Aids<'s> {
-    /// A store of conflicts under the OCSP's own assumptions, read and extended (see
-    /// [`ConflictStore`]).
-    pub(crate) shared: Option<&'s mut ConflictStore>,
-    /// Solutions known already ([`KnownSolutions`]).
-    pub(crate) known: Option<&'s dyn KnownSolutions>,
-}
-
-impl Aids<'_> {
-    /// The same aids, for one call.
-    pub(crate) fn reborrow(&mut self) -> Aids<'_> {
-        Aids {
-            shared: self.shared.as_deref_mut(),
-            known: self.known,
-        }
-    }
-}
-
 /// A conflict over this sub-problem: (member position, choice index) pairs, sorted.
 type Conflict = Vec<(usize, u32)>;
 
@@ -364,11 +322,6 @@ pub(crate) struct ComponentSearch {
     /// Every choice of every member costs at least zero (true of estimation's −ln p), so a
     /// partial sum bounds every completion of it from below (see "Order").
     nonnegative: bool,
-    /// The members are all the OCSP's decisions, in order: only then is a candidate a full
-    /// assignment that [`KnownSolutions`] can recognise.
-    whole: bool,
-    /// Scratch: a candidate's values, for [`KnownSolutions::contains`].
-    values: Vec<ValueId>,
 }
 
 impl ComponentSearch {
@@ -385,8 +338,6 @@ impl ComponentSearch {
             .map(|(p, &d)| (ocsp.decisions()[d].var, p))
             .collect();
         let stretches = members.iter().map(|&d| ocsp.stretch(d)).collect();
-        let whole = members.len() == ocsp.decisions().len()
-            && members.iter().enumerate().all(|(p, &d)| p == d);
         let mut search = ComponentSearch {
             members,
             stretches,
@@ -396,8 +347,6 @@ impl ComponentSearch {
             refuted,
             read: 0,
             nonnegative,
-            whole,
-            values: Vec::new(),
         };
         let root = Node(vec![Slot::at_least(0); search.members.len()].into_boxed_slice());
         let cheapest = std::iter::repeat(0);
@@ -418,19 +367,17 @@ impl ComponentSearch {
     }
 
     /// The next solution, cheapest first; `Ok(None)` when there are no more; `Err` when the
-    /// budget ran out (the search can be resumed with a new meter). With `aids.shared` (a
-    /// store for the OCSP's own assumptions, used only with `use_conflicts`), the search reads
-    /// the conflicts other searches learned there and adds its own; a candidate among
-    /// `aids.known` is a solution without a check.
+    /// budget ran out (the search can be resumed with a new meter). With `shared` (a store for
+    /// the OCSP's own assumptions, used only with `use_conflicts`), the search reads the
+    /// conflicts other searches learned there and adds its own.
     pub(crate) fn next(
         &mut self,
         ocsp: &Ocsp,
         theory: &mut Theory,
         use_conflicts: bool,
-        aids: Aids<'_>,
+        mut shared: Option<&mut ConflictStore>,
         meter: &mut Meter,
     ) -> Result<Option<PartialSolution>, Cut> {
-        let Aids { mut shared, known } = aids;
         loop {
             let Some(front) = self.frontier.peek() else {
                 return Ok(None);
@@ -460,16 +407,11 @@ impl ComponentSearch {
                 self.split(ocsp, (node, last), &candidate, &known);
                 continue;
             }
-            let verdict = if self.is_known(ocsp, &candidate, known) {
-                Consistency::Consistent
-            } else {
-                meter.stats.consistency_checks += 1;
-                let mut assumptions = ocsp.assumptions().to_vec();
-                let pairs = candidate.iter().copied().enumerate();
-                assumptions.extend(pairs.map(|pair| self.literal(ocsp, pair)));
-                theory.search_conflict(&assumptions)
-            };
-            match verdict {
+            meter.stats.consistency_checks += 1;
+            let mut assumptions = ocsp.assumptions().to_vec();
+            let pairs = candidate.iter().copied().enumerate();
+            assumptions.extend(pairs.map(|pair| self.literal(ocsp, pair)));
+            match theory.search_conflict(&assumptions) {
                 Consistency::Consistent => {
                     let whole: Conflict = candidate.iter().copied().enumerate().collect();
                     self.split(ocsp, (node, last), &candidate, &whole);
@@ -502,28 +444,6 @@ impl ComponentSearch {
                 }
             }
         }
-    }
-
-    /// Whether `candidate` is among the `known` solutions, so consistent without a check. Only
-    /// a search over every decision has full assignments to look up.
-    fn is_known(
-        &mut self,
-        ocsp: &Ocsp,
-        candidate: &[u32],
-        known: Option<&dyn KnownSolutions>,
-    ) -> bool {
-        let Some(known) = known.filter(|_| self.whole) else {
-            return false;
-        };
-        self.values.clear();
-        for (p, &c) in candidate.iter().enumerate() {
-            // Every choice of a candidate exists: it is a node's best completion.
-            let Some(choice) = self.choice(ocsp, p, c) else {
-                return false;
-            };
-            self.values.push(choice.value);
-        }
-        known.contains(&self.values)
     }
 
     fn known_conflict(&self, candidate: &[u32]) -> Option<&Conflict> {
