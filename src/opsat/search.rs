@@ -635,7 +635,12 @@ impl ComponentSearch {
     /// a split's children are queued at a lower bound (the root and re-queued nodes are
     /// exact).
     fn cost_front(&mut self, ocsp: &Ocsp) {
-        if let Some(mut front) = self.frontier.pop() {
+        // Costed in place: the exact cost is at or above the bound it was queued at, so the
+        // node only sinks, which `PeekMut` does on drop with one sift down instead of a pop
+        // and a push. Frontier nodes are disjoint, so their best completions differ and the
+        // order is total: the same nodes come out in the same order whatever the heap's shape.
+        let mut frontier = std::mem::take(&mut self.frontier);
+        if let Some(mut front) = frontier.peek_mut() {
             // Every slot has its choice: empty children are never queued.
             let cost = match &front.node {
                 // Queued at its partial sum through the member it raises (`split`): the rest
@@ -655,8 +660,8 @@ impl ComponentSearch {
             };
             front.cost = Cost(cost.unwrap_or(f64::INFINITY));
             front.exact = true;
-            self.frontier.push(front);
         }
+        self.frontier = frontier;
     }
 
     /// `start` plus the costs of `choices` (indices) of the members from `from` on, added in
