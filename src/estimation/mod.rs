@@ -22,6 +22,7 @@ mod history;
 pub mod log;
 mod merge;
 mod observe;
+mod recents;
 mod replay;
 mod streams;
 mod timed_me;

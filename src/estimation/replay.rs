@@ -73,7 +73,7 @@
 //!    checked by comparing the states, or by the source's choices having a version already
 //!    seen with the state compared: `Expander::choices` hands a version of choices out only
 //!    for states equal (modes and clock starts bit for bit) to the one it was made for
-//!    (`expand.rs`, `Recents`), and a version is never handed out for other choices
+//!    (`recents.rs`, `Recents`), and a version is never handed out for other choices
 //!    (`expand.rs`, `Choices`), so it names that state.
 //!
 //! Under 1–7 the merge — the same function in both cases (`expand::merge`) — sees the same
@@ -103,7 +103,7 @@
 //! the shape's known solutions, what `take` does every step), at the first replay. A source's
 //! preparation (its shape, L, O, its R ordered and, once asked, its possible mass) is a
 //! function of its choices while the record lives, so it is kept per source for the last few
-//! versions of choices (a quiet source keeps its very choices from step to step, `expand.rs`
+//! versions of choices (a quiet source keeps its very choices from step to step, `recents.rs`
 //! `Recents`) and a source whose choices have one of those versions (a version names one
 //! content for good, `expand.rs` `Choices`) is not prepared again. Only the record's reference
 //! choices c_ref are held (their content is read); the rest is keyed by version and holds no
@@ -212,7 +212,7 @@ impl Successors {
     /// Keeps what was built if it was built from `source` of shape `shape`, else starts afresh
     /// for a shape of `solutions` known solutions. `choices` are `source`'s: `Expander::choices`
     /// hands a version of choices out again only for a state equal to the one it was made for
-    /// (`expand.rs`, `Recents`), so a version already seen with the state built from spares
+    /// (`recents.rs`, `Recents`), so a version already seen with the state built from spares
     /// comparing the states.
     fn keep_for(
         &mut self,
