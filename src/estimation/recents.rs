@@ -11,7 +11,10 @@ use rustc_hash::{FxHashMap, FxHasher};
 
 use super::expand::{CACHE_LIMIT, Choices, NextMode, next_modes};
 use crate::logic::ValueId;
-use crate::plant::{Commands, Component, Enabled, Plant, SystemState, component_distribution};
+use crate::plant::{
+    Commands, Component, Enabled, Plant, SystemState, component_distribution,
+    distribution_steady_at as steady,
+};
 
 /// The clockless tier of [`StepMemo`] holds one item per component an entry; past this many
 /// items in all it starts afresh too, so that its memory does not grow with the plant (it is
@@ -201,7 +204,11 @@ pub(super) fn same_bits(a: &[NextMode], b: &[NextMode]) -> bool {
 /// alternate and each has its own entries), therefore has that source's distributions wherever
 /// a component has no clock; a component whose clock runs is computed again (through the memo)
 /// unless its reading is the same bit for bit, and the recent distribution is kept when the new
-/// one equals it bit for bit. When no component changed, the source gets the very same
+/// one equals it bit for bit. A clock on its steady stretch is not read again: its component's
+/// distribution is the same at every steady reading (`plant::distribution_steady_at`), so an
+/// entry whose distribution was computed at a steady reading already holds the one a steady
+/// reading would compute (the Mars EDL's entry trigger is steady for its first 15,600 s, 91 %
+/// of the nominal run's cycles). When no component changed, the source gets the very same
 /// choices, of the same version, as before, which lets the replay reuse what it prepared from
 /// them (`replay.rs`); when one changed, the entry's choices are written in place where no one
 /// else holds them, under a new version ([`Choices`]).
@@ -236,8 +243,10 @@ pub(super) struct Recent {
     /// [`Recents::hash`] of `state`, `commands` and `step`.
     hash: u64,
     pub(super) state: SystemState,
-    /// The components whose clock `state` knows (runs), by index.
-    running: Vec<usize>,
+    /// The components whose clock `state` knows (runs), by index, each with whether its
+    /// distribution in `choices` was computed at a reading on its steady stretch
+    /// (`plant::distribution_steady_at`).
+    running: Vec<(usize, bool)>,
     commands: Commands,
     /// The step's length, as bits.
     step: u64,
@@ -321,7 +330,9 @@ impl Recents {
 impl Recent {
     /// The entry of `state`'s `choices` under `commands`, made in a step of length `step` from
     /// `from`, [`Recents::steps`] being `now`.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn new(
+        plant: &Plant,
         hash: u64,
         state: &SystemState,
         commands: &Commands,
@@ -334,7 +345,11 @@ impl Recent {
             hash,
             state: state.clone(),
             running: (state.clock_starts.iter().enumerate())
-                .filter_map(|(c, start)| start.map(|_| c))
+                .filter_map(|(c, start)| {
+                    let component = &plant.components()[c];
+                    let reading = from - (*start)?;
+                    Some((c, steady(component, &enabled[c], Some(reading), step)))
+                })
                 .collect(),
             commands: commands.clone(),
             step: step.to_bits(),
@@ -355,7 +370,8 @@ impl Recent {
         from: f64,
         step: f64,
     ) {
-        for &c in &self.running {
+        for (c, steady_before) in &mut self.running {
+            let c = *c;
             let Some(start) = state.clock_starts[c] else {
                 continue;
             };
@@ -364,6 +380,11 @@ impl Recent {
                 continue;
             }
             let (component, mode) = (&plant.components()[c], state.modes[c]);
+            // Steady then and now: the distribution held is the one this reading gives.
+            let steady_now = steady(component, &self.enabled[c], Some(reading), step);
+            if std::mem::replace(steady_before, steady_now) && steady_now {
+                continue;
+            }
             let next = timed(
                 &mut memos[c],
                 component,

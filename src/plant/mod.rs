@@ -34,8 +34,8 @@ use std::sync::Arc;
 pub use acknowledgement::{Acknowledgement, Answer};
 pub use step::{
     Commands, Enabled, InputError, Observation, StepError, chosen_successor,
-    component_distribution, component_distributions, consistent_state, enabled_transitions,
-    step_tcca, successor, successor_forgetting, transition_choices,
+    component_distribution, component_distributions, consistent_state, distribution_steady_at,
+    enabled_transitions, step_tcca, successor, successor_forgetting, transition_choices,
 };
 pub(crate) use step::{mode_literals, target_ocsp};
 pub use timing::{BOUND_TOLERANCE, Timing, TransitionLaw, mode_distribution};

@@ -464,6 +464,23 @@ pub fn component_distribution(
     distribution
 }
 
+/// Whether [`component_distribution`] with these enabled transitions and a step of length
+/// `step` is on a steady stretch at clock `clock`: the same distribution, bit for bit, at every
+/// clock where this holds. It reads the clock only through its enabled transitions' laws
+/// ([`TransitionLaw::steady_at`](super::TransitionLaw::steady_at)), each the same value
+/// wherever it is steady; the rest of its arithmetic is the same.
+pub fn distribution_steady_at(
+    component: &super::Component,
+    enabled: &Enabled,
+    clock: Option<f64>,
+    step: f64,
+) -> bool {
+    enabled.transitions.iter().all(|&t| {
+        (component.transitions().get(t))
+            .is_none_or(|transition| transition.law.steady_at(clock, step))
+    })
+}
+
 /// The common core of Figures 6-6, 6-7, 6-10 and 6-11: in `state` at time `from`, under control
 /// action μ, each component's distribution over its mode at `to`.
 pub fn transition_choices(

@@ -124,7 +124,8 @@ impl Timing {
             Timing::Exponential { rate } => return 1.0 - (-rate * step.max(0.0)).exp(),
             Timing::Gaussian { mean, sd } => {
                 // 1 − S(to)/S(from), from the log survivals: accurate in both tails.
-                let ratio = gaussian_log_survival_ratio((before - mean) / sd, step.max(0.0) / sd);
+                let (from, length) = standardised(mean, sd, before, step);
+                let ratio = gaussian_log_survival_ratio(from, length);
                 return (-ratio.exp_m1()).clamp(0.0, 1.0);
             }
             _ => (self.reading(before), self.reading(before + step.max(0.0))),
@@ -134,6 +135,42 @@ impl Timing {
             return 1.0;
         }
         ((survived - self.survival(to)) / survived).clamp(0.0, 1.0)
+    }
+
+    /// Whether the step from clock `before` is on the law's *steady stretch* before it can
+    /// fire: [`Timing::conditional`]`(before, step)` is then one and the same value, bit for
+    /// bit, for every reading `before` where this holds (with the same `step`). So a
+    /// distribution computed at one steady reading is the distribution at every other, and
+    /// need not be computed again while the clock runs on a steady stretch (estimation's quiet
+    /// cycles: the Mars EDL's entry trigger, `Gaussian(16800, 30)`, is steady for its first
+    /// 15,600 s). Why each holds, reading `conditional` (module documentation):
+    /// - *exponential*: memoryless, `conditional` does not read `before` at all;
+    /// - *uniform, fixed*: both survivals it reads, at the window readings of `before` and
+    ///   `before + step`, are exactly 1 (the window has not opened by the step's end), so it
+    ///   returns `(1 − 1) / 1`;
+    /// - *Gaussian*: both standardised readings (computed by the same expressions as in
+    ///   `conditional`) are below the mean, where `ln S(z)` reads `erfc(−z/√2)`, and both
+    ///   arguments are at least [`ERFC_ZERO_FROM`], where `erfc` is exactly 0; so both log
+    ///   survivals are `ln_1p(−0.5 · 0)` and the ratio the same.
+    ///
+    /// No reading where the step's conditional probability is positive is steady, nor any
+    /// past a window (the tests check that steady readings agree, and where the stretch ends).
+    pub fn steady_at(&self, before: f64, step: f64) -> bool {
+        match *self {
+            Timing::Exponential { .. } => true,
+            Timing::Gaussian { mean, sd } => {
+                let (from, length) = standardised(mean, sd, before, step);
+                // `gaussian_log_survival_ratio`'s `to` (below the mean it takes the difference of
+                // the two logs), and `gaussian_log_survival`'s branch and `erfc` argument.
+                let to = from + length;
+                let no_mass = |z: f64| z < 0.0 && -z / std::f64::consts::SQRT_2 >= ERFC_ZERO_FROM;
+                no_mass(from) && no_mass(to)
+            }
+            Timing::Uniform { .. } | Timing::Fixed { .. } => {
+                let (from, to) = (self.reading(before), self.reading(before + step.max(0.0)));
+                self.survival(from) == 1.0 && self.survival(to) == 1.0
+            }
+        }
     }
 
     /// The clock reading the window is evaluated at: a positive reading within
@@ -152,6 +189,18 @@ impl Timing {
             _ => clock,
         }
     }
+}
+
+/// From this argument on `erfc` is exactly 0: erfc(28) ≈ 7e-343 is far below the least
+/// subnormal double (5e-324), so a faithful `erfc` rounds it and everything past it to 0 (libm's
+/// returns 0 for every argument of at least 28 by a branch of its own).
+const ERFC_ZERO_FROM: f64 = 28.0;
+
+/// A Gaussian step from clock `before`, `step` long, in standard deviations: where it starts
+/// relative to the mean, and its length (negative lengths taken as 0). One function for
+/// [`Timing::conditional`] and [`Timing::steady_at`], so that both read the same numbers.
+fn standardised(mean: f64, sd: f64, before: f64, step: f64) -> (f64, f64) {
+    ((before - mean) / sd, step.max(0.0) / sd)
 }
 
 /// `ln S(z)` of the standard normal, `S = 1 − Φ`, accurate everywhere: below the mean from the
@@ -236,6 +285,17 @@ impl TransitionLaw {
                 Some(probability)
             }
             TransitionLaw::Rate { .. } => None,
+        }
+    }
+
+    /// Whether [`TransitionLaw::step_probability`]`(clock, step)` is on a steady stretch: the
+    /// same value for every clock where this holds (same `step`). Per-cycle and rate laws do
+    /// not read the clock; a timed one reads it through its timing's conditional
+    /// ([`Timing::steady_at`], an unknown clock taken as zero as there).
+    pub fn steady_at(&self, clock: Option<f64>, step: f64) -> bool {
+        match *self {
+            TransitionLaw::PerCycle { .. } | TransitionLaw::Rate { .. } => true,
+            TransitionLaw::Timed { timing, .. } => timing.steady_at(clock.unwrap_or(0.0), step),
         }
     }
 
@@ -490,6 +550,90 @@ mod tests {
         let (z, d) = (40.0f64, 1e-3);
         let approx = 1.0 - (-0.5 * d * (2.0 * z + d) - (d / z).ln_1p()).exp();
         assert!((far[0] - approx).abs() < 1e-7, "{} vs {approx}", far[0]);
+    }
+
+    /// A timing of each kind from its parameters (`kind` modulo 4), with readings around
+    /// where its mass lies.
+    fn timing_of(kind: u8, a: f64, b: f64) -> Timing {
+        match kind % 4 {
+            0 => Timing::Uniform {
+                lower: a,
+                upper: a + b,
+            },
+            1 => Timing::Gaussian {
+                mean: a * 100.0,
+                sd: b / 10.0 + 1e-3,
+            },
+            2 => Timing::Exponential { rate: b },
+            _ => Timing::Fixed { delay: a },
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(crate::seeded::config(512))]
+
+        /// `Timing::steady_at` (DESIGN.md §6.2's conditional form, as `conditional` computes
+        /// it): every two readings on a steady stretch give the same conditional probability,
+        /// bit for bit, whatever the kind; the oracle is `conditional` itself at both.
+        #[test]
+        fn steady_readings_give_one_conditional(
+            kind in 0u8..4,
+            a in 0.0f64..100.0,
+            b in 0.0f64..100.0,
+            // Readings in standard deviations (Gaussian) or seconds around the window.
+            x in -60.0f64..5.0,
+            y in -60.0f64..5.0,
+            step in proptest::prop_oneof![0.0f64..2.0, proptest::strategy::Just(0.1)],
+        ) {
+            let timing = timing_of(kind, a, b);
+            let reading = |x: f64| match timing {
+                Timing::Gaussian { mean, sd } => mean + x * sd,
+                _ => a + x,
+            };
+            let (x, y) = (reading(x), reading(y));
+            if timing.steady_at(x, step) && timing.steady_at(y, step) {
+                let (p, q) = (timing.conditional(x, step), timing.conditional(y, step));
+                proptest::prop_assert_eq!(p.to_bits(), q.to_bits(), "{:?} at {} and {}", timing, x, y);
+            }
+        }
+    }
+
+    /// The steady stretches end before mass shows: on a 0.1 s grid through each window no
+    /// reading with a positive conditional probability is steady, and the stretch covers what
+    /// it is for (the EDL entry trigger, `Gaussian(16800, 30)`, from its mode's entry to 40 σ
+    /// before the mean; a uniform or fixed window up to its opening).
+    #[test]
+    fn a_steady_stretch_ends_before_mass_shows() {
+        let entry = Timing::Gaussian {
+            mean: 16800.0,
+            sd: 30.0,
+        };
+        let heating = Timing::Uniform {
+            lower: 30.0,
+            upper: 60.0,
+        };
+        let fixed = Timing::Fixed { delay: 7.0 };
+        for (timing, until) in [(entry, 15_600.0), (heating, 29.9), (fixed, 6.9)] {
+            let mut steady = 0;
+            for i in 0..=180_000 {
+                let clock = f64::from(i) * 0.1;
+                let p = timing.conditional(clock, 0.1);
+                if timing.steady_at(clock, 0.1) {
+                    assert!(p <= 0.0, "{timing:?} at {clock}: steady with {p}");
+                    steady += 1;
+                } else {
+                    assert!(clock > until - 0.1, "{timing:?} at {clock}: not steady");
+                }
+            }
+            assert!(steady > 0);
+        }
+        // Exponentials are memoryless: steady everywhere.
+        let memoryless = Timing::Exponential { rate: 0.1 };
+        assert!(
+            [0.0, 1e3, 1e9]
+                .iter()
+                .all(|&c| memoryless.steady_at(c, 0.1))
+        );
     }
 
     #[test]
