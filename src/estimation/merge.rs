@@ -308,7 +308,7 @@ fn order(cost: f64) -> u64 {
 /// hand out. An exhausted stream has nothing left.
 ///
 /// The product Π Σ p is remembered per version of choices ([`Combinations`]): a quiet step's
-/// sources keep their very choices from step to step (`expand.rs`, `Recents`), and the
+/// sources keep their very choices from step to step (`recents.rs`, `Recents`), and the
 /// product, a pass over every component's next modes, was 6 % of the Mars lander's quiet cycle.
 ///
 /// Past κ states the merge asks after every candidate whether the unseen mass is small enough
