@@ -93,7 +93,7 @@ pub struct ExecutiveBuilder {
 
 impl ExecutiveBuilder {
     /// Keeps the text of the program or mission the executive runs, so that its events name
-    /// their source lines ([`Event::named`]). [`Executive::load`] and
+    /// their source lines ([`Event::named`](super::Event::named)). [`Executive::load`] and
     /// [`Executive::load_mission`] set it.
     pub fn source(mut self, source: Source) -> Self {
         self.source = Some(Arc::new(source));

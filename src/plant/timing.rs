@@ -150,7 +150,7 @@ impl Timing {
     ///   returns `(1 − 1) / 1`;
     /// - *Gaussian*: both standardised readings (computed by the same expressions as in
     ///   `conditional`) are below the mean, where `ln S(z)` reads `erfc(−z/√2)`, and both
-    ///   arguments are at least [`ERFC_ZERO_FROM`], where `erfc` is exactly 0; so both log
+    ///   arguments are at least `ERFC_ZERO_FROM` (28), where `erfc` is exactly 0; so both log
     ///   survivals are `ln_1p(−0.5 · 0)` and the ratio the same.
     ///
     /// No reading where the step's conditional probability is positive is steady, nor any
