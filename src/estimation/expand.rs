@@ -335,41 +335,34 @@ impl Expander {
             whole: None,
         });
         let forgotten = state.clock_starts.iter().all(Option::is_none);
-        if let (true, Some(whole)) = (forgotten, &untimed.whole) {
-            let choices = Arc::clone(whole);
-            let entry = Recent::new(
-                plant,
-                hash,
-                state,
-                commands,
-                (step, from),
-                now,
-                enabled,
-                &choices,
-            );
-            self.recent.push(entry);
-            return Ok(choices);
-        }
-        let choices: Arc<Choices> = Arc::new(
-            plant
-                .component_ids()
-                .zip(state.modes.iter())
-                .zip(timed_memos)
-                .zip(&mut untimed.next)
-                .enumerate()
-                .map(|(c, ((((id, component), &mode), memos), untimed))| {
-                    match state.clock(id, from) {
-                        None => Arc::clone(untimed.get_or_insert_with(|| {
-                            clockless.get(component, c, mode, &enabled[c], step)
-                        })),
-                        Some(reading) => timed(memos, component, c, mode, &enabled, reading, step),
-                    }
-                })
-                .collect(),
-        );
-        if forgotten {
-            untimed.whole = Some(Arc::clone(&choices));
-        }
+        let choices = match (forgotten, &untimed.whole) {
+            (true, Some(whole)) => Arc::clone(whole),
+            _ => {
+                let choices: Arc<Choices> = Arc::new(
+                    plant
+                        .component_ids()
+                        .zip(state.modes.iter())
+                        .zip(timed_memos)
+                        .zip(&mut untimed.next)
+                        .enumerate()
+                        .map(|(c, ((((id, component), &mode), memos), untimed))| {
+                            match state.clock(id, from) {
+                                None => Arc::clone(untimed.get_or_insert_with(|| {
+                                    clockless.get(component, c, mode, &enabled[c], step)
+                                })),
+                                Some(reading) => {
+                                    timed(memos, component, c, mode, &enabled, reading, step)
+                                }
+                            }
+                        })
+                        .collect(),
+                );
+                if forgotten {
+                    untimed.whole = Some(Arc::clone(&choices));
+                }
+                choices
+            }
+        };
         let entry = Recent::new(
             plant,
             hash,
